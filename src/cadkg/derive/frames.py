@@ -1,0 +1,41 @@
+"""Frames and poses: rotations in the conventions ROS uses (REP 103).
+
+Quaternions are ``(x, y, z, w)``; roll-pitch-yaw are fixed-axis X, Y, Z angles in
+radians, so ``R = Rz(yaw) · Ry(pitch) · Rx(roll)`` as in tf2.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+__all__ = ["Quaternion", "normalize_quaternion", "quaternion_from_rpy"]
+
+Quaternion = tuple[float, float, float, float]
+"""A rotation as ``(x, y, z, w)``, unit length."""
+
+
+def quaternion_from_rpy(roll: float, pitch: float, yaw: float) -> Quaternion:
+    """Unit quaternion of fixed-axis roll, pitch, yaw (radians).
+
+    >>> [round(v, 6) for v in quaternion_from_rpy(0.0, 0.0, math.pi / 2)]
+    [0.0, 0.0, 0.707107, 0.707107]
+    """
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    return (
+        sr * cp * cy - cr * sp * sy,
+        cr * sp * cy + sr * cp * sy,
+        cr * cp * sy - sr * sp * cy,
+        cr * cp * cy + sr * sp * sy,
+    )
+
+
+def normalize_quaternion(q: Sequence[float], tolerance: float = 1e-3) -> Quaternion:
+    """Scale ``q`` to unit length; raises ValueError when it is far from unit (a typo, not noise)."""
+    x, y, z, w = (float(v) for v in q)
+    norm = math.sqrt(x * x + y * y + z * z + w * w)
+    if abs(norm - 1.0) > tolerance:
+        raise ValueError(f"quaternion length {norm:.6g} is not 1")
+    return (x / norm, y / norm, z / norm, w / norm)

@@ -1,0 +1,125 @@
+"""The one exception hierarchy of cadkg.
+
+Every error a user can cause derives from :class:`CadkgError`. Ingest errors carry
+where the problem is (file and line, or ``sheet!cell``), what was found and what
+was expected, so the command line can print one clear line instead of a traceback.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+__all__ = [
+    "CadkgError",
+    "IngestError",
+    "IngestWarning",
+    "ManifestError",
+    "NotFound",
+    "QueryError",
+    "StoreError",
+    "UnknownTermError",
+    "format_location",
+]
+
+
+def format_location(path: str | Path | None, line: int | None = None, cell: str | None = None) -> str:
+    """``file:line`` or ``file:Sheet!A12`` or just ``file``; empty when nothing is known."""
+    where = str(path) if path is not None else ""
+    if cell is not None:
+        return f"{where}:{cell}" if where else cell
+    if line is not None:
+        return f"{where}:{line}" if where else f"line {line}"
+    return where
+
+
+class CadkgError(Exception):
+    """Root of every error cadkg raises on purpose."""
+
+
+class _Located:
+    """Mixin formatting ``file:line: message (found ..., expected ...)``."""
+
+    path: str | None
+    line: int | None
+    cell: str | None
+    found: str | None
+    expected: str | None
+    reason: str
+
+    def _setup(
+        self,
+        path: str | Path | None,
+        reason: str,
+        line: int | None,
+        cell: str | None,
+        found: object | None,
+        expected: str | None,
+    ) -> str:
+        self.path = str(path) if path is not None else None
+        self.line = line
+        self.cell = cell
+        self.found = None if found is None else str(found)
+        self.expected = expected
+        self.reason = reason
+        text = reason
+        details = []
+        if found is not None:
+            details.append(f"found {self.found!r}")
+        if expected:
+            details.append(f"expected {expected}")
+        if details:
+            text += " (" + ", ".join(details) + ")"
+        where = format_location(self.path, line, cell)
+        return f"{where}: {text}" if where else text
+
+
+class IngestError(_Located, CadkgError):
+    """An input file could not be read into records."""
+
+    def __init__(
+        self,
+        path: str | Path | None,
+        reason: str,
+        *,
+        line: int | None = None,
+        cell: str | None = None,
+        found: object | None = None,
+        expected: str | None = None,
+    ) -> None:
+        super().__init__(self._setup(path, reason, line, cell, found, expected))
+
+
+class ManifestError(IngestError):
+    """The cell manifest is malformed (unknown key, wrong type, missing file ...)."""
+
+
+class IngestWarning(_Located, UserWarning):
+    """Something in an input file was read under a documented assumption."""
+
+    def __init__(
+        self,
+        path: str | Path | None,
+        reason: str,
+        *,
+        line: int | None = None,
+        cell: str | None = None,
+        found: object | None = None,
+        expected: str | None = None,
+    ) -> None:
+        super().__init__(self._setup(path, reason, line, cell, found, expected))
+
+
+class StoreError(CadkgError):
+    """The store directory is missing, locked, or not a cadkg store."""
+
+
+class QueryError(CadkgError):
+    """A SPARQL query is malformed, names an unknown query, or lacks a parameter."""
+
+
+class NotFound(CadkgError):  # noqa: N818 - the name the design documents
+    """A label, wire or other named thing is not in the graph."""
+
+
+class UnknownTermError(CadkgError, AttributeError):
+    """A term is not defined in the cadkg ontology (a misspelt term)."""

@@ -1,0 +1,319 @@
+"""Reader of EPLAN connection lists (wiring lists), the IEMA process description.
+
+Three real layouts read here, all matched by header meaning rather than position:
+
+* the 11-column form of the reference's Figure 3 (``... Numero filo, Sezione,
+  Colore, Tipo, pot.``), where the last column holds the wire length in mm;
+* the 15-column Italian "Lista cablaggio" with preamble rows, decimal commas and
+  units inside cells (``1,5 mm²``, ``0,474 m``), duct paths and terminations;
+* machine exports whose header cells are quoted and contain line breaks.
+
+The row order is the operation sequence.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+from decimal import Decimal
+from pathlib import Path
+
+from cadkg.errors import IngestError
+from cadkg.ingest.eplan import PinRef, PinSyntaxError, normalize_label, parse_pin_ref
+from cadkg.ingest.text import Row, iter_rows, parse_decimal, read_text
+
+__all__ = ["Connection", "ConnectionListInfo", "read_connection_list"]
+
+_EXPECTED = (
+    "a header row naming 'Componente:pin' (origin and destination), 'Numero filo', "
+    "'Sezione' and 'Colore', separated by tabs, semicolons or commas"
+)
+_HEADER_SCAN_ROWS = 40
+
+# Header text (lower case, white space folded) → meaning. Columns that occur twice
+# (page, zone, pin) are origin first, destination second.
+_ALIASES: dict[str, str] = {
+    "n. pagina": "page",
+    "pagina": "page",
+    "page": "page",
+    "sheet": "page",
+    "zona": "zone",
+    "zone": "zone",
+    "componente:pin": "pin",
+    "component:pin": "pin",
+    "device:pin": "pin",
+    "betriebsmittel:anschluss": "pin",
+    "componente: pin": "pin",
+    "numero filo": "wire_number",
+    "n. filo": "wire_number",
+    "wire number": "wire_number",
+    "wire no.": "wire_number",
+    "verbindungsnummer": "wire_number",
+    "sezione": "section",
+    "sezione (mm²)": "section",
+    "sezione (mm2)": "section",
+    "section": "section",
+    "cross-section": "section",
+    "querschnitt": "section",
+    "colore": "colour",
+    "colour": "colour",
+    "color": "colour",
+    "farbe": "colour",
+    "tipo": "potential_type",
+    "tipo pot.": "potential_type",
+    "potential type": "potential_type",
+    "pot.": "potential_name",
+    "nome pot.": "potential_name",
+    "potential": "potential_name",
+    "potential name": "potential_name",
+    "l filo (m)": "length_m",
+    "lunghezza (m)": "length_m",
+    "length (m)": "length_m",
+    "l filo (mm)": "length_mm",
+    "lunghezza (mm)": "length_mm",
+    "length (mm)": "length_mm",
+    "lunghezza": "length_mm",
+    "length": "length_mm",
+    "traccia collegamenti": "duct_path",
+    "percorso": "duct_path",
+    "route": "duct_path",
+    "terminazione origine": "origin_termination",
+    "terminazione destinazione": "destination_termination",
+}
+_PAIRED = ("page", "zone", "pin")
+_REQUIRED = {
+    "origin_pin": "Componente:pin (origin)",
+    "destination_pin": "Componente:pin (destination)",
+    "wire_number": "Numero filo",
+    "section": "Sezione",
+    "colour": "Colore",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class ConnectionListInfo:
+    """What the preamble of a connection list says about the project."""
+
+    project: str | None
+    job: str | None
+    header_line: int
+
+
+@dataclass(frozen=True, slots=True)
+class Connection:
+    """One wire to make: a row of the connection list, in operation order."""
+
+    index: int
+    line: int
+    origin: PinRef
+    destination: PinRef
+    wire_number: str
+    section_mm2: Decimal | None
+    colour: str | None
+    potential_type: str | None
+    potential_name: str | None
+    length_m: Decimal | None
+    duct_path: tuple[str, ...]
+    origin_termination: str | None
+    destination_termination: str | None
+    origin_page: str | None
+    origin_zone: str | None
+    destination_page: str | None
+    destination_zone: str | None
+
+
+def _norm(header: str) -> str:
+    return re.sub(r"\s+", " ", header.strip().lower())
+
+
+def _columns(row: Row) -> dict[str, int]:
+    columns: dict[str, int] = {}
+    for index, cell in enumerate(row.cells):
+        meaning = _ALIASES.get(_norm(cell))
+        if meaning is None:
+            continue
+        if meaning in _PAIRED:
+            key = f"origin_{meaning}" if f"origin_{meaning}" not in columns else f"destination_{meaning}"
+        else:
+            key = meaning
+        columns.setdefault(key, index)
+    return columns
+
+
+def _find_header(text: str) -> tuple[list[Row], int, dict[str, int]]:
+    best: tuple[int, list[Row], int, dict[str, int]] | None = None
+    for delimiter in ("\t", ";", ","):
+        rows = list(iter_rows(text, delimiter))
+        for position, row in enumerate(rows[:_HEADER_SCAN_ROWS]):
+            columns = _columns(row)
+            if "origin_pin" in columns and "destination_pin" in columns:
+                score = len(columns)
+                if best is None or score > best[0]:
+                    best = (score, rows, position, columns)
+                break
+    if best is None:
+        raise IngestError(None, "no header row found in the first lines", line=1, expected=_EXPECTED)
+    _, rows, position, columns = best
+    # Figure 3's 11-column form shifts the potential columns: 'Tipo' then 'pot.' whose
+    # numbers are the wire length in mm (there is no separate length column).
+    if "potential_name" in columns and not ({"length_m", "length_mm"} & columns.keys()):
+        header = rows[position]
+        if (
+            _norm(header.cells[columns["potential_name"]]) == "pot."
+            and _norm(header.cells[columns.get("potential_type", -1)] if "potential_type" in columns else "")
+            == "tipo"
+        ):
+            columns["length_mm"] = columns.pop("potential_name")
+    return rows, position, columns
+
+
+def _preamble_value(rows: list[Row], label: str) -> str | None:
+    for row in rows:
+        for i, cell in enumerate(row.cells):
+            if _norm(cell) == label:
+                for later in row.cells[i + 1 :]:
+                    if later.strip():
+                        return later.strip()
+    return None
+
+
+def read_connection_list(path: str | Path) -> list[ConnectionListInfo | Connection]:
+    """Read an EPLAN connection list into a :class:`ConnectionListInfo` and its connections.
+
+    Raises
+    ------
+    IngestError
+        When no header is found, a required column is missing, a number or pin
+        reference is malformed, or there are no data rows; located at file:line.
+    """
+    text = read_text(path, expected=_EXPECTED)
+    try:
+        rows, header_at, columns = _find_header(text)
+    except IngestError as err:
+        raise IngestError(path, err.reason, line=err.line, expected=err.expected) from None
+    header = rows[header_at]
+    missing = [name for key, name in _REQUIRED.items() if key not in columns]
+    if missing:
+        found = ", ".join(c.strip() for c in header.cells if c.strip())
+        raise IngestError(
+            path,
+            f"missing column {', '.join(repr(m) for m in missing)}",
+            line=header.line,
+            found=found[:200],
+            expected="the connection list columns " + ", ".join(_REQUIRED.values()),
+        )
+    header_names = {key: re.sub(r"\s+", " ", header.cells[i].strip()) for key, i in columns.items()}
+    preamble = rows[:header_at]
+    records: list[ConnectionListInfo | Connection] = [
+        ConnectionListInfo(
+            project=_preamble_value(preamble, "nome progetto:"),
+            job=_preamble_value(preamble, "commessa:"),
+            header_line=header.line,
+        )
+    ]
+    for row in rows[header_at + 1 :]:
+        if row.is_blank:
+            continue
+        records.append(_connection(path, row, columns, header_names, len(records)))
+    if len(records) == 1:
+        raise IngestError(
+            path, "no connections after the header", line=header.line, expected="at least one data row"
+        )
+    return records
+
+
+def _connection(
+    path: str | Path, row: Row, columns: dict[str, int], names: dict[str, str], index: int
+) -> Connection:
+    def text(key: str) -> str | None:
+        at = columns.get(key)
+        value = row.cell(at) if at is not None else ""
+        return value if value and value != "-" else None
+
+    def pin(key: str) -> PinRef:
+        raw = text(key)
+        if raw is None:
+            raise IngestError(
+                path,
+                f"empty cell in column {names[key]!r}",
+                line=row.line,
+                expected="a pin reference such as -F1500.1:14",
+            )
+        try:
+            return parse_pin_ref(raw)
+        except PinSyntaxError as err:
+            raise IngestError(
+                path,
+                f"unknown pin reference in column {names[key]!r}: {err}",
+                line=row.line,
+                found=raw,
+                expected="DEVICE:PIN or DEVICE:TERMINAL:LEVEL, e.g. -F1500.1:14 or =-X1600:2:a",
+            ) from None
+
+    def number(key: str, unit: str, to_unit: Callable[[Decimal, str], Decimal]) -> Decimal | None:
+        raw = text(key)
+        if raw is None:
+            return None
+        try:
+            value, found_unit = parse_decimal(raw)
+        except ValueError:
+            raise IngestError(
+                path,
+                f"not a number in column {names[key]!r}",
+                line=row.line,
+                found=raw,
+                expected=f"a number in {unit}, e.g. 1,5 or 1.5 {unit}",
+            ) from None
+        if value <= 0:
+            raise IngestError(
+                path,
+                f"non-positive value in column {names[key]!r}",
+                line=row.line,
+                found=raw,
+                expected=f"a positive number in {unit}",
+            )
+        return to_unit(value, found_unit)
+
+    def section(value: Decimal, unit: str) -> Decimal:
+        return value
+
+    def metres(default: str) -> Callable[[Decimal, str], Decimal]:
+        def convert(value: Decimal, unit: str) -> Decimal:
+            return value / 1000 if (unit or default) == "mm" else value
+
+        return convert
+
+    length = (
+        number("length_m", "m", metres("m"))
+        if "length_m" in columns
+        else number("length_mm", "mm", metres("mm"))
+    )
+    ducts = text("duct_path")
+    wire_number = text("wire_number")
+    if wire_number is None:
+        raise IngestError(
+            path,
+            f"empty cell in column {names['wire_number']!r}",
+            line=row.line,
+            expected="a wire number such as 1500.51 or 0V",
+        )
+    return Connection(
+        index=index,
+        line=row.line,
+        origin=pin("origin_pin"),
+        destination=pin("destination_pin"),
+        wire_number=wire_number,
+        section_mm2=number("section", "mm²", section),
+        colour=text("colour"),
+        potential_type=text("potential_type"),
+        potential_name=text("potential_name"),
+        length_m=length,
+        duct_path=tuple(normalize_label(d) for d in ducts.split(";") if d.strip()) if ducts else (),
+        origin_termination=text("origin_termination"),
+        destination_termination=text("destination_termination"),
+        origin_page=text("origin_page"),
+        origin_zone=text("origin_zone"),
+        destination_page=text("destination_page"),
+        destination_zone=text("destination_zone"),
+    )

@@ -1,0 +1,134 @@
+"""Decoding of text exports: encodings, byte-order marks, binary garbage, rows with lines.
+
+EPLAN and spreadsheet exports arrive as UTF-8 (with or without a BOM) or as the
+Windows code page of the machine that wrote them. We read UTF-8 first and fall
+back to Windows-1252 with a warning, because a silent mojibake label would never
+match its counterpart in another file.
+"""
+
+from __future__ import annotations
+
+import csv
+import warnings
+from collections.abc import Iterator
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from pathlib import Path
+
+from cadkg.errors import IngestError, IngestWarning
+
+__all__ = ["Row", "decode_text", "iter_rows", "parse_decimal", "read_text"]
+
+_BOM = b"\xef\xbb\xbf"
+_CONTROL_OK = {"\t", "\n", "\r", "\f"}
+
+
+@dataclass(frozen=True, slots=True)
+class Row:
+    """One record of a delimited text file and the 1-based line it starts on."""
+
+    line: int
+    cells: tuple[str, ...]
+
+    def cell(self, index: int) -> str:
+        """The stripped cell at ``index``; empty when the row is shorter."""
+        return self.cells[index].strip() if index < len(self.cells) else ""
+
+    @property
+    def is_blank(self) -> bool:
+        return not any(c.strip() for c in self.cells)
+
+
+def _line_of(data: bytes, offset: int) -> int:
+    return data.count(b"\n", 0, offset) + 1
+
+
+def decode_text(path: str | Path, data: bytes, *, expected: str) -> str:
+    """Decode a text export, rejecting empty and binary files with a located error."""
+    if data.startswith(_BOM):
+        data = data[len(_BOM) :]
+    if not data.strip():
+        raise IngestError(path, "the file is empty", expected=expected)
+    nul = data.find(b"\x00")
+    if nul >= 0:
+        raise IngestError(
+            path,
+            f"binary content (NUL byte at offset {nul})",
+            line=_line_of(data, nul),
+            expected=expected,
+        )
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        line = _line_of(data, err.start)
+        try:
+            text = data.decode("cp1252")
+            encoding = "Windows-1252"
+        except UnicodeDecodeError:
+            text = data.decode("latin-1")
+            encoding = "Latin-1"
+        warnings.warn(
+            IngestWarning(
+                path,
+                f"not UTF-8 (first invalid byte 0x{data[err.start]:02x}); read as {encoding}",
+                line=line,
+            ),
+            stacklevel=2,
+        )
+    bad = sum(1 for ch in text[:65536] if ord(ch) < 32 and ch not in _CONTROL_OK)
+    if bad > max(8, len(text[:65536]) // 100):
+        raise IngestError(path, f"binary content ({bad} control characters)", expected=expected)
+    return text
+
+
+def read_text(path: str | Path, *, expected: str) -> str:
+    """Read and decode a whole text file (see :func:`decode_text`)."""
+    try:
+        data = Path(path).read_bytes()
+    except OSError as err:
+        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
+    return decode_text(path, data, expected=expected)
+
+
+def iter_rows(text: str, delimiter: str) -> Iterator[Row]:
+    """Rows of delimited text with the line each starts on (quoted cells may span lines)."""
+    reader = csv.reader(text.splitlines(keepends=True), delimiter=delimiter, strict=False)
+    start = 1
+    for cells in reader:
+        yield Row(start, tuple(cells))
+        start = reader.line_num + 1
+
+
+_UNITS = ("mm²", "mm2", "mmq", "mm^2", "mm", "m")
+
+
+def parse_decimal(text: str) -> tuple[Decimal, str]:
+    """Parse ``'1,5 mm²'`` → ``(Decimal('1.5'), 'mm²')``; raises ValueError when not a number.
+
+    Decimal commas are what Italian and German exports write; when both ``.`` and
+    ``,`` occur the last one is the decimal separator.
+    """
+    value = text.strip().replace("\u00a0", " ")
+    unit = ""
+    lowered = value.lower()
+    for candidate in _UNITS:
+        if lowered.endswith(candidate):
+            number_part = value[: len(value) - len(candidate)]
+            if number_part.strip() and (number_part[-1].isdigit() or number_part[-1] == " "):
+                unit = candidate
+                value = number_part.strip()
+                break
+    if "," in value and "." in value:
+        if value.rfind(",") > value.rfind("."):
+            value = value.replace(".", "").replace(",", ".")
+        else:
+            value = value.replace(",", "")
+    else:
+        value = value.replace(",", ".")
+    try:
+        number = Decimal(value)
+    except InvalidOperation:
+        raise ValueError(text) from None
+    if not number.is_finite():
+        raise ValueError(text)
+    return number, unit

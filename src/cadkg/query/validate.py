@@ -1,0 +1,175 @@
+"""Validation of a cell graph: SHACL shapes plus semantic checks across files.
+
+Every finding is located at the input file and line it came from, because the
+person fixing it works in the EPLAN export, not in the graph.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal
+
+from cadkg.errors import format_location
+from cadkg.ontology.terms import ontology_path
+
+if TYPE_CHECKING:
+    from cadkg.store import KnowledgeGraph
+
+__all__ = ["Finding", "validate"]
+
+Severity = Literal["error", "warning"]
+
+
+@dataclass(frozen=True, order=True)
+class Finding:
+    """One problem: where it is, how bad, which check found it and what it is."""
+
+    location: str
+    severity: Severity
+    check: str
+    message: str
+
+    def __str__(self) -> str:
+        return f"{self.location}: {self.severity}: {self.message} [{self.check}]"
+
+
+_UNKNOWN_LABELS = """
+SELECT DISTINCT ?wire ?label ?pinName ?node WHERE {
+  FILTER EXISTS { ?anyItem a ck:CadItem }
+  { ?wire ck:fromPin ?pin } UNION { ?wire ck:toPin ?pin }
+  ?pin ck:pinOf ?component ; ck:pinName ?pinName .
+  ?component ck:label ?label .
+  FILTER NOT EXISTS { ?component ck:hasItem ?item }
+  FILTER NOT EXISTS { ?component a ck:Duct }
+  BIND(?wire AS ?node)
+}
+"""
+
+_WIRE_ENDS = """
+SELECT DISTINCT ?wire ?number ?from ?to ?sequence WHERE {
+  ?wire a ck:Wire ; ck:wireNumber ?number ; ck:fromPin ?from ; ck:toPin ?to .
+  OPTIONAL { ?wire ck:sequenceIndex ?sequence }
+}
+"""
+
+_PINS_WITHOUT_DATA = """
+SELECT DISTINCT ?wire ?label ?pinName WHERE {
+  { ?wire ck:fromPin ?pin } UNION { ?wire ck:toPin ?pin }
+  ?pin ck:pinOf ?component ; ck:pinName ?pinName .
+  ?component ck:label ?label ; ck:hasItem/ck:instanceOf ?model .
+  FILTER EXISTS { ?model ck:hasPin ?anyModelPin }
+  FILTER NOT EXISTS { ?model ck:hasPin/ck:pinName ?pinName }
+}
+"""
+
+
+def _where(kg: KnowledgeGraph, node: str) -> str:
+    import pyoxigraph as ox
+
+    result = kg.raw_query(
+        "SELECT ?node ?path ?line WHERE {"
+        " GRAPH ?g { ?node ck:sourceLine ?line } ?g ck:sourcePath ?path } LIMIT 1",
+        {"node": ox.NamedNode(node)},
+    )
+    for solution in result:
+        return format_location(solution["path"].value, int(solution["line"].value))
+    return node
+
+
+def _semantic(kg: KnowledgeGraph) -> list[Finding]:
+    findings = []
+    for row in kg.query(_UNKNOWN_LABELS):
+        findings.append(
+            Finding(
+                _where(kg, row["wire"]),
+                "error",
+                "unknown-label",
+                f"component {row['label']!r} (pin {row['pinName']}) is not in any ID table",
+            )
+        )
+    findings.extend(_duplicate_wire_numbers(kg))
+    for row in kg.query(_PINS_WITHOUT_DATA):
+        findings.append(
+            Finding(
+                _where(kg, row["wire"]),
+                "error",
+                "pin-without-data",
+                f"pin {row['label']}:{row['pinName']} has no data in the component model",
+            )
+        )
+    return findings
+
+
+def _duplicate_wire_numbers(kg: KnowledgeGraph) -> list[Finding]:
+    """Wires sharing a number are fine when they form one chain through shared pins
+    (EPLAN numbers potential jumpers that way); each further chain is an error."""
+    import networkx as nx
+
+    by_number: dict[str, nx.Graph] = {}
+    for row in kg.query(_WIRE_ENDS):
+        chains = by_number.setdefault(row["number"], nx.Graph())
+        chains.add_edge(row["from"], row["to"], wire=row["wire"], order=row["sequence"] or 0)
+    findings = []
+    for number, chains in by_number.items():
+        parts = [
+            sorted((data["order"], data["wire"]) for _, _, data in chains.subgraph(nodes).edges(data=True))
+            for nodes in nx.connected_components(chains)
+        ]
+        if len(parts) < 2:
+            continue
+        parts.sort()
+        first = _where(kg, parts[0][0][1])
+        for part in parts[1:]:
+            findings.append(
+                Finding(
+                    _where(kg, part[0][1]),
+                    "error",
+                    "duplicate-wire-number",
+                    f"wire number {number!r} already used at {first} for wires between other pins",
+                )
+            )
+    return findings
+
+
+def _shacl(kg: KnowledgeGraph) -> list[Finding]:
+    import pyshacl
+    import rdflib
+    from rdflib.namespace import SH
+
+    data = rdflib.Graph()
+    data.parse(data=kg.serialize("nt"), format="nt")
+    shapes = rdflib.Graph().parse(ontology_path("shapes.ttl"), format="turtle")
+    ontology = rdflib.Graph().parse(ontology_path("cadkg.ttl"), format="turtle")
+    conforms, report, _ = pyshacl.validate(
+        data, shacl_graph=shapes, ont_graph=ontology, inference="none", advanced=True
+    )
+    if conforms:
+        return []
+    findings = []
+    for result in report.subjects(rdflib.RDF.type, SH.ValidationResult):
+        focus = report.value(result, SH.focusNode)
+        severity = report.value(result, SH.resultSeverity)
+        message = report.value(result, SH.resultMessage)
+        path = report.value(result, SH.resultPath)
+        what = str(message) if message else "violates a shape"
+        if path is not None:
+            what += f" (property {path.n3(data.namespace_manager)})"
+        findings.append(
+            Finding(
+                _where(kg, str(focus)) if isinstance(focus, rdflib.URIRef) else str(focus),
+                "error" if severity == SH.Violation else "warning",
+                "shacl",
+                f"<{focus}>: {what}",
+            )
+        )
+    return findings
+
+
+def validate(kg: KnowledgeGraph, *, shacl: bool = True) -> list[Finding]:
+    """All findings, sorted by location: SHACL shapes, unknown labels, duplicate wire
+    numbers (wires of one number that do not form one chain through shared pins),
+    pins whose component model has no data for them."""
+    findings = _semantic(kg)
+    if shacl:
+        findings.extend(_shacl(kg))
+    return sorted(set(findings))

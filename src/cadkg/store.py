@@ -1,0 +1,406 @@
+"""The knowledge graph: a pyoxigraph store with one named graph per input file.
+
+On disk a store is a directory holding generations (``gen-*/``, each a complete
+oxigraph database) and a ``CURRENT`` file naming the live one. A build writes a
+new generation and then replaces ``CURRENT`` with one atomic rename, so a failed
+build leaves the previous store exactly as it was and readers never see half a build.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import shutil
+import time
+import uuid
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from dataclasses import dataclass
+from datetime import date, datetime
+from decimal import Decimal
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import pyoxigraph as ox
+
+from cadkg.errors import QueryError, StoreError
+from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
+from cadkg.ingest.pipeline import GraphData, SourceReport, read_manifest_graphs, read_source
+from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
+
+if TYPE_CHECKING:
+    import networkx as nx
+    import pandas as pd
+
+__all__ = ["EXPORT_FORMATS", "PREFIXES", "KnowledgeGraph", "QueryResult", "build", "open_store"]
+
+PREFIXES = {
+    "ck": CK_NS,
+    "rdf": "http://www.w3.org/1999/02/22-rdf-syntax-ns#",
+    "rdfs": "http://www.w3.org/2000/01/rdf-schema#",
+    "owl": "http://www.w3.org/2002/07/owl#",
+    "xsd": "http://www.w3.org/2001/XMLSchema#",
+}
+EXPORT_FORMATS = {
+    "ttl": ox.RdfFormat.TURTLE,
+    "nt": ox.RdfFormat.N_TRIPLES,
+    "nq": ox.RdfFormat.N_QUADS,
+    "trig": ox.RdfFormat.TRIG,
+    "jsonld": ox.RdfFormat.JSON_LD,
+}
+_CURRENT = "CURRENT"
+_XSD = "http://www.w3.org/2001/XMLSchema#"
+
+
+def _to_python(term: Any) -> Any:
+    if term is None:
+        return None
+    if isinstance(term, ox.NamedNode):
+        return term.value
+    if isinstance(term, ox.BlankNode):
+        return f"_:{term.value}"
+    if isinstance(term, ox.Literal):
+        dt = term.datatype.value
+        try:
+            if dt in (_XSD + "integer", _XSD + "int", _XSD + "long"):
+                return int(term.value)
+            if dt == _XSD + "decimal":
+                return Decimal(term.value)
+            if dt in (_XSD + "double", _XSD + "float"):
+                return float(term.value)
+            if dt == _XSD + "boolean":
+                return term.value in ("true", "1")
+            if dt == _XSD + "dateTime":
+                return datetime.fromisoformat(term.value)
+            if dt == _XSD + "date":
+                return date.fromisoformat(term.value)
+        except ValueError:
+            return term.value
+        return term.value
+    return str(term)
+
+
+def _to_term(value: Any) -> ox.NamedNode | ox.Literal:
+    """A Python value as an RDF term for binding: strings are literals, IRIs must be NamedNode."""
+    if isinstance(value, ox.NamedNode | ox.Literal):
+        return value
+    if isinstance(value, bool):
+        return ox.Literal(str(value).lower(), datatype=ox.NamedNode(_XSD + "boolean"))
+    if isinstance(value, int):
+        return ox.Literal(str(value), datatype=ox.NamedNode(_XSD + "integer"))
+    if isinstance(value, Decimal):
+        return ox.Literal(format(value, "f"), datatype=ox.NamedNode(_XSD + "decimal"))
+    if isinstance(value, float):
+        return ox.Literal(repr(value), datatype=ox.NamedNode(_XSD + "double"))
+    if isinstance(value, str):
+        return ox.Literal(value)
+    raise QueryError(f"cannot bind a value of type {type(value).__name__}")
+
+
+@dataclass(frozen=True)
+class QueryResult:
+    """Rows of a SELECT query as plain Python values (IRIs as strings)."""
+
+    variables: tuple[str, ...]
+    rows: tuple[dict[str, Any], ...]
+
+    def __iter__(self) -> Iterator[dict[str, Any]]:
+        return iter(self.rows)
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def to_dataframe(self) -> pd.DataFrame:
+        import pandas as pd
+
+        return pd.DataFrame(list(self.rows), columns=list(self.variables))
+
+
+class KnowledgeGraph:
+    """The cell's RDF graph over pyoxigraph, in memory or in a store directory.
+
+    Queries see the union of all named graphs as their default graph.
+    """
+
+    def __init__(self, store: ox.Store, directory: Path | None = None, read_only: bool = False) -> None:
+        self._store = store
+        self.directory = directory
+        self.read_only = read_only
+        self.reports: list[SourceReport] = []
+
+    # -- opening and building -------------------------------------------------
+    @classmethod
+    def memory(cls) -> KnowledgeGraph:
+        kg = cls(ox.Store())
+        kg._load_ontology()
+        return kg
+
+    @classmethod
+    def open(cls, directory: str | Path, *, read_only: bool = True) -> KnowledgeGraph:
+        """Open a store directory written by :meth:`build_into`.
+
+        Raises
+        ------
+        StoreError
+            When the directory is not a cadkg store or cannot be opened.
+        """
+        directory = Path(directory)
+        generation = _current_generation(directory)
+        try:
+            store = ox.Store.read_only(str(generation)) if read_only else ox.Store(str(generation))
+        except OSError as err:
+            raise StoreError(f"{directory}: cannot open the store: {err}") from err
+        return cls(store, directory, read_only)
+
+    @classmethod
+    def build(
+        cls,
+        manifest: str | Path | Manifest,
+        directory: str | Path | None = None,
+        *,
+        on_source: Callable[[SourceSpec], None] | None = None,
+    ) -> KnowledgeGraph:
+        """Build the graph of a manifest, in memory or atomically into ``directory``.
+
+        Raises
+        ------
+        IngestError, ManifestError
+            When any input is malformed; an existing store directory is left unchanged.
+        """
+        if not isinstance(manifest, Manifest):
+            manifest = load_manifest(manifest)
+        if directory is None:
+            kg = cls.memory()
+            for data in read_manifest_graphs(manifest, on_source):
+                kg._write_graph(data, bulk=False)
+            return kg
+        return cls._build_into(manifest, Path(directory), on_source)
+
+    @classmethod
+    def _build_into(
+        cls, manifest: Manifest, directory: Path, on_source: Callable[[SourceSpec], None] | None
+    ) -> KnowledgeGraph:
+        if directory.exists() and not (directory / _CURRENT).exists() and any(directory.iterdir()):
+            raise StoreError(f"{directory}: exists and is not a cadkg store; refusing to write into it")
+        directory.mkdir(parents=True, exist_ok=True)
+        name = f"gen-{time.strftime('%Y%m%dT%H%M%S')}-{uuid.uuid4().hex[:8]}"
+        generation = directory / name
+        reports: list[SourceReport] = []
+        try:
+            store = ox.Store(str(generation))
+            kg = cls(store, directory)
+            kg._load_ontology()
+            for data in read_manifest_graphs(manifest, on_source):
+                kg._write_graph(data, bulk=True)
+                reports.append(data.report)
+            store.flush()
+            store.optimize()
+            del kg, store
+        except BaseException:
+            shutil.rmtree(generation, ignore_errors=True)
+            raise
+        pointer = directory / f".{_CURRENT}.{name}"
+        pointer.write_text(name + "\n", encoding="utf-8")
+        previous = _read_pointer(directory)
+        pointer.replace(directory / _CURRENT)
+        if previous is not None and previous != name:
+            shutil.rmtree(directory / previous, ignore_errors=True)
+        opened = cls.open(directory, read_only=False)
+        opened.reports = reports
+        return opened
+
+    def _load_ontology(self) -> None:
+        self._store.load(
+            path=ontology_path(), format=ox.RdfFormat.TURTLE, to_graph=ox.NamedNode(ONTOLOGY_IRI)
+        )
+
+    def _write_graph(self, data: GraphData, *, bulk: bool) -> None:
+        graph = ox.NamedNode(data.graph)
+        if bulk:
+            self._store.bulk_load(data.ntriples, ox.RdfFormat.N_TRIPLES, to_graph=graph)
+        else:
+            self._store.load(data.ntriples, ox.RdfFormat.N_TRIPLES, to_graph=graph)
+        self.reports.append(data.report)
+
+    def replace_source(
+        self, path: str | Path, rel_path: str, base_iri: str, kind: str | None = None
+    ) -> SourceReport:
+        """Re-read one input file and replace its named graph, leaving every other graph as is.
+
+        The file is read and mapped before the store is touched, and the swap is one
+        transaction: on a read error the old graph stays.
+
+        Raises
+        ------
+        IngestError
+            When the file is malformed.
+        """
+        if self.read_only:
+            raise StoreError("the store is open read-only")
+        data = read_source(Path(path), rel_path, kind, base_iri)
+        # One update request is one transaction: the old graph goes only if the new one lands.
+        # The graph IRI is minted by us and every term of the data is escaped by the mapping.
+        inserts = data.ntriples.decode("utf-8")
+        self._store.update(
+            f"DROP SILENT GRAPH <{data.graph}> ; INSERT DATA {{ GRAPH <{data.graph}> {{ {inserts} }} }}"
+        )
+        self.reports.append(data.report)
+        return data.report
+
+    def close(self) -> None:
+        if not self.read_only:
+            with contextlib.suppress(OSError):
+                self._store.flush()
+        del self._store
+
+    def __enter__(self) -> KnowledgeGraph:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # -- reading ---------------------------------------------------------------
+    def __len__(self) -> int:
+        return len(self._store)
+
+    def named_graphs(self) -> list[str]:
+        return sorted(g.value for g in self._store.named_graphs() if isinstance(g, ox.NamedNode))
+
+    def sources(self) -> list[dict[str, Any]]:
+        """Provenance of every ingested file: graph, path, sha256, kind, time."""
+        return list(
+            self.query(
+                """SELECT ?graph ?path ?sha256 ?kind ?time WHERE {
+                     GRAPH ?graph { ?graph a ck:SourceFile ; ck:sourcePath ?path ;
+                       ck:sha256 ?sha256 ; ck:readerKind ?kind ; ck:ingestedAt ?time } }
+                   ORDER BY ?path"""
+            )
+        )
+
+    def raw_query(self, sparql: str, bindings: Mapping[str, Any] | None = None) -> Any:
+        """Run SPARQL on the union graph with bound parameters; returns pyoxigraph results.
+
+        Parameters are bound with SPARQL substitution (never pasted into the text);
+        in a SELECT each bound variable must be projected.
+
+        Raises
+        ------
+        QueryError
+            On a syntax error or a binding the query does not project.
+        """
+        substitutions: dict[ox.Variable, ox.NamedNode | ox.BlankNode | ox.Literal | ox.Triple] = {
+            ox.Variable(k): _to_term(v) for k, v in (bindings or {}).items()
+        }
+        try:
+            return self._store.query(
+                sparql,
+                prefixes=PREFIXES,
+                use_default_graph_as_union=True,
+                substitutions=substitutions or None,
+            )
+        except SyntaxError as err:
+            # oxigraph lists every token it would accept; the position is what helps.
+            message = str(err).split(" expected one of", 1)[0].rstrip(":")
+            raise QueryError(f"SPARQL syntax error: {message}") from None
+        except RuntimeError as err:
+            raise QueryError(str(err)) from None
+
+    def query(self, sparql: str, **bindings: Any) -> QueryResult:
+        """Run a SELECT and return its rows as dictionaries of Python values.
+
+        >>> kg = KnowledgeGraph.memory()
+        >>> kg.query("SELECT ?c WHERE { ?c a owl:Class ; rdfs:label ?l } LIMIT 1").variables
+        ('c',)
+        """
+        result = self.raw_query(sparql, bindings)
+        if not isinstance(result, ox.QuerySolutions):
+            raise QueryError("query() runs SELECT queries; use ask() or construct()")
+        variables = tuple(v.value for v in result.variables)
+        rows = tuple({name: _to_python(solution[name]) for name in variables} for solution in result)
+        return QueryResult(variables, rows)
+
+    def ask(self, sparql: str, **bindings: Any) -> bool:
+        result = self.raw_query(sparql, bindings)
+        if not isinstance(result, ox.QueryBoolean):
+            raise QueryError("ask() runs ASK queries")
+        return bool(result)
+
+    def construct(self, sparql: str, **bindings: Any) -> list[ox.Triple]:
+        result = self.raw_query(sparql, bindings)
+        if not isinstance(result, ox.QueryTriples):
+            raise QueryError("construct() runs CONSTRUCT or DESCRIBE queries")
+        return list(result)
+
+    def quads(self) -> Iterator[ox.Quad]:
+        return iter(self._store)
+
+    # -- export -----------------------------------------------------------------
+    def serialize(self, fmt: str = "ttl", *, include_ontology: bool = False) -> bytes:
+        """The graph as Turtle, N-Triples (merged), N-Quads, TriG or JSON-LD (named graphs kept)."""
+        if fmt not in EXPORT_FORMATS:
+            raise QueryError(f"unknown export format {fmt!r}; one of {', '.join(EXPORT_FORMATS)}")
+        rdf_format = EXPORT_FORMATS[fmt]
+        keep = ox.Store()
+        ontology = ox.NamedNode(ONTOLOGY_IRI)
+        merge = not rdf_format.supports_datasets
+        keep.extend(
+            ox.Quad(q.subject, q.predicate, q.object, ox.DefaultGraph() if merge else q.graph_name)
+            for q in self._store
+            if include_ontology or q.graph_name != ontology
+        )
+        if merge:
+            data = keep.dump(format=rdf_format, from_graph=ox.DefaultGraph(), prefixes=PREFIXES)
+        else:
+            data = keep.dump(format=rdf_format, prefixes=PREFIXES)
+        assert data is not None  # dump() returns bytes when given no output
+        return data
+
+    def export(self, path: str | Path, fmt: str | None = None) -> Path:
+        """Write the graph to ``path``; the format comes from ``fmt`` or the suffix
+        (``.ttl .nt .nq .trig .jsonld .graphml``)."""
+        path = Path(path)
+        fmt = fmt or path.suffix.lstrip(".").lower()
+        if fmt == "graphml":
+            from cadkg.query.views import write_graphml
+
+            write_graphml(self, path)
+            return path
+        path.write_bytes(self.serialize(fmt))
+        return path
+
+    def graph_view(self, relations: Iterable[str] | None = None) -> nx.MultiDiGraph:
+        """A networkx view of the selected relations (see :func:`cadkg.query.views.graph_view`)."""
+        from cadkg.query.views import graph_view
+
+        return graph_view(self, relations)
+
+    def named_query(self, name: str, **params: Any) -> QueryResult:
+        """Run a named query of ``query/sparql`` (see :func:`cadkg.query.named.run_named`)."""
+        from cadkg.query.named import run_named
+
+        return run_named(self, name, **params)
+
+
+def _read_pointer(directory: Path) -> str | None:
+    try:
+        return (directory / _CURRENT).read_text(encoding="utf-8").strip() or None
+    except FileNotFoundError:
+        return None
+
+
+def _current_generation(directory: Path) -> Path:
+    name = _read_pointer(directory)
+    if name is None:
+        raise StoreError(f"{directory}: not a cadkg store (no {_CURRENT} file); build one with 'cadkg build'")
+    generation = directory / name
+    if not generation.is_dir():
+        raise StoreError(f"{directory}: {_CURRENT} names {name!r}, which is missing")
+    return generation
+
+
+def build(manifest: str | Path, store: str | Path | None = None) -> KnowledgeGraph:
+    """Build the graph of a manifest: in memory, or into a store directory (atomically)."""
+    return KnowledgeGraph.build(manifest, store)
+
+
+def open_store(directory: str | Path, *, read_only: bool = True) -> KnowledgeGraph:
+    """Open a store directory written by :func:`build`."""
+    return KnowledgeGraph.open(directory, read_only=read_only)
