@@ -249,3 +249,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     except KeyboardInterrupt:
         _err.print("cadkg: interrupted")
         sys.exit(130)
+
+
+if __name__ == "__main__":
+    main()

@@ -278,29 +278,42 @@ class KnowledgeGraph:
     def raw_query(self, sparql: str, bindings: Mapping[str, Any] | None = None) -> Any:
         """Run SPARQL on the union graph with bound parameters; returns pyoxigraph results.
 
-        Parameters are bound with SPARQL substitution (never pasted into the text);
-        in a SELECT each bound variable must be projected.
+        Parameters are bound with SPARQL substitution, never pasted into the text.
 
         Raises
         ------
         QueryError
             On a syntax error or a binding the query does not project.
         """
+        terms = {name: _to_term(value) for name, value in (bindings or {}).items()}
         substitutions: dict[ox.Variable, ox.NamedNode | ox.BlankNode | ox.Literal | ox.Triple] = {
-            ox.Variable(k): _to_term(v) for k, v in (bindings or {}).items()
+            ox.Variable(name): term for name, term in terms.items()
         }
         try:
+            try:
+                return self._store.query(
+                    sparql,
+                    prefixes=PREFIXES,
+                    use_default_graph_as_union=True,
+                    substitutions=substitutions or None,
+                )
+            except RuntimeError as err:
+                if not terms or "projection" not in str(err):
+                    raise
+            # Substitution needs the variable projected; otherwise bind through a trailing
+            # VALUES block whose terms pyoxigraph serializes (escaped), never raw user text.
+            names = " ".join(f"?{name}" for name in terms)
+            row = " ".join(str(term) for term in terms.values())
             return self._store.query(
-                sparql,
+                f"{sparql}\nVALUES ({names}) {{ ({row}) }}",
                 prefixes=PREFIXES,
                 use_default_graph_as_union=True,
-                substitutions=substitutions or None,
             )
         except SyntaxError as err:
             # oxigraph lists every token it would accept; the position is what helps.
             message = str(err).split(" expected one of", 1)[0].rstrip(":")
             raise QueryError(f"SPARQL syntax error: {message}") from None
-        except RuntimeError as err:
+        except (RuntimeError, OSError) as err:
             raise QueryError(str(err)) from None
 
     def query(self, sparql: str, **bindings: Any) -> QueryResult:

@@ -1,0 +1,24 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import cadkg
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+IEMA = EXAMPLES / "iema-switchgear" / "manifest.toml"
+IEMA_FIG3 = EXAMPLES / "iema-switchgear" / "manifest-fig3.toml"
+BAD = EXAMPLES / "bad-cell" / "manifest.toml"
+
+
+@pytest.fixture(scope="session")
+def iema() -> cadkg.KnowledgeGraph:
+    """The IEMA example built in memory once; tests must not change it."""
+    return cadkg.build(IEMA)
+
+
+@pytest.fixture(scope="session")
+def fig3() -> cadkg.KnowledgeGraph:
+    return cadkg.build(IEMA_FIG3)

@@ -1,0 +1,42 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import cadkg
+from cadkg.query.validate import validate
+from tests.conftest import BAD
+
+
+def test_the_good_examples_have_no_findings(iema: cadkg.KnowledgeGraph, fig3: cadkg.KnowledgeGraph) -> None:
+    assert validate(iema) == []
+    assert validate(fig3) == []
+
+
+def test_planted_errors_are_found_at_their_lines() -> None:
+    findings = validate(cadkg.build(BAD))
+    assert [(f.location, f.severity, f.check) for f in findings] == [
+        ("connections.tsv:6", "error", "unknown-label"),
+        ("connections.tsv:9", "error", "duplicate-wire-number"),
+    ]
+    assert "K9999" in findings[0].message
+    assert "connections.tsv:5" in findings[1].message
+
+
+def test_shacl_findings_are_located(tmp_path: Path) -> None:
+    # Two lists claiming the same wire number give that wire two from-pins: a shape violation
+    # located in the file that stated it.
+    (tmp_path / "ids.wri").write_text("ID000001\tF1\t\r\nID000002\tQ1\t\r\nID000003\tQ2\t\r\n")
+    header = (
+        "N. Pagina\tZona\tComponente:pin\tN. Pagina\tZona\tComponente:pin\tNumero filo\tSezione\tColore\n"
+    )
+    (tmp_path / "a.tsv").write_text(header + "+1\tQ\t-F1:1\t+1\tQ\t-Q1:1\tW7\t1,5\tBK\n")
+    (tmp_path / "b.tsv").write_text(header + "+1\tQ\t-F1:2\t+1\tQ\t-Q2:1\tW7\t1,5\tBK\n")
+    (tmp_path / "m.toml").write_text(
+        '[cell]\nname = "t"\nprofile = "iema"\nbase_iri = "https://example.org/t/"\n'
+        '[[source]]\npath = "ids.wri"\n[[source]]\npath = "a.tsv"\n[[source]]\npath = "b.tsv"\n'
+    )
+    findings = validate(cadkg.build(tmp_path / "m.toml"))
+    shacl = [f for f in findings if f.check == "shacl"]
+    assert {f.location for f in shacl} <= {"a.tsv:2", "b.tsv:2"}
+    assert any("fromPin" in f.message for f in shacl)
+    assert any("toPin" in f.message for f in shacl)

@@ -1,0 +1,209 @@
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+from pathlib import Path
+
+import pyoxigraph as ox
+import pytest
+
+import cadkg
+from cadkg.errors import IngestError, QueryError, StoreError
+from cadkg.ingest.mapping import graph_iri
+from tests.conftest import IEMA
+
+BASE = "https://example.org/cell/iema-qe01/"
+
+
+def copy_example(tmp_path: Path) -> Path:
+    target = tmp_path / "cell"
+    shutil.copytree(IEMA.parent, target)
+    return target / "manifest.toml"
+
+
+def test_one_named_graph_per_file_with_provenance(iema: cadkg.KnowledgeGraph) -> None:
+    graphs = iema.named_graphs()
+    for rel in ("manifest.toml", "ids.wri", "lista-cablaggio.csv"):
+        assert graph_iri(BASE, rel) in graphs
+    sources = {row["path"]: row for row in iema.sources()}
+    wri = IEMA.parent / "ids.wri"
+    assert sources["ids.wri"]["sha256"] == hashlib.sha256(wri.read_bytes()).hexdigest()
+    assert sources["ids.wri"]["kind"] == "wri"
+    assert sources["lista-cablaggio.csv"]["kind"] == "connection-list"
+    assert sources["ids.wri"]["time"].tzinfo is not None
+
+
+def test_wire_triples_stay_in_their_file_graph(iema: cadkg.KnowledgeGraph) -> None:
+    rows = iema.query(
+        "SELECT ?wire ?g WHERE { GRAPH ?g { ?wire a ck:Wire ; ck:wireNumber ?wireNumber } }",
+        wireNumber="1500.51",
+    )
+    assert [r["g"] for r in rows] == [graph_iri(BASE, "lista-cablaggio.csv")]
+
+
+def test_bindings_are_never_pasted_into_the_query(iema: cadkg.KnowledgeGraph) -> None:
+    hostile = 'F1500.1" } UNION { ?component ?p ?o } #'
+    projected = "SELECT DISTINCT ?component ?label WHERE { ?component a ck:Component ; ck:label ?label }"
+    hidden = "SELECT DISTINCT ?component WHERE { ?component a ck:Component ; ck:label ?label }"
+    for query in (projected, hidden):
+        assert len(iema.query(query, label=hostile)) == 0
+        found = iema.query(query, label="F1500.1")
+        assert [r["component"] for r in found] == [BASE + "component/F1500.1"]
+
+
+def test_query_errors_are_query_errors(iema: cadkg.KnowledgeGraph) -> None:
+    with pytest.raises(QueryError, match="syntax error"):
+        iema.query("SELECT ?x WHERE {")
+    with pytest.raises(QueryError, match="SELECT"):
+        iema.query("ASK { ?s ?p ?o }")
+    with pytest.raises(QueryError):
+        iema.query("SELECT ?x WHERE { ?x ck:label ?y }", y=object())
+
+
+def test_ask_and_construct(iema: cadkg.KnowledgeGraph) -> None:
+    assert iema.ask("ASK { ?w ck:wireNumber ?n }", n="0V")
+    assert not iema.ask("ASK { ?w ck:wireNumber ?n }", n="no-such-wire")
+    triples = iema.construct(
+        "CONSTRUCT { ?c ck:hasPin ?p } WHERE { ?c ck:label ?label ; ck:hasPin ?p }", label="Q1500.1"
+    )
+    assert len(triples) == 8
+
+
+def test_dataframe_has_the_query_columns(iema: cadkg.KnowledgeGraph) -> None:
+    frame = iema.named_query("wires-of-component", label="F1500.1").to_dataframe()
+    assert list(frame.columns)[:3] == ["label", "sequence", "wireNumber"]
+    assert frame["wireNumber"].tolist()[:2] == ["1500.51", "1500.50"]
+
+
+@pytest.mark.parametrize("fmt", ["ttl", "nt", "nq", "trig", "jsonld"])
+def test_exports_round_trip(iema: cadkg.KnowledgeGraph, fmt: str) -> None:
+    data = iema.serialize(fmt)
+    rdf_format = {
+        "ttl": ox.RdfFormat.TURTLE,
+        "nt": ox.RdfFormat.N_TRIPLES,
+        "nq": ox.RdfFormat.N_QUADS,
+        "trig": ox.RdfFormat.TRIG,
+        "jsonld": ox.RdfFormat.JSON_LD,
+    }[fmt]
+    store = ox.Store()
+    store.load(data, rdf_format)
+    ontology_triples = sum(1 for q in iema.quads() if q.graph_name == ox.NamedNode("https://w3id.org/cadkg"))
+    if fmt in ("nq", "trig", "jsonld"):
+        assert len(store) == len(iema) - ontology_triples
+        assert {g.value for g in store.named_graphs()} == set(iema.named_graphs()) - {
+            "https://w3id.org/cadkg"
+        }
+    else:
+        merged = {
+            (q.subject, q.predicate, q.object)
+            for q in iema.quads()
+            if q.graph_name != ox.NamedNode("https://w3id.org/cadkg")
+        }
+        assert len(store) == len(merged)
+    if fmt == "jsonld":
+        assert isinstance(json.loads(data), list | dict)
+
+
+def test_build_into_directory_and_reopen(tmp_path: Path) -> None:
+    kg = cadkg.build(IEMA, tmp_path / "store")
+    count = len(kg)
+    kg.close()
+    reopened = cadkg.open(tmp_path / "store")
+    assert len(reopened) == count
+    assert reopened.named_query("wire-endpoints", wireNumber="1500.51").rows[0]["component"] == "F1500.1"
+    reopened.close()
+
+
+def test_failed_build_leaves_the_previous_store_unchanged(tmp_path: Path) -> None:
+    manifest = copy_example(tmp_path)
+    store = tmp_path / "store"
+    cadkg.build(manifest, store).close()
+    before = sorted(p.name for p in store.iterdir())
+    with cadkg.open(store) as kg:
+        count = len(kg)
+    csv = manifest.parent / "lista-cablaggio.csv"
+    lines = csv.read_text(encoding="utf-8").splitlines(keepends=True)
+    lines[20] = lines[20].replace("=-", "", 1).replace(":", "-", 1)  # a pin without its colon
+    csv.write_text("".join(lines), encoding="utf-8")
+    with pytest.raises(IngestError) as err:
+        cadkg.build(manifest, store)
+    assert err.value.line == 21
+    assert sorted(p.name for p in store.iterdir()) == before
+    with cadkg.open(store) as kg:
+        assert len(kg) == count
+
+
+def test_rebuild_replaces_the_generation(tmp_path: Path) -> None:
+    store = tmp_path / "store"
+    cadkg.build(IEMA, store).close()
+    first = (store / "CURRENT").read_text().strip()
+    cadkg.build(IEMA, store).close()
+    second = (store / "CURRENT").read_text().strip()
+    assert first != second
+    assert sorted(p.name for p in store.iterdir()) == ["CURRENT", second]
+
+
+def test_refuses_to_build_into_a_foreign_directory(tmp_path: Path) -> None:
+    (tmp_path / "notes.txt").write_text("mine")
+    with pytest.raises(StoreError, match="not a cadkg store"):
+        cadkg.build(IEMA, tmp_path)
+    with pytest.raises(StoreError, match="not a cadkg store"):
+        cadkg.open(tmp_path)
+
+
+def test_replacing_one_file_graph_leaves_the_others(tmp_path: Path) -> None:
+    manifest = copy_example(tmp_path)
+    kg = cadkg.build(manifest, tmp_path / "store")
+    wri_graph = graph_iri(BASE, "ids.wri")
+
+    def graph_of(iri: str) -> set[tuple[str, str, str]]:
+        return {
+            (str(q.subject), str(q.predicate), str(q.object))
+            for q in kg.quads()
+            if q.graph_name == ox.NamedNode(iri)
+        }
+
+    wri_before = graph_of(wri_graph)
+    csv = manifest.parent / "lista-cablaggio.csv"
+    lines = csv.read_text(encoding="utf-8").splitlines(keepends=True)
+    csv.write_text("".join(lines[:-1]), encoding="utf-8")  # drop the last wire
+    wires_before = len(kg.named_query("connections-in-order"))
+    report = kg.replace_source(csv, "lista-cablaggio.csv", BASE, "connection-list")
+    assert report.records == 40  # the info record and 39 connections
+    assert len(kg.named_query("connections-in-order")) == wires_before - 1
+    assert graph_of(wri_graph) == wri_before
+
+    lines[10] = "garbage\twithout\tpins\n" * 0 + lines[10].replace(":", "-", 1).replace("=-", "", 1)
+    csv.write_text("".join(lines), encoding="utf-8")
+    with pytest.raises(IngestError):
+        kg.replace_source(csv, "lista-cablaggio.csv", BASE, "connection-list")
+    assert len(kg.named_query("connections-in-order")) == wires_before - 1
+    kg.close()
+
+
+def test_graph_view_traverses_wires(iema: cadkg.KnowledgeGraph) -> None:
+    view = iema.graph_view()
+    f1 = BASE + "component/F1500.1"
+    assert view.nodes[f1]["type"] == "Component"
+    assert view.nodes[f1]["label"] == "F1500.1"
+    pin = BASE + "pin/F1500.1/14"
+    assert view.has_edge(pin, f1, key="pinOf")
+    wire = BASE + "wire/1500.51"
+    assert view.has_edge(wire, pin, key="fromPin")
+    assert view.nodes[wire]["type"] == "Wire"
+    only_pins = iema.graph_view(["pinOf"])
+    assert {d["relation"] for _, _, d in only_pins.edges(data=True)} == {"pinOf"}
+    with pytest.raises(cadkg.UnknownTermError):
+        iema.graph_view(["pinsOf"])
+
+
+def test_graphml_export_reads_back(iema: cadkg.KnowledgeGraph, tmp_path: Path) -> None:
+    import networkx as nx
+
+    path = iema.export(tmp_path / "cell.graphml")
+    graph = nx.read_graphml(path)
+    view = iema.graph_view()
+    assert graph.number_of_nodes() == view.number_of_nodes()
+    assert graph.number_of_edges() == view.number_of_edges()
+    assert graph.nodes[BASE + "component/X1600"]["label"] == "X1600"
