@@ -33,7 +33,8 @@ __all__ = ["main"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 _err = Console(stderr=True, highlight=False, soft_wrap=True)
-_out = Console(highlight=False, soft_wrap=True)
+# Piped output is read by scripts and people alike: do not truncate table cells to 80 columns.
+_out = Console(highlight=False, soft_wrap=True, width=None if sys.stdout.isatty() else 240)
 
 
 def _plain(value: Any) -> Any:
