@@ -82,6 +82,8 @@ _ALIASES: dict[str, str] = {
     "terminazione destinazione": "destination_termination",
 }
 _PAIRED = ("page", "zone", "pin")
+_SECTION_UNITS = frozenset({"mm²", "mm2", "mmq", "mm^2"})
+_LENGTH_UNITS = frozenset({"m", "mm"})
 _REQUIRED = {
     "origin_pin": "Componente:pin (origin)",
     "destination_pin": "Componente:pin (destination)",
@@ -141,10 +143,10 @@ def _columns(row: Row) -> dict[str, int]:
     return columns
 
 
-def _find_header(text: str) -> tuple[list[Row], int, dict[str, int]]:
+def _find_header(text: str, path: str | Path) -> tuple[list[Row], int, dict[str, int]]:
     best: tuple[int, list[Row], int, dict[str, int]] | None = None
     for delimiter in ("\t", ";", ","):
-        rows = list(iter_rows(text, delimiter))
+        rows = list(iter_rows(text, delimiter, path))
         for position, row in enumerate(rows[:_HEADER_SCAN_ROWS]):
             columns = _columns(row)
             if "origin_pin" in columns and "destination_pin" in columns:
@@ -153,7 +155,7 @@ def _find_header(text: str) -> tuple[list[Row], int, dict[str, int]]:
                     best = (score, rows, position, columns)
                 break
     if best is None:
-        raise IngestError(None, "no header row found in the first lines", line=1, expected=_EXPECTED)
+        raise IngestError(path, "no header row found in the first lines", line=1, expected=_EXPECTED)
     _, rows, position, columns = best
     # Figure 3's 11-column form shifts the potential columns: 'Tipo' then 'pot.' whose
     # numbers are the wire length in mm (there is no separate length column).
@@ -188,10 +190,7 @@ def read_connection_list(path: str | Path) -> list[ConnectionListInfo | Connecti
         reference is malformed, or there are no data rows; located at file:line.
     """
     text = read_text(path, expected=_EXPECTED)
-    try:
-        rows, header_at, columns = _find_header(text)
-    except IngestError as err:
-        raise IngestError(path, err.reason, line=err.line, expected=err.expected) from None
+    rows, header_at, columns = _find_header(text, path)
     header = rows[header_at]
     missing = [name for key, name in _REQUIRED.items() if key not in columns]
     if missing:
@@ -229,11 +228,11 @@ def _connection(
     def text(key: str) -> str | None:
         at = columns.get(key)
         value = row.cell(at) if at is not None else ""
-        return value if value and value != "-" else None
+        return value or None
 
     def pin(key: str) -> PinRef:
         raw = text(key)
-        if raw is None:
+        if raw is None or raw == "-":
             raise IngestError(
                 path,
                 f"empty cell in column {names[key]!r}",
@@ -251,7 +250,9 @@ def _connection(
                 expected="DEVICE:PIN or DEVICE:TERMINAL:LEVEL, e.g. -F1500.1:14 or =-X1600:2:a",
             ) from None
 
-    def number(key: str, unit: str, to_unit: Callable[[Decimal, str], Decimal]) -> Decimal | None:
+    def number(
+        key: str, unit: str, to_unit: Callable[[Decimal, str], Decimal], units: frozenset[str]
+    ) -> Decimal | None:
         raw = text(key)
         if raw is None:
             return None
@@ -265,6 +266,14 @@ def _connection(
                 found=raw,
                 expected=f"a number in {unit}, e.g. 1,5 or 1.5 {unit}",
             ) from None
+        if found_unit and found_unit.lower() not in units:
+            raise IngestError(
+                path,
+                f"wrong unit in column {names[key]!r}",
+                line=row.line,
+                found=raw,
+                expected=f"a number in {unit}",
+            )
         if value <= 0:
             raise IngestError(
                 path,
@@ -285,9 +294,9 @@ def _connection(
         return convert
 
     length = (
-        number("length_m", "m", metres("m"))
+        number("length_m", "m", metres("m"), _LENGTH_UNITS)
         if "length_m" in columns
-        else number("length_mm", "mm", metres("mm"))
+        else number("length_mm", "mm", metres("mm"), _LENGTH_UNITS)
     )
     ducts = text("duct_path")
     wire_number = text("wire_number")
@@ -304,7 +313,7 @@ def _connection(
         origin=pin("origin_pin"),
         destination=pin("destination_pin"),
         wire_number=wire_number,
-        section_mm2=number("section", "mm²", section),
+        section_mm2=number("section", "mm²", section, _SECTION_UNITS),
         colour=text("colour"),
         potential_type=text("potential_type"),
         potential_name=text("potential_name"),

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 __all__ = ["PinRef", "PinSyntaxError", "normalize_label", "parse_pin_ref"]
 
-_TAG = re.compile(r"^(?:=[^+\-=]*)?(?:\+[^\-=]*)?-?(?P<device>.+)$")
+_TAG = re.compile(r"^(?:=[^+\-=]*)?(?:\+[^\-=]*)?-?(?P<device>[^=+\-].*)?$")
 _PART = re.compile(r"^[^\s:;]+$")
 
 
@@ -25,7 +25,9 @@ def normalize_label(raw: str) -> str:
     """``'=-F1500.1'`` → ``'F1500.1'``; ``'=A1+ST1-K3'`` → ``'K3'``; plain tags unchanged."""
     text = raw.strip()
     match = _TAG.match(text)
-    return match.group("device").strip() if match else text
+    if match is None:
+        return text
+    return (match.group("device") or "").strip()
 
 
 @dataclass(frozen=True, slots=True)

@@ -89,20 +89,33 @@ class _Locator:
         self.lines = text.splitlines()
 
     def line(self, table: str, index: int | None, key: str | None) -> int | None:
-        current, count = "", -1
+        """Line of ``key`` in ``[table]`` (or its ``index``-th ``[[table]]``), of a sub-table
+        ``[table.key]``, or of ``table`` itself: a header or a top-level ``table = ...``."""
+        current: tuple[str, ...] = ()
+        count = -1
         table_line = None
         for number, raw in enumerate(self.lines, start=1):
             stripped = raw.strip()
-            header = re.match(r"^\[\[?\s*([^\]\s]+)\s*\]\]?", stripped)
+            header = re.match(r"^\[\[?\s*([^\]]+?)\s*\]\]?", stripped)
             if header:
-                current = header.group(1)
-                if current == table:
-                    count += 1
-                    if index is None or count == index:
+                current = tuple(part.strip().strip("\"'") for part in header.group(1).split("."))
+                if current[0] == table:
+                    if len(current) == 1:
+                        count += 1
+                        if index is None or count == index:
+                            table_line = number
+                    elif key is not None and current[1] == key and (index is None or count == index):
+                        return number
+                    elif key is None and table_line is None:
                         table_line = number
                 continue
-            in_table = current == table and (index is None or count == index)
-            if key is not None and in_table and re.match(rf"^{re.escape(key)}\s*=", stripped):
+            assignment = re.match(r"^[\"']?([\w-]+)[\"']?\s*(=|\.)", stripped)
+            if assignment is None:
+                continue
+            if not current and key is None and assignment.group(1) == table:
+                return number
+            in_table = current[:1] == (table,) and len(current) == 1 and (index is None or count == index)
+            if key is not None and in_table and assignment.group(1) == key:
                 return number
         return table_line
 

@@ -9,6 +9,7 @@ match its counterpart in another file.
 from __future__ import annotations
 
 import csv
+import io
 import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -90,11 +91,23 @@ def read_text(path: str | Path, *, expected: str) -> str:
     return decode_text(path, data, expected=expected)
 
 
-def iter_rows(text: str, delimiter: str) -> Iterator[Row]:
-    """Rows of delimited text with the line each starts on (quoted cells may span lines)."""
-    reader = csv.reader(text.splitlines(keepends=True), delimiter=delimiter, strict=False)
+def iter_rows(text: str, delimiter: str, path: str | Path | None = None) -> Iterator[Row]:
+    """Rows of delimited text with the line each starts on (quoted cells may span lines).
+
+    Only CR and LF end lines: ``str.splitlines`` would also split at U+2028 and other
+    separators that may sit inside a cell.
+    """
+    reader = csv.reader(io.StringIO(text, newline=""), delimiter=delimiter, strict=False)
     start = 1
-    for cells in reader:
+    while True:
+        try:
+            cells = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as err:
+            raise IngestError(
+                path, f"malformed row: {err}", line=start, expected="closed quotes and cells under 128 KiB"
+            ) from None
         yield Row(start, tuple(cells))
         start = reader.line_num + 1
 
@@ -129,6 +142,8 @@ def parse_decimal(text: str) -> tuple[Decimal, str]:
         number = Decimal(value)
     except InvalidOperation:
         raise ValueError(text) from None
-    if not number.is_finite():
+    exponent = number.as_tuple().exponent
+    if not number.is_finite() or not isinstance(exponent, int) or not -30 <= exponent <= 30:
+        # A cell like 1e999999999 would expand to a gigabyte of digits when written out.
         raise ValueError(text)
     return number, unit

@@ -46,7 +46,7 @@ def read_wri(path: str | Path) -> list[IdEntry]:
     text = read_text(path, expected=_EXPECTED)
     entries: list[IdEntry] = []
     seen: dict[str, int] = {}
-    for row in iter_rows(text, "\t"):
+    for row in iter_rows(text, "\t", path):
         if row.is_blank:
             continue
         cells = [c.strip() for c in row.cells]
@@ -75,14 +75,14 @@ def read_wri(path: str | Path) -> list[IdEntry]:
         label = normalize_label(raw_label)
         if not label:
             raise IngestError(path, "empty label", line=row.line, expected="a device label such as F1500.1")
-        if cad_id in seen:
+        if cad_id.upper() in seen:
             raise IngestError(
                 path,
-                f"CAD item ID {cad_id} given twice (first on line {seen[cad_id]})",
+                f"CAD item ID {cad_id} given twice (first on line {seen[cad_id.upper()]})",
                 line=row.line,
                 expected="each CAD item ID once",
             )
-        seen[cad_id] = row.line
+        seen[cad_id.upper()] = row.line
         entries.append(IdEntry(cad_id, label, raw_label, commercial, row.line))
     if not entries:
         raise IngestError(path, "no ID rows", expected=_EXPECTED)

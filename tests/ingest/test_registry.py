@@ -1,0 +1,145 @@
+"""The reader registry: kinds, suffix and content sniffing, and errors every reader must raise."""
+
+from __future__ import annotations
+
+import random
+import warnings
+from pathlib import Path
+
+import pytest
+
+from cadkg.errors import IngestError, IngestWarning
+from cadkg.ingest.connection_list import read_connection_list
+from cadkg.ingest.registry import Reader, kinds, reader_for, register, sniff_kind
+from cadkg.ingest.wri import read_wri
+
+REPO = Path(__file__).resolve().parents[2]
+EXAMPLE = REPO / "examples" / "iema-switchgear"
+
+READERS = kinds()
+KIND_IDS = [r.kind for r in READERS]
+
+
+def test_kinds_lists_the_builtin_readers() -> None:
+    assert [r.kind for r in kinds()] == ["connection-list", "wri"]
+    assert all(isinstance(r, Reader) and r.description for r in kinds())
+
+
+def test_reader_for() -> None:
+    assert reader_for("wri").read is read_wri
+    assert reader_for("connection-list").read is read_connection_list
+    assert ".wri" in reader_for("wri").suffixes
+    assert {".csv", ".tsv"} <= set(reader_for("connection-list").suffixes)
+
+
+def test_reader_for_unknown_kind_names_the_known_ones() -> None:
+    with pytest.raises(KeyError, match="unknown kind 'xlsx'; known kinds: connection-list, wri"):
+        reader_for("xlsx")
+
+
+def test_a_kind_registers_once() -> None:
+    with pytest.raises(ValueError, match="'wri' is already registered"):
+        register(Reader(kind="wri", suffixes=(".x",), read=read_wri, description="again"))
+    assert reader_for("wri").read is read_wri
+
+
+@pytest.mark.parametrize(
+    ("name", "kind"),
+    [
+        ("ids.wri", "wri"),
+        ("connections-fig3.tsv", "connection-list"),
+        ("lista-cablaggio.csv", "connection-list"),
+    ],
+)
+def test_sniff_examples(name: str, kind: str) -> None:
+    assert sniff_kind(EXAMPLE / name) == kind
+
+
+@pytest.mark.parametrize("name", ["connections-fig3.tsv", "lista-cablaggio.csv"])
+@pytest.mark.parametrize("suffix", [".xyz", ".dat", ""])
+def test_sniff_by_content_when_the_suffix_says_nothing(tmp_path: Path, name: str, suffix: str) -> None:
+    path = tmp_path / f"export{suffix}"
+    path.write_bytes((EXAMPLE / name).read_bytes())
+    assert sniff_kind(path) == "connection-list"
+
+
+def test_sniff_uses_the_given_head_without_reading(tmp_path: Path) -> None:
+    missing = tmp_path / "not-there.bin"
+    assert sniff_kind(missing, head=b"Component:pin\tComponent:pin\n") == "connection-list"
+
+
+def test_sniff_unknown_file_names_the_known_kinds(tmp_path: Path) -> None:
+    path = tmp_path / "scene.xyz"
+    path.write_bytes((EXAMPLE / "ids.wri").read_bytes())
+    with pytest.raises(IngestError) as info:
+        sniff_kind(path)
+    err = info.value
+    assert err.path == str(path)
+    assert err.found == ".xyz"
+    assert err.expected == "a 'kind' in the manifest, one of: connection-list, wri"
+    assert "connection-list, wri" in str(err)
+
+
+def test_sniff_missing_file_is_an_ingest_error(tmp_path: Path) -> None:
+    with pytest.raises(IngestError, match="cannot read the file") as info:
+        sniff_kind(tmp_path / "gone.xyz")
+    assert info.value.path == str(tmp_path / "gone.xyz")
+
+
+# --- every registered reader -------------------------------------------------------------------------
+
+
+def _random_bytes(seed: int, size: int, *, nul: bool) -> bytes:
+    rnd = random.Random(seed)
+    data = bytes(rnd.randrange(1, 256) for _ in range(size))
+    return data[:10] + b"\x00" + data[10:] if nul else data
+
+
+BAD_CONTENT = {
+    "empty": b"",
+    "whitespace": b" \r\n\t\r\n",
+    "bom-only": b"\xef\xbb\xbf",
+    "binary-nul": _random_bytes(1, 300, nul=True),
+    "zip-header": b"PK\x03\x04" + _random_bytes(2, 300, nul=True),
+    "control-chars": bytes(range(1, 9)) * 40,
+    "random-no-nul": _random_bytes(3, 300, nul=False),
+    "text-garbage": b"lorem ipsum dolor\nsit amet\n" * 5,
+}
+
+
+@pytest.mark.parametrize("content_id", list(BAD_CONTENT))
+@pytest.mark.parametrize("reader", READERS, ids=KIND_IDS)
+def test_reader_rejects_bad_content_with_a_located_error(
+    tmp_path: Path, reader: Reader, content_id: str
+) -> None:
+    path = tmp_path / f"bad{reader.suffixes[0]}"
+    path.write_bytes(BAD_CONTENT[content_id])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IngestWarning)
+        with pytest.raises(IngestError) as info:
+            reader.read(path)
+    err = info.value
+    assert err.path == str(path)
+    assert str(err).startswith(str(path))
+    if content_id in {"empty", "whitespace", "bom-only"}:
+        assert err.reason == "the file is empty"
+    if content_id in {"binary-nul", "zip-header"}:
+        assert err.reason.startswith("binary content (NUL byte at offset")
+        assert err.line == 1
+
+
+@pytest.mark.parametrize("reader", READERS, ids=KIND_IDS)
+def test_reader_rejects_a_missing_file_and_a_directory(tmp_path: Path, reader: Reader) -> None:
+    for path in (tmp_path / f"gone{reader.suffixes[0]}", tmp_path):
+        with pytest.raises(IngestError, match="cannot read the file") as info:
+            reader.read(path)
+        assert info.value.path == str(path)
+
+
+@pytest.mark.parametrize("reader", READERS, ids=KIND_IDS)
+def test_reader_rejects_an_unterminated_quote_over_128_kib(tmp_path: Path, reader: Reader) -> None:
+    path = tmp_path / f"quote{reader.suffixes[0]}"
+    path.write_bytes(b'"' + b"a" * 200_000)
+    with pytest.raises(IngestError) as info:
+        reader.read(path)
+    assert info.value.path == str(path)
