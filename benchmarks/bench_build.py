@@ -1,0 +1,641 @@
+"""Build and query benchmark of cadkg on synthetic cabinets, against an rdflib baseline.
+
+For each size (number of wires) a synthetic cell is written with
+``benchmarks/synthetic.py`` (a WRI ID table and a 15-column "Lista cablaggio"),
+and the script prints Markdown tables of:
+
+1. **cadkg build from the source files**: ``cadkg.build(manifest)`` in memory and
+   ``cadkg.build(manifest, store_dir)`` on disk (flush, optimize and reopen
+   included), wall-clock seconds, triples per second and peak RSS, with the part
+   of the in-memory build spent reading and mapping the files.
+2. **Same triples, pyoxigraph vs rdflib**: cadkg's own readers and mapping
+   (``read_manifest_graphs``) turn the files into N-Triples per named graph once
+   (timed: "read+map"); those bytes are then loaded, each in its own process,
+   into a pyoxigraph store the way the in-memory build does (``Store.load`` per
+   named graph) and into an ``rdflib.Dataset(default_union=True)`` (Memory store,
+   ``graph.parse(data=..., format="nt")`` per named graph). Both also load the
+   cadkg ontology into its graph. Build = read+map + load for both; the ratio is
+   rdflib build / cadkg build. The baseline therefore measures only the store:
+   the file reading and mapping cost is the same for both.
+3. **Named queries**: p50/p95 latency of every named query of cadkg, with
+   parameters taken from the generated data, run through ``kg.named_query`` on
+   the in-memory build and through ``ds.query(text, initBindings=...)`` on the
+   rdflib dataset; every run fetches all rows into Python. An rdflib query whose
+   first run exceeds the timeout is not repeated and shows "—".
+
+Every build runs in its own process and reports its own peak resident set
+(``VmHWM`` of ``/proc/self/status``; ``ru_maxrss`` where that is missing, which
+on Linux also counts the parent's pages at exec), so one build does not inflate another.
+
+Usage::
+
+    python benchmarks/bench_build.py [--sizes 1000,10000,100000] [--reps 50] [--no-rdflib]
+    python benchmarks/bench_build.py --quick       # 1000 wires, 5 repetitions: a smoke test
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import resource
+import select
+import shutil
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import FrameType
+from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from synthetic import write_cell
+
+CHILD_FLAG = "--child-job"
+TARGET_100K_SECONDS = 10.0
+TARGET_RATIO = 5.0
+TARGET_MEMORY_MIB = 24 * 1024
+TARGETS = (
+    f"100k wires built from the source files in ≤ {TARGET_100K_SECONDS:g} s",
+    f"≥ {TARGET_RATIO:g}× faster than the rdflib baseline (100k wires)",
+    "1M wires build within 24 GiB",
+)
+
+Json = dict[str, Any]
+
+
+# -- measuring, in the child processes ------------------------------------------------
+
+
+def peak_rss_mib() -> float:
+    """Peak resident set of this process in MiB (VmHWM; ru_maxrss as a fallback)."""
+    try:
+        with Path("/proc/self/status").open(encoding="ascii") as status:
+            for line in status:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+class QueryTimeoutError(Exception):
+    """A query ran past its time limit."""
+
+
+@dataclass(frozen=True)
+class QueryPlan:
+    """How long to measure one query on one engine."""
+
+    reps: int  # at most this many samples
+    budget: float  # seconds of repetitions after the first run
+    timeout: float  # the first run may take this long, else the query is not measured
+
+
+@contextmanager
+def time_limit(seconds: float) -> Iterator[None]:
+    """Raise :class:`QueryTimeoutError` in the main thread after ``seconds`` (SIGALRM).
+
+    Only interrupts Python code: used for rdflib, which is pure Python.
+    """
+
+    def expire(signum: int, frame: FrameType | None) -> None:
+        raise QueryTimeoutError
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def first_run(run: Callable[[], int]) -> tuple[int, float]:
+    """(rows, seconds) of one run of ``run``, which returns its row count."""
+    started = time.perf_counter()
+    rows = run()
+    return rows, time.perf_counter() - started
+
+
+def repeat(run: Callable[[], int], plan: QueryPlan, first_seconds: float) -> list[float]:
+    """Latency samples in ms after a first run of ``first_seconds``.
+
+    The first run is a warm-up, kept as a sample only when it took more than a second.
+    Repetitions stop after ``plan.reps`` samples or ``plan.budget`` seconds.
+    """
+    samples = [first_seconds * 1000] if first_seconds > 1.0 else []
+    budget_end = time.perf_counter() + plan.budget
+    while len(samples) < plan.reps and time.perf_counter() < budget_end:
+        started = time.perf_counter()
+        run()
+        samples.append((time.perf_counter() - started) * 1000)
+    return samples
+
+
+def measure_in_process(run: Callable[[], int], plan: QueryPlan) -> Json:
+    """Samples of a pure-Python ``run``; the first run is cut off by SIGALRM at the timeout."""
+    try:
+        with time_limit(plan.timeout):
+            rows, first = first_run(run)
+    except QueryTimeoutError:
+        return {"timeout": plan.timeout}
+    return {"rows": rows, "samples": repeat(run, plan, first)}
+
+
+def measure_forked(run: Callable[[], int], plan: QueryPlan) -> Json:
+    """Samples of ``run`` in a forked copy of this process, killed if its first run times out.
+
+    pyoxigraph evaluates a query in native code that a signal cannot interrupt, so the
+    query runs in a child sharing the built store (copy on write) and the child is
+    killed when its first run passes the timeout.
+    """
+    read_fd, write_fd = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: measure, report on the pipe, leave without cleanup
+        os.close(read_fd)
+        try:
+            with os.fdopen(write_fd, "w") as pipe:
+                rows, first = first_run(run)
+                pipe.write(json.dumps({"rows": rows}) + "\n")
+                pipe.flush()
+                pipe.write(json.dumps({"samples": repeat(run, plan, first)}) + "\n")
+        finally:
+            os._exit(0)
+    os.close(write_fd)
+    with os.fdopen(read_fd) as pipe:
+        ready, _, _ = select.select([pipe], [], [], plan.timeout)
+        if not ready:
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+            return {"timeout": plan.timeout}
+        head, tail = pipe.readline(), pipe.readline()
+    os.waitpid(pid, 0)
+    if not tail:
+        raise RuntimeError("a forked query measurement died")
+    return {**json.loads(head), **json.loads(tail)}
+
+
+def plan_of(spec: Json) -> QueryPlan:
+    return QueryPlan(spec["reps"], spec["budget"], spec["timeout"])
+
+
+def load_graph_files(workdir: Path) -> list[tuple[str, bytes]]:
+    """The N-Triples per named graph written by the ``readmap`` job."""
+    index = json.loads((workdir / "graphs.json").read_text(encoding="utf-8"))
+    return [(entry["graph"], (workdir / entry["file"]).read_bytes()) for entry in index]
+
+
+def job_cadkg_memory(spec: Json) -> Json:
+    """``cadkg.build(manifest)`` in memory, then the named queries on it."""
+    import cadkg
+    from cadkg.query.named import named_queries
+
+    started = time.perf_counter()
+    kg = cadkg.build(spec["manifest"])
+    seconds = time.perf_counter() - started
+    result: Json = {
+        "seconds": seconds,
+        "triples": len(kg),
+        "read_map_seconds": sum(r.seconds for r in kg.reports),
+        "peak_mib": peak_rss_mib(),
+        "queries": {},
+    }
+    for name in named_queries():
+        params = spec["params"].get(name, {})
+
+        def run(name: str = name, params: Json = params) -> int:
+            return len(kg.named_query(name, **params))
+
+        result["queries"][name] = measure_forked(run, plan_of(spec))
+    return result
+
+
+def job_cadkg_disk(spec: Json) -> Json:
+    """``cadkg.build(manifest, store_dir)``: an on-disk store, built atomically."""
+    import cadkg
+
+    store_dir = Path(spec["workdir"]) / "store"
+    started = time.perf_counter()
+    kg = cadkg.build(spec["manifest"], store_dir)
+    seconds = time.perf_counter() - started
+    result = {"seconds": seconds, "triples": len(kg), "peak_mib": peak_rss_mib()}
+    kg.close()
+    shutil.rmtree(store_dir, ignore_errors=True)
+    return result
+
+
+def job_readmap(spec: Json) -> Json:
+    """cadkg's readers and mapping alone: files → N-Triples per named graph (written out)."""
+    from cadkg.ingest.manifest import load_manifest
+    from cadkg.ingest.pipeline import read_manifest_graphs
+
+    workdir = Path(spec["workdir"])
+    started = time.perf_counter()
+    graphs = list(read_manifest_graphs(load_manifest(spec["manifest"])))
+    seconds = time.perf_counter() - started
+    index = []
+    for number, data in enumerate(graphs):
+        name = f"graph-{number}.nt"
+        (workdir / name).write_bytes(data.ntriples)
+        index.append({"graph": data.graph, "file": name})
+    (workdir / "graphs.json").write_text(json.dumps(index), encoding="utf-8")
+    return {
+        "seconds": seconds,
+        "triples": sum(g.report.triples for g in graphs),
+        "bytes": sum(len(g.ntriples) for g in graphs),
+        "peak_mib": peak_rss_mib(),
+    }
+
+
+def job_oxigraph_load(spec: Json) -> Json:
+    """Load the N-Triples into a pyoxigraph store as the in-memory build does."""
+    import pyoxigraph as ox
+
+    from cadkg.ontology.terms import ONTOLOGY_IRI, ontology_path
+
+    graphs = load_graph_files(Path(spec["workdir"]))
+    started = time.perf_counter()
+    store = ox.Store()
+    store.load(path=ontology_path(), format=ox.RdfFormat.TURTLE, to_graph=ox.NamedNode(ONTOLOGY_IRI))
+    for graph, data in graphs:
+        store.load(data, ox.RdfFormat.N_TRIPLES, to_graph=ox.NamedNode(graph))
+    seconds = time.perf_counter() - started
+    return {"seconds": seconds, "triples": len(store), "peak_mib": peak_rss_mib()}
+
+
+def job_rdflib(spec: Json) -> Json:
+    """Load the N-Triples into an rdflib Dataset (Memory store), then the named queries."""
+    from rdflib import Dataset, Literal, URIRef
+
+    from cadkg.ontology.terms import ONTOLOGY_IRI, ontology_path
+    from cadkg.query.named import named_queries
+
+    graphs = load_graph_files(Path(spec["workdir"]))
+    started = time.perf_counter()
+    ds = Dataset(default_union=True)
+    ds.graph(URIRef(ONTOLOGY_IRI)).parse(str(ontology_path()), format="turtle")
+    for graph, data in graphs:
+        ds.graph(URIRef(graph)).parse(data=data, format="nt")
+    seconds = time.perf_counter() - started
+    names = [ONTOLOGY_IRI, *(graph for graph, _ in graphs)]
+    triples = sum(len(ds.graph(URIRef(name))) for name in names)
+    result: Json = {"seconds": seconds, "triples": triples, "peak_mib": peak_rss_mib(), "queries": {}}
+    for name, query in named_queries().items():
+        bindings = {k: Literal(v) for k, v in spec["params"].get(name, {}).items()}
+
+        def run(text: str = query.text, bindings: Json = bindings) -> int:
+            return len(list(ds.query(text, initBindings=bindings)))
+
+        result["queries"][name] = measure_in_process(run, plan_of(spec))
+    return result
+
+
+JOBS: dict[str, Callable[[Json], Json]] = {
+    "cadkg-memory": job_cadkg_memory,
+    "cadkg-disk": job_cadkg_disk,
+    "readmap": job_readmap,
+    "oxigraph-load": job_oxigraph_load,
+    "rdflib": job_rdflib,
+}
+
+
+def child_main(job: str, spec_json: str) -> int:
+    """Run one job and print its result as JSON on the last line of stdout."""
+    result = JOBS[job](json.loads(spec_json))
+    print(json.dumps(result))
+    return 0
+
+
+# -- orchestrating, in the parent process ------------------------------------------------
+
+
+def run_job(job: str, spec: Json) -> Json:
+    """Run ``job`` in a fresh Python process and return its JSON result."""
+    print(f"  {job} ...", file=sys.stderr, flush=True)
+    command = [sys.executable, str(Path(__file__).resolve()), CHILD_FLAG, job, json.dumps(spec)]
+    done = subprocess.run(command, capture_output=True, text=True, check=False)
+    if done.returncode != 0:
+        raise RuntimeError(f"benchmark job {job} failed ({done.returncode}):\n{done.stderr[-4000:]}")
+    result: Json = json.loads(done.stdout.strip().splitlines()[-1])
+    return result
+
+
+def query_params(csv_path: Path, wires: int) -> dict[str, Json]:
+    """Parameters of the named queries, from the middle data row of the connection list."""
+    middle = 5 + wires // 2  # 4 preamble rows and the header come first
+    cells: list[str] = []
+    with csv_path.open(encoding="utf-8", newline="") as handle:
+        for number, line in enumerate(handle):
+            if number == middle:
+                cells = line.rstrip("\r\n").split("\t")
+                break
+    label = cells[2].split(":")[0].lstrip("=+-")
+    return {
+        "pins-of-component": {"label": label},
+        "wires-of-component": {"label": label},
+        "wire-endpoints": {"wireNumber": cells[6]},
+    }
+
+
+@dataclass
+class SizeResult:
+    """Everything measured for one size."""
+
+    wires: int
+    generate_seconds: float
+    params: dict[str, Json]
+    memory: Json
+    disk: Json
+    readmap: Json | None = None
+    oxigraph: Json | None = None
+    rdflib: Json | None = None
+    notes: list[str] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class Options:
+    """What a run measures, from the command line."""
+
+    sizes: tuple[int, ...]
+    plan: QueryPlan
+    with_rdflib: bool
+    rdflib_max_wires: int
+
+
+def measure_size(wires: int, workdir: Path, options: Options) -> SizeResult:
+    """Generate the cell of ``wires`` wires and run every job on it."""
+    print(f"{wires} wires:", file=sys.stderr, flush=True)
+    celldir = workdir / f"cell-{wires}"
+    started = time.perf_counter()
+    manifest = write_cell(celldir, wires)
+    generate_seconds = time.perf_counter() - started
+    params = query_params(celldir / "lista-cablaggio.csv", wires)
+    plan = options.plan
+    spec = {"manifest": str(manifest), "workdir": str(celldir), "params": params,
+            "reps": plan.reps, "budget": plan.budget, "timeout": plan.timeout}
+    result = SizeResult(wires, generate_seconds, params, run_job("cadkg-memory", spec),
+                        run_job("cadkg-disk", spec))
+    if not options.with_rdflib:
+        result.notes.append("rdflib baseline not run (--no-rdflib)")
+    elif wires > options.rdflib_max_wires:
+        result.notes.append(
+            f"rdflib baseline not run above {options.rdflib_max_wires} wires (--rdflib-max-wires)"
+        )
+    else:
+        result.readmap = run_job("readmap", spec)
+        result.oxigraph = run_job("oxigraph-load", spec)
+        result.rdflib = run_job("rdflib", spec)
+    shutil.rmtree(celldir, ignore_errors=True)
+    return result
+
+
+# -- reporting ------------------------------------------------------------------------------
+
+
+def table(header: Sequence[str], rows: Sequence[Sequence[str]], left: int = 0) -> str:
+    """A Markdown table; the first ``left`` columns after the first are text (left aligned)."""
+    align = ["---:" if i == 0 or i > left else ":---" for i in range(len(header))]
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join(align) + "|"]
+    lines += ["| " + " | ".join(row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def fmt(value: float, digits: int = 2) -> str:
+    return f"{value:,.{digits}f}"
+
+
+def percentile(samples: Sequence[float], q: float) -> float:
+    """The ``q`` percentile (0-100) of ``samples``, by linear interpolation."""
+    ordered = sorted(samples)
+    if len(ordered) == 1:
+        return ordered[0]
+    return statistics.quantiles(ordered, n=100, method="inclusive")[int(q) - 1]
+
+
+def mem_total_mib() -> float | None:
+    try:
+        with Path("/proc/meminfo").open(encoding="ascii") as meminfo:
+            return int(meminfo.readline().split()[1]) / 1024
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def environment() -> str:
+    """The machine and library versions, as a Markdown list."""
+    import pyoxigraph
+    import rdflib
+
+    import cadkg
+
+    memory = mem_total_mib()
+    return "\n".join(
+        [
+            f"- Python {platform.python_version()} on {platform.system()} {platform.machine()}, "
+            f"{os.cpu_count()} CPU cores, "
+            + (f"{memory / 1024:.1f} GiB RAM" if memory else "RAM unknown"),
+            f"- cadkg {cadkg.__version__}, pyoxigraph {pyoxigraph.__version__}, rdflib {rdflib.__version__}",
+        ]
+    )
+
+
+def build_table(results: Sequence[SizeResult]) -> str:
+    """Table 1: cadkg.build from the source files, in memory and on disk."""
+    rows = []
+    for r in results:
+        triples = r.memory["triples"]
+        mem_s, disk_s = r.memory["seconds"], r.disk["seconds"]
+        rows.append([
+            f"{r.wires:,}", f"{triples:,}", fmt(r.memory["read_map_seconds"]),
+            fmt(mem_s), f"{triples / mem_s:,.0f}", fmt(r.memory["peak_mib"], 0),
+            fmt(disk_s), f"{triples / disk_s:,.0f}", fmt(r.disk["peak_mib"], 0),
+            fmt(r.generate_seconds),
+        ])
+    header = ["wires", "triples", "of which read+map s", "in-memory s", "triples/s", "peak RSS MiB",
+              "on-disk s", "triples/s", "peak RSS MiB", "(generate files s)"]
+    return table(header, rows)
+
+
+def baseline_table(results: Sequence[SizeResult]) -> str:
+    """Table 2: the same N-Triples loaded into pyoxigraph and into rdflib."""
+    rows = []
+    for r in results:
+        if r.readmap is None or r.oxigraph is None or r.rdflib is None:
+            rows.append([f"{r.wires:,}", "—", "—", "—", "—", "—", "—", "—", "—", "—", "—"])
+            continue
+        read_map = r.readmap["seconds"]
+        cadkg_build = read_map + r.oxigraph["seconds"]
+        rdflib_build = read_map + r.rdflib["seconds"]
+        same = r.oxigraph["triples"] == r.rdflib["triples"]
+        triples = f"{r.oxigraph['triples']:,}" + ("" if same else f" (rdflib {r.rdflib['triples']:,})")
+        rows.append([
+            f"{r.wires:,}", triples,
+            fmt(read_map), fmt(r.oxigraph["seconds"]), fmt(r.rdflib["seconds"]),
+            fmt(cadkg_build), fmt(rdflib_build), f"{rdflib_build / cadkg_build:.1f}×",
+            f"{r.rdflib['seconds'] / r.oxigraph['seconds']:.1f}×",
+            fmt(r.oxigraph["peak_mib"], 0), fmt(r.rdflib["peak_mib"], 0),
+        ])
+    header = ["wires", "triples", "read+map s", "pyoxigraph load s", "rdflib load s",
+              "cadkg build s", "rdflib build s", "build ratio rdflib/cadkg", "load ratio",
+              "pyoxigraph peak RSS MiB", "rdflib peak RSS MiB"]
+    return table(header, rows)
+
+
+def latency_cells(measured: Json | None) -> tuple[str, str, str, float | None]:
+    """(n, p50, p95, p50 value) of one query on one engine."""
+    if measured is None:
+        return "", "—", "—", None
+    if "timeout" in measured:
+        return "0", "—", "—", None
+    samples = measured["samples"]
+    p50 = percentile(samples, 50)
+    return str(len(samples)), fmt(p50), fmt(percentile(samples, 95)), p50
+
+
+def rows_cell(ours: Json, theirs: Json | None) -> str:
+    """The row count of cadkg's result, and rdflib's when it differs."""
+    cell = str(ours["rows"]) if "rows" in ours else "—"
+    if theirs is not None and "rows" in theirs and theirs["rows"] != ours.get("rows"):
+        cell += f" (rdflib {theirs['rows']})"
+    return cell
+
+
+def query_table(results: Sequence[SizeResult]) -> str:
+    """Table 3: named query latency, cadkg vs rdflib."""
+    rows = []
+    for r in results:
+        for name, ours in r.memory["queries"].items():
+            theirs = r.rdflib["queries"][name] if r.rdflib else None
+            n1, p50a, p95a, ours_p50 = latency_cells(ours)
+            n2, p50b, p95b, theirs_p50 = latency_cells(theirs)
+            ratio = f"{theirs_p50 / ours_p50:.0f}×" if ours_p50 and theirs_p50 else "—"
+            params = ", ".join(f"{k}={v}" for k, v in r.params.get(name, {}).items())
+            rows.append([f"{r.wires:,}", name, params, rows_cell(ours, theirs), n1, p50a, p95a,
+                         n2 or "—", p50b, p95b, ratio])
+    header = ["wires", "query", "parameters", "rows", "n", "cadkg p50 ms", "cadkg p95 ms",
+              "n", "rdflib p50 ms", "rdflib p95 ms", "ratio p50"]
+    return table(header, rows, left=2)
+
+
+def timeout_notes(results: Sequence[SizeResult]) -> list[str]:
+    """Why a query shows "—": its first run passed the timeout."""
+    notes = []
+    for r in results:
+        for engine, measured in (("cadkg", r.memory), ("rdflib", r.rdflib)):
+            for name, query in (measured or {}).get("queries", {}).items():
+                if "timeout" in query:
+                    notes.append(f"{r.wires:,} wires: {engine} `{name}` not measured: its first "
+                                 f"run took over {query['timeout']:g} s and was stopped")
+    return notes
+
+
+def _size(results: Sequence[SizeResult], wires: int) -> SizeResult | None:
+    return next((r for r in results if r.wires == wires), None)
+
+
+def targets_table(results: Sequence[SizeResult]) -> str:
+    """The targets, with the figures of this run that decide them."""
+    r100k, r1m = _size(results, 100_000), _size(results, 1_000_000)
+    rows = []
+    if r100k is None:
+        rows.append([TARGETS[0], "not measured (no 100000 size in this run)", "—"])
+        rows.append([TARGETS[1], "not measured (no 100000 size in this run)", "—"])
+    else:
+        best = min(r100k.memory["seconds"], r100k.disk["seconds"])
+        figure = f"in memory {fmt(r100k.memory['seconds'])} s, on disk {fmt(r100k.disk['seconds'])} s"
+        rows.append([TARGETS[0], figure, "met" if best <= TARGET_100K_SECONDS else "**not met**"])
+        if r100k.readmap and r100k.oxigraph and r100k.rdflib:
+            read_map = r100k.readmap["seconds"]
+            ratio = (read_map + r100k.rdflib["seconds"]) / (read_map + r100k.oxigraph["seconds"])
+            rows.append([TARGETS[1], f"build ratio {ratio:.1f}× (load alone "
+                         f"{r100k.rdflib['seconds'] / r100k.oxigraph['seconds']:.1f}×)",
+                         "met" if ratio >= TARGET_RATIO else "**not met**"])
+        else:
+            rows.append([TARGETS[1], "rdflib baseline not run", "—"])
+    if r1m is None:
+        rows.append([TARGETS[2], "not measured (no 1000000 size in this run)", "—"])
+    else:
+        peak = max(r1m.memory["peak_mib"], r1m.disk["peak_mib"])
+        figure = (f"peak RSS in memory {fmt(r1m.memory['peak_mib'] / 1024)} GiB, "
+                  f"on disk {fmt(r1m.disk['peak_mib'] / 1024)} GiB")
+        rows.append([TARGETS[2], figure, "met" if peak <= TARGET_MEMORY_MIB else "**not met**"])
+    return table(["target", "this run", "verdict"], rows, left=3)
+
+
+def report(results: Sequence[SizeResult], plan: QueryPlan) -> str:
+    """The whole Markdown report of a run."""
+    notes = [f"- {r.wires:,} wires: {n}" for r in results for n in r.notes]
+    notes += [f"- {n}" for n in timeout_notes(results)]
+    parts = [
+        "## Environment", environment(),
+        "## Build from the source files (cadkg.build)", build_table(results),
+        "## Same triples: pyoxigraph vs rdflib (read+map once, then load)", baseline_table(results),
+        "## Named queries", query_method(plan), query_table(results),
+        "## Targets", targets_table(results),
+    ]
+    if notes:
+        parts += ["## Notes", "\n".join(notes)]
+    return "\n\n".join(parts) + "\n"
+
+
+def query_method(plan: QueryPlan) -> str:
+    return (
+        f"Up to {plan.reps} timed runs per query and engine after a warm-up run, stopped after "
+        f"{plan.budget:g} s; a query whose first run takes over {plan.timeout:g} s is not measured "
+        "(n = 0, \"—\"). cadkg: `kg.named_query(name, **params)` on the in-memory build, rows "
+        "converted to Python values. rdflib: `ds.query(text, initBindings={var: Literal(value)})`, "
+        "all rows fetched. *rows* is the number of result rows (cadkg; rdflib's in brackets when "
+        "it differs)."
+    )
+
+
+def parse_args(argv: Sequence[str] | None) -> Options:
+    parser = argparse.ArgumentParser(description="Build and query benchmark of cadkg vs rdflib.")
+    parser.add_argument("--sizes", default="1000,10000,100000",
+                        help="comma-separated numbers of wires (default 1000,10000,100000)")
+    parser.add_argument("--reps", type=int, default=50, help="repetitions per query (default 50)")
+    parser.add_argument("--no-rdflib", action="store_true", help="skip the rdflib baseline")
+    parser.add_argument("--rdflib-max-wires", type=int, default=200_000,
+                        help="skip the rdflib baseline above this size (default 200000)")
+    parser.add_argument("--timeout", type=float, default=30.0,
+                        help="seconds a query's first run may take (default 30)")
+    parser.add_argument("--budget", type=float, default=15.0,
+                        help="seconds of repetitions per query and engine (default 15)")
+    parser.add_argument("--quick", action="store_true",
+                        help="smoke test: 1000 wires, 5 repetitions, 5 s timeout, 2 s budget")
+    args = parser.parse_args(argv)
+    if args.quick:
+        args.sizes, args.reps, args.timeout, args.budget = "1000", 5, 5.0, 2.0
+    return Options(
+        sizes=tuple(int(s.replace("_", "")) for s in args.sizes.split(",") if s.strip()),
+        plan=QueryPlan(args.reps, args.budget, args.timeout),
+        with_rdflib=not args.no_rdflib,
+        rdflib_max_wires=args.rdflib_max_wires,
+    )
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    options = parse_args(argv)
+    workdir = Path(tempfile.mkdtemp(prefix="cadkg-bench-"))
+    started = time.perf_counter()
+    try:
+        results = [measure_size(wires, workdir, options) for wires in options.sizes]
+    finally:
+        shutil.rmtree(workdir, ignore_errors=True)
+    print(report(results, options.plan))
+    print(f"(run took {time.perf_counter() - started:.0f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 4 and sys.argv[1] == CHILD_FLAG:
+        raise SystemExit(child_main(sys.argv[2], sys.argv[3]))
+    raise SystemExit(main())
