@@ -20,8 +20,9 @@ and the script prints Markdown tables of:
 3. **Named queries**: p50/p95 latency of every named query of cadkg, with
    parameters taken from the generated data, run through ``kg.named_query`` on
    the in-memory build and through ``ds.query(text, initBindings=...)`` on the
-   rdflib dataset; every run fetches all rows into Python. An rdflib query whose
-   first run exceeds the timeout is not repeated and shows "—".
+   rdflib dataset; every run fetches all rows into Python. A query whose first
+   run exceeds the timeout (30 s) is stopped, not repeated, and shows "—": rdflib
+   by SIGALRM, cadkg by killing the forked copy of the process that ran it.
 
 Every build runs in its own process and reports its own peak resident set
 (``VmHWM`` of ``/proc/self/status``; ``ru_maxrss`` where that is missing, which
@@ -380,10 +381,17 @@ def measure_size(wires: int, workdir: Path, options: Options) -> SizeResult:
     generate_seconds = time.perf_counter() - started
     params = query_params(celldir / "lista-cablaggio.csv", wires)
     plan = options.plan
-    spec = {"manifest": str(manifest), "workdir": str(celldir), "params": params,
-            "reps": plan.reps, "budget": plan.budget, "timeout": plan.timeout}
-    result = SizeResult(wires, generate_seconds, params, run_job("cadkg-memory", spec),
-                        run_job("cadkg-disk", spec))
+    spec = {
+        "manifest": str(manifest),
+        "workdir": str(celldir),
+        "params": params,
+        "reps": plan.reps,
+        "budget": plan.budget,
+        "timeout": plan.timeout,
+    }
+    result = SizeResult(
+        wires, generate_seconds, params, run_job("cadkg-memory", spec), run_job("cadkg-disk", spec)
+    )
     if not options.with_rdflib:
         result.notes.append("rdflib baseline not run (--no-rdflib)")
     elif wires > options.rdflib_max_wires:
@@ -440,8 +448,7 @@ def environment() -> str:
     return "\n".join(
         [
             f"- Python {platform.python_version()} on {platform.system()} {platform.machine()}, "
-            f"{os.cpu_count()} CPU cores, "
-            + (f"{memory / 1024:.1f} GiB RAM" if memory else "RAM unknown"),
+            f"{os.cpu_count()} CPU cores, " + (f"{memory / 1024:.1f} GiB RAM" if memory else "RAM unknown"),
             f"- cadkg {cadkg.__version__}, pyoxigraph {pyoxigraph.__version__}, rdflib {rdflib.__version__}",
         ]
     )
@@ -453,39 +460,79 @@ def build_table(results: Sequence[SizeResult]) -> str:
     for r in results:
         triples = r.memory["triples"]
         mem_s, disk_s = r.memory["seconds"], r.disk["seconds"]
-        rows.append([
-            f"{r.wires:,}", f"{triples:,}", fmt(r.memory["read_map_seconds"]),
-            fmt(mem_s), f"{triples / mem_s:,.0f}", fmt(r.memory["peak_mib"], 0),
-            fmt(disk_s), f"{triples / disk_s:,.0f}", fmt(r.disk["peak_mib"], 0),
-            fmt(r.generate_seconds),
-        ])
-    header = ["wires", "triples", "of which read+map s", "in-memory s", "triples/s", "peak RSS MiB",
-              "on-disk s", "triples/s", "peak RSS MiB", "(generate files s)"]
+        rows.append(
+            [
+                f"{r.wires:,}",
+                f"{triples:,}",
+                fmt(r.memory["read_map_seconds"]),
+                fmt(mem_s),
+                f"{triples / mem_s:,.0f}",
+                fmt(r.memory["peak_mib"], 0),
+                fmt(disk_s),
+                f"{triples / disk_s:,.0f}",
+                fmt(r.disk["peak_mib"], 0),
+                fmt(r.generate_seconds),
+            ]
+        )
+    header = [
+        "wires",
+        "triples",
+        "of which read+map s",
+        "in-memory s",
+        "triples/s",
+        "peak RSS MiB",
+        "on-disk s",
+        "triples/s",
+        "peak RSS MiB",
+        "(generate files s)",
+    ]
     return table(header, rows)
 
 
 def baseline_table(results: Sequence[SizeResult]) -> str:
     """Table 2: the same N-Triples loaded into pyoxigraph and into rdflib."""
+    if all(r.rdflib is None for r in results):
+        return "Not run in this run (see the notes)."
+    header = [
+        "wires",
+        "triples",
+        "N-Triples MiB",
+        "read+map s",
+        "pyoxigraph load s",
+        "rdflib load s",
+        "cadkg build s",
+        "rdflib build s",
+        "build ratio rdflib/cadkg",
+        "load ratio",
+        "pyoxigraph peak RSS MiB",
+        "rdflib peak RSS MiB",
+    ]
     rows = []
     for r in results:
         if r.readmap is None or r.oxigraph is None or r.rdflib is None:
-            rows.append([f"{r.wires:,}", "—", "—", "—", "—", "—", "—", "—", "—", "—", "—"])
+            rows.append([f"{r.wires:,}", *["—"] * (len(header) - 1)])
             continue
         read_map = r.readmap["seconds"]
         cadkg_build = read_map + r.oxigraph["seconds"]
         rdflib_build = read_map + r.rdflib["seconds"]
         same = r.oxigraph["triples"] == r.rdflib["triples"]
         triples = f"{r.oxigraph['triples']:,}" + ("" if same else f" (rdflib {r.rdflib['triples']:,})")
-        rows.append([
-            f"{r.wires:,}", triples,
-            fmt(read_map), fmt(r.oxigraph["seconds"]), fmt(r.rdflib["seconds"]),
-            fmt(cadkg_build), fmt(rdflib_build), f"{rdflib_build / cadkg_build:.1f}×",
-            f"{r.rdflib['seconds'] / r.oxigraph['seconds']:.1f}×",
-            fmt(r.oxigraph["peak_mib"], 0), fmt(r.rdflib["peak_mib"], 0),
-        ])
-    header = ["wires", "triples", "read+map s", "pyoxigraph load s", "rdflib load s",
-              "cadkg build s", "rdflib build s", "build ratio rdflib/cadkg", "load ratio",
-              "pyoxigraph peak RSS MiB", "rdflib peak RSS MiB"]
+        rows.append(
+            [
+                f"{r.wires:,}",
+                triples,
+                fmt(r.readmap["bytes"] / 2**20, 0),
+                fmt(read_map),
+                fmt(r.oxigraph["seconds"]),
+                fmt(r.rdflib["seconds"]),
+                fmt(cadkg_build),
+                fmt(rdflib_build),
+                f"{rdflib_build / cadkg_build:.1f}×",
+                f"{r.rdflib['seconds'] / r.oxigraph['seconds']:.1f}×",
+                fmt(r.oxigraph["peak_mib"], 0),
+                fmt(r.rdflib["peak_mib"], 0),
+            ]
+        )
     return table(header, rows)
 
 
@@ -496,6 +543,8 @@ def latency_cells(measured: Json | None) -> tuple[str, str, str, float | None]:
     if "timeout" in measured:
         return "0", "—", "—", None
     samples = measured["samples"]
+    if not samples:
+        return "0", "—", "—", None
     p50 = percentile(samples, 50)
     return str(len(samples)), fmt(p50), fmt(percentile(samples, 95)), p50
 
@@ -518,10 +567,34 @@ def query_table(results: Sequence[SizeResult]) -> str:
             n2, p50b, p95b, theirs_p50 = latency_cells(theirs)
             ratio = f"{theirs_p50 / ours_p50:.0f}×" if ours_p50 and theirs_p50 else "—"
             params = ", ".join(f"{k}={v}" for k, v in r.params.get(name, {}).items())
-            rows.append([f"{r.wires:,}", name, params, rows_cell(ours, theirs), n1, p50a, p95a,
-                         n2 or "—", p50b, p95b, ratio])
-    header = ["wires", "query", "parameters", "rows", "n", "cadkg p50 ms", "cadkg p95 ms",
-              "n", "rdflib p50 ms", "rdflib p95 ms", "ratio p50"]
+            rows.append(
+                [
+                    f"{r.wires:,}",
+                    name,
+                    params,
+                    rows_cell(ours, theirs),
+                    n1,
+                    p50a,
+                    p95a,
+                    n2 or "—",
+                    p50b,
+                    p95b,
+                    ratio,
+                ]
+            )
+    header = [
+        "wires",
+        "query",
+        "parameters",
+        "rows",
+        "n",
+        "cadkg p50 ms",
+        "cadkg p95 ms",
+        "n",
+        "rdflib p50 ms",
+        "rdflib p95 ms",
+        "ratio p50",
+    ]
     return table(header, rows, left=2)
 
 
@@ -532,8 +605,10 @@ def timeout_notes(results: Sequence[SizeResult]) -> list[str]:
         for engine, measured in (("cadkg", r.memory), ("rdflib", r.rdflib)):
             for name, query in (measured or {}).get("queries", {}).items():
                 if "timeout" in query:
-                    notes.append(f"{r.wires:,} wires: {engine} `{name}` not measured: its first "
-                                 f"run took over {query['timeout']:g} s and was stopped")
+                    notes.append(
+                        f"{r.wires:,} wires: {engine} `{name}` not measured: its first "
+                        f"run took over {query['timeout']:g} s and was stopped"
+                    )
     return notes
 
 
@@ -555,17 +630,24 @@ def targets_table(results: Sequence[SizeResult]) -> str:
         if r100k.readmap and r100k.oxigraph and r100k.rdflib:
             read_map = r100k.readmap["seconds"]
             ratio = (read_map + r100k.rdflib["seconds"]) / (read_map + r100k.oxigraph["seconds"])
-            rows.append([TARGETS[1], f"build ratio {ratio:.1f}× (load alone "
-                         f"{r100k.rdflib['seconds'] / r100k.oxigraph['seconds']:.1f}×)",
-                         "met" if ratio >= TARGET_RATIO else "**not met**"])
+            rows.append(
+                [
+                    TARGETS[1],
+                    f"build ratio {ratio:.1f}× (load alone "
+                    f"{r100k.rdflib['seconds'] / r100k.oxigraph['seconds']:.1f}×)",
+                    "met" if ratio >= TARGET_RATIO else "**not met**",
+                ]
+            )
         else:
             rows.append([TARGETS[1], "rdflib baseline not run", "—"])
     if r1m is None:
         rows.append([TARGETS[2], "not measured (no 1000000 size in this run)", "—"])
     else:
         peak = max(r1m.memory["peak_mib"], r1m.disk["peak_mib"])
-        figure = (f"peak RSS in memory {fmt(r1m.memory['peak_mib'] / 1024)} GiB, "
-                  f"on disk {fmt(r1m.disk['peak_mib'] / 1024)} GiB")
+        figure = (
+            f"peak RSS in memory {fmt(r1m.memory['peak_mib'] / 1024)} GiB, "
+            f"on disk {fmt(r1m.disk['peak_mib'] / 1024)} GiB"
+        )
         rows.append([TARGETS[2], figure, "met" if peak <= TARGET_MEMORY_MIB else "**not met**"])
     return table(["target", "this run", "verdict"], rows, left=3)
 
@@ -575,11 +657,17 @@ def report(results: Sequence[SizeResult], plan: QueryPlan) -> str:
     notes = [f"- {r.wires:,} wires: {n}" for r in results for n in r.notes]
     notes += [f"- {n}" for n in timeout_notes(results)]
     parts = [
-        "## Environment", environment(),
-        "## Build from the source files (cadkg.build)", build_table(results),
-        "## Same triples: pyoxigraph vs rdflib (read+map once, then load)", baseline_table(results),
-        "## Named queries", query_method(plan), query_table(results),
-        "## Targets", targets_table(results),
+        "## Environment",
+        environment(),
+        "## Build from the source files (cadkg.build)",
+        build_table(results),
+        "## Same triples: pyoxigraph vs rdflib (read+map once, then load)",
+        baseline_table(results),
+        "## Named queries",
+        query_method(plan),
+        query_table(results),
+        "## Targets",
+        targets_table(results),
     ]
     if notes:
         parts += ["## Notes", "\n".join(notes)]
@@ -590,7 +678,7 @@ def query_method(plan: QueryPlan) -> str:
     return (
         f"Up to {plan.reps} timed runs per query and engine after a warm-up run, stopped after "
         f"{plan.budget:g} s; a query whose first run takes over {plan.timeout:g} s is not measured "
-        "(n = 0, \"—\"). cadkg: `kg.named_query(name, **params)` on the in-memory build, rows "
+        '(n = 0, "—"). cadkg: `kg.named_query(name, **params)` on the in-memory build, rows '
         "converted to Python values. rdflib: `ds.query(text, initBindings={var: Literal(value)})`, "
         "all rows fetched. *rows* is the number of result rows (cadkg; rdflib's in brackets when "
         "it differs)."
@@ -599,24 +687,34 @@ def query_method(plan: QueryPlan) -> str:
 
 def parse_args(argv: Sequence[str] | None) -> Options:
     parser = argparse.ArgumentParser(description="Build and query benchmark of cadkg vs rdflib.")
-    parser.add_argument("--sizes", default="1000,10000,100000",
-                        help="comma-separated numbers of wires (default 1000,10000,100000)")
+    parser.add_argument(
+        "--sizes",
+        default="1000,10000,100000",
+        help="comma-separated numbers of wires (default 1000,10000,100000)",
+    )
     parser.add_argument("--reps", type=int, default=50, help="repetitions per query (default 50)")
     parser.add_argument("--no-rdflib", action="store_true", help="skip the rdflib baseline")
-    parser.add_argument("--rdflib-max-wires", type=int, default=200_000,
-                        help="skip the rdflib baseline above this size (default 200000)")
-    parser.add_argument("--timeout", type=float, default=30.0,
-                        help="seconds a query's first run may take (default 30)")
-    parser.add_argument("--budget", type=float, default=15.0,
-                        help="seconds of repetitions per query and engine (default 15)")
-    parser.add_argument("--quick", action="store_true",
-                        help="smoke test: 1000 wires, 5 repetitions, 5 s timeout, 2 s budget")
+    parser.add_argument(
+        "--rdflib-max-wires",
+        type=int,
+        default=200_000,
+        help="skip the rdflib baseline above this size (default 200000)",
+    )
+    parser.add_argument(
+        "--timeout", type=float, default=30.0, help="seconds a query's first run may take (default 30)"
+    )
+    parser.add_argument(
+        "--budget", type=float, default=15.0, help="seconds of repetitions per query and engine (default 15)"
+    )
+    parser.add_argument(
+        "--quick", action="store_true", help="smoke test: 1000 wires, 5 repetitions, 5 s timeout, 2 s budget"
+    )
     args = parser.parse_args(argv)
     if args.quick:
         args.sizes, args.reps, args.timeout, args.budget = "1000", 5, 5.0, 2.0
     return Options(
         sizes=tuple(int(s.replace("_", "")) for s in args.sizes.split(",") if s.strip()),
-        plan=QueryPlan(args.reps, args.budget, args.timeout),
+        plan=QueryPlan(max(1, args.reps), args.budget, args.timeout),
         with_rdflib=not args.no_rdflib,
         rdflib_max_wires=args.rdflib_max_wires,
     )
