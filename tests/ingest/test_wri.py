@@ -235,8 +235,9 @@ def test_lf_line_ends_read_like_crlf(write) -> None:
     assert read_wri(path) == read_wri(READERS / "wri-bom.wri")
 
 
-def test_empty_label_is_an_error(write) -> None:
-    path = write("e.wri", FIGURE5_TEXT + "ID000050\t\t6503372\r\n")
+@pytest.mark.parametrize("label", ["", "=-"], ids=["empty", "only-prefixes"])
+def test_empty_label_is_an_error(write, label: str) -> None:
+    path = write("e.wri", FIGURE5_TEXT + f"ID000050\t{label}\t6503372\r\n")
     with pytest.raises(IngestError) as info:
         read_wri(path)
     assert (info.value.line, info.value.reason) == (5, "empty label")
@@ -246,13 +247,6 @@ def test_only_blank_lines_is_an_error(write) -> None:
     with pytest.raises(IngestError) as info:
         read_wri(write("blank.wri", "\r\n \r\n\t\r\n"))
     assert info.value.reason in {"the file is empty", "no ID rows"}
-
-
-def test_label_made_only_of_prefixes_is_an_empty_label(write) -> None:
-    path = write("p.wri", FIGURE5_TEXT + "ID000050\t=-\t6503372\r\n")
-    with pytest.raises(IngestError) as info:
-        read_wri(path)
-    assert (info.value.line, info.value.reason) == (5, "empty label")
 
 
 def test_unicode_line_separator_inside_a_cell_does_not_split_the_row(write) -> None:
