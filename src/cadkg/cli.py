@@ -53,12 +53,7 @@ def _guarded(func: F) -> F:
         debug = click.get_current_context().find_root().params.get("debug", False)
         try:
             return func(*args, **kwargs)
-        except CadkgError as err:
-            if debug:
-                raise
-            _err.print(f"cadkg: error: {err}", markup=False)
-            sys.exit(2)
-        except (OSError, MemoryError) as err:
+        except (CadkgError, OSError, MemoryError) as err:
             if debug:
                 raise
             _err.print(f"cadkg: error: {err}", markup=False)

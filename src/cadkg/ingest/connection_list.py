@@ -13,10 +13,12 @@ The row order is the operation sequence.
 
 from __future__ import annotations
 
+import io
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from decimal import Decimal
+from itertools import islice
 from pathlib import Path
 
 from cadkg.errors import IngestError
@@ -144,19 +146,20 @@ def _columns(row: Row) -> dict[str, int]:
 
 
 def _find_header(text: str, path: str | Path) -> tuple[list[Row], int, dict[str, int]]:
-    best: tuple[int, list[Row], int, dict[str, int]] | None = None
+    # Choose the delimiter on the first lines only, then split the whole file once.
+    head = "".join(islice(io.StringIO(text, newline=""), _HEADER_SCAN_ROWS))
+    best: tuple[int, str, int, dict[str, int]] | None = None
     for delimiter in ("\t", ";", ","):
-        rows = list(iter_rows(text, delimiter, path))
-        for position, row in enumerate(rows[:_HEADER_SCAN_ROWS]):
+        for position, row in enumerate(iter_rows(head, delimiter, path)):
             columns = _columns(row)
             if "origin_pin" in columns and "destination_pin" in columns:
-                score = len(columns)
-                if best is None or score > best[0]:
-                    best = (score, rows, position, columns)
+                if best is None or len(columns) > best[0]:
+                    best = (len(columns), delimiter, position, columns)
                 break
     if best is None:
         raise IngestError(path, "no header row found in the first lines", line=1, expected=_EXPECTED)
-    _, rows, position, columns = best
+    _, delimiter, position, columns = best
+    rows = list(iter_rows(text, delimiter, path))
     # Figure 3's 11-column form shifts the potential columns: 'Tipo' then 'pot.' whose
     # numbers are the wire length in mm (there is no separate length column).
     if "potential_name" in columns and not ({"length_m", "length_mm"} & columns.keys()):

@@ -13,7 +13,7 @@ import hashlib
 from collections.abc import Iterable
 from datetime import UTC, datetime
 from decimal import Decimal
-from functools import singledispatch
+from functools import cache, singledispatch
 from pathlib import Path
 from urllib.parse import quote
 
@@ -42,6 +42,7 @@ def graph_iri(base_iri: str, rel_path: str) -> str:
     return f"{base_iri}graph/{quote(rel_path, safe='/')}"
 
 
+@cache
 def _t(name: str) -> str:
     return f"<{CK[name].value}>"
 
