@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import csv
+import io
 from decimal import Decimal
 from pathlib import Path
 
@@ -539,3 +541,138 @@ def test_unit_of_the_wrong_kind_is_an_error(write, length_column: str, section: 
         read_connection_list(write("unit.tsv", text))
     assert info.value.line == 2
     assert info.value.found in {section, length}
+
+
+# --- Komax machine export ----------------------------------------------------------------------------
+
+KOMAX = READERS / "komax-sample.csv"
+KOMAX_PREAMBLE_LINES = 6  # five option rows and a blank line before the header
+KOMAX_DEST_PIN = 17  # 0-based column of "Componente:pin\ndestinazione"
+
+
+@pytest.fixture(scope="module")
+def komax() -> tuple[ConnectionListInfo, list[Connection]]:
+    return split(read_connection_list(KOMAX))
+
+
+def _komax_table() -> tuple[str, list[list[str]]]:
+    text = KOMAX.read_text(encoding="utf-8")
+    preamble = "".join(text.splitlines(keepends=True)[:KOMAX_PREAMBLE_LINES])
+    return preamble, list(csv.reader(io.StringIO(text[len(preamble) :], newline=""), delimiter=";"))
+
+
+def _komax_text(preamble: str, rows: list[list[str]]) -> str:
+    out = io.StringIO(newline="")
+    csv.writer(out, delimiter=";", lineterminator="\r\n").writerows(rows)
+    return preamble + out.getvalue()
+
+
+def test_komax_header_spans_lines_and_rows_start_after_it(komax) -> None:
+    info, connections = komax
+    # 16 header cells hold a line break, so the header starting on line 7 ends on line 23.
+    assert info == ConnectionListInfo(project="QE01_CABLAGGIO", job=None, header_line=7)
+    assert [(c.index, c.line) for c in connections] == [(i, i + 23) for i in range(1, 11)]
+
+
+def test_komax_first_row_exact(komax) -> None:
+    _, connections = komax
+    assert connections[0] == Connection(
+        index=1,
+        line=24,
+        origin=pin("=-F1500.1:14", "F1500.1", "14"),
+        destination=pin("=-Q1500.1:A1", "Q1500.1", "A1"),
+        wire_number="1500.51",
+        section_mm2=Decimal("0.75"),
+        colour="BU",
+        potential_type="+",
+        potential_name="24V",
+        length_m=Decimal("0.746"),
+        duct_path=("U2",),
+        origin_termination="PUNTALINO_vite",
+        destination_termination="PUNTALINO_vite",
+        origin_page="+1500/1.2",
+        origin_zone="Q",
+        destination_page="+1500/1.2",
+        destination_zone="Q",
+        cable_name="W001",
+        job_key="QE01-0001",
+        origin_direction="Verso l'alto",
+        destination_direction="Verso l'alto",
+        bundling_side="Origine",
+    )
+
+
+def test_komax_values_by_row(komax) -> None:
+    _, connections = komax
+    assert [c.job_key for c in connections] == [f"QE01-{i:04d}" for i in range(1, 11)]
+    assert [c.length_m for c in connections] == [
+        Decimal(m)
+        for m in ("0.746", "0.836", "0.926", "1.055", "1.005", "0.955", "1.112", "0.32", "0.32", "0.394")
+    ]
+    assert [c.section_mm2 for c in connections] == [Decimal("0.75")] * 6 + [Decimal("1")] * 3 + [
+        Decimal("1.5")
+    ]
+    assert [c.bundling_side for c in connections] == ["Origine"] * 3 + ["Destinazione"] * 3 + [None] * 3 + [
+        "Origine"
+    ]
+    row = at_line(connections, 27)
+    assert (row.origin_direction, row.destination_direction) == (
+        "Verso l'alto, verso sinistra",
+        "Verso il basso",
+    )
+    assert (row.origin.key, row.destination.key, row.duct_path) == (
+        "F1500.1:13",
+        "X1600:2:a",
+        ("U2", "U5", "U3"),
+    )
+    assert (row.origin_termination, row.destination_termination) == ("PUNTALINO_vite", "ELETTROSALDATO_molla")
+    assert at_line(connections, 30).origin.key == "X0030.1:1L+.2:a2"
+
+
+def test_komax_columns_are_found_by_meaning(komax) -> None:
+    shuffled = READERS / "komax-shuffled.csv"
+    header = shuffled.read_text(encoding="utf-8").splitlines()[KOMAX_PREAMBLE_LINES]
+    assert header.startswith("Marcatura destinazione;")
+    assert split(read_connection_list(shuffled)) == komax
+
+
+def test_komax_in_windows_1252_reads_the_same(write, komax) -> None:
+    data = KOMAX.read_text(encoding="utf-8").encode("cp1252")
+    with pytest.warns(IngestWarning, match="read as Windows-1252"):
+        assert split(read_connection_list(write("komax-1252.csv", data))) == komax
+
+
+def test_komax_bad_length_is_located_on_the_physical_line(write) -> None:
+    preamble, rows = _komax_table()
+    rows[1][-1] = "ritardo\nsul fascio"  # a note with a line break on line 24 shifts the rows after it
+    rows[4][7] = "mille"
+    with pytest.raises(IngestError) as info:
+        read_connection_list(write("komax-bad.csv", _komax_text(preamble, rows)))
+    err = info.value
+    assert (err.line, err.found) == (28, "mille")
+    assert err.reason == "not a number in column 'Lunghezza (mm)'"
+
+
+def test_komax_missing_destination_pin_column_names_what_was_found(write) -> None:
+    preamble, rows = _komax_table()
+    for row in rows:
+        del row[KOMAX_DEST_PIN]
+    with pytest.raises(IngestError) as info:
+        read_connection_list(write("komax-no-pin.csv", _komax_text(preamble, rows)))
+    err = info.value
+    assert (err.line, err.reason) == (7, "missing column 'Componente:pin (destination)'")
+    assert err.found is not None
+    # Line breaks inside header cells are folded so the message stays on one line.
+    assert err.found.startswith("Chiave job, Nome cavo, Numero filo, Sezione (mm²), Colore")
+    assert "Componente:pin origine, Terminazione origine" in err.found
+
+
+def test_english_per_end_headers_in_any_order(write) -> None:
+    text = (
+        "Direction destination\tComponent:pin destination\tWire number\tSection\tColour\t"
+        "Component:pin origin\tDirection origin\tLength (mm)\n"
+        "down\t-Q1500.1:A1\t1500.51\t0.75\tBU\t-F1500.1:14\tup\t746\n"
+    )
+    _, (row,) = split(read_connection_list(write("english.tsv", text)))
+    assert (row.origin.key, row.destination.key) == ("F1500.1:14", "Q1500.1:A1")
+    assert (row.origin_direction, row.destination_direction, row.length_m) == ("up", "down", Decimal("0.746"))

@@ -6,7 +6,9 @@ Three real layouts read here, all matched by header meaning rather than position
   Colore, Tipo, pot.``), where the last column holds the wire length in mm;
 * the 15-column Italian "Lista cablaggio" with preamble rows, decimal commas and
   units inside cells (``1,5 mm²``, ``0,474 m``), duct paths and terminations;
-* machine exports whose header cells are quoted and contain line breaks.
+* machine exports whose header cells are quoted and contain line breaks, among them
+  the Komax wire-processing export: machine options before a 31-column header whose
+  origin and destination columns say their end (``Componente:pin origine``).
 
 The row order is the operation sequence.
 """
@@ -82,8 +84,24 @@ _ALIASES: dict[str, str] = {
     "route": "duct_path",
     "terminazione origine": "origin_termination",
     "terminazione destinazione": "destination_termination",
+    "chiave job": "job_key",
+    "job key": "job_key",
+    "nome cavo": "cable_name",
+    "cable name": "cable_name",
+    "lato fascettatura": "bundling_side",
+    "bundling side": "bundling_side",
 }
 _PAIRED = ("page", "zone", "pin")
+# A header may tie its meaning to one end by a word after it ('Componente:pin origine',
+# 'Lunghezza spelatura origine (mm)'). Only these meanings are read per end; the others
+# (strip length, ferrule, marking) have no field in the record.
+_PER_END = {
+    "termination": "termination",
+    "terminazione": "termination",
+    "direction": "direction",
+    "direzione": "direction",
+} | {alias: meaning for alias, meaning in _ALIASES.items() if meaning in _PAIRED}
+_END = re.compile(r"^(?P<base>.+?) (?P<end>origine|origin|destinazione|destination)(?: (?P<rest>.*))?$")
 _SECTION_UNITS = frozenset({"mm²", "mm2", "mmq", "mm^2"})
 _LENGTH_UNITS = frozenset({"m", "mm"})
 _REQUIRED = {
@@ -125,6 +143,11 @@ class Connection:
     origin_zone: str | None
     destination_page: str | None
     destination_zone: str | None
+    cable_name: str | None = None
+    job_key: str | None = None
+    origin_direction: str | None = None
+    destination_direction: str | None = None
+    bundling_side: str | None = None
 
 
 def _norm(header: str) -> str:
@@ -134,7 +157,15 @@ def _norm(header: str) -> str:
 def _columns(row: Row) -> dict[str, int]:
     columns: dict[str, int] = {}
     for index, cell in enumerate(row.cells):
-        meaning = _ALIASES.get(_norm(cell))
+        header = _norm(cell)
+        meaning = _ALIASES.get(header)
+        ends = _END.match(header) if meaning is None else None
+        if ends is not None:
+            base = f"{ends['base']} {ends['rest'] or ''}".strip()
+            if base in _PER_END:
+                end = "origin" if ends["end"].startswith("origin") else "destination"
+                columns.setdefault(f"{end}_{_PER_END[base]}", index)
+            continue
         if meaning is None:
             continue
         if meaning in _PAIRED:
@@ -152,7 +183,9 @@ def _find_header(text: str, path: str | Path) -> tuple[list[Row], int, dict[str,
     for delimiter in ("\t", ";", ","):
         for position, row in enumerate(iter_rows(head, delimiter, path)):
             columns = _columns(row)
-            if "origin_pin" in columns and "destination_pin" in columns:
+            # One pin column is enough to take the row for the header, so that a missing
+            # twin is reported as a missing column rather than as no header at all.
+            if ({"origin_pin", "destination_pin"} & columns.keys()) and len(columns) >= 3:
                 if best is None or len(columns) > best[0]:
                     best = (len(columns), delimiter, position, columns)
                 break
@@ -197,7 +230,7 @@ def read_connection_list(path: str | Path) -> list[ConnectionListInfo | Connecti
     header = rows[header_at]
     missing = [name for key, name in _REQUIRED.items() if key not in columns]
     if missing:
-        found = ", ".join(c.strip() for c in header.cells if c.strip())
+        found = ", ".join(re.sub(r"\s+", " ", c.strip()) for c in header.cells if c.strip())
         raise IngestError(
             path,
             f"missing column {', '.join(repr(m) for m in missing)}",
@@ -209,7 +242,7 @@ def read_connection_list(path: str | Path) -> list[ConnectionListInfo | Connecti
     preamble = rows[:header_at]
     records: list[ConnectionListInfo | Connection] = [
         ConnectionListInfo(
-            project=_preamble_value(preamble, "nome progetto:"),
+            project=_preamble_value(preamble, "nome progetto:") or _preamble_value(preamble, "programma"),
             job=_preamble_value(preamble, "commessa:"),
             header_line=header.line,
         )
@@ -328,4 +361,9 @@ def _connection(
         origin_zone=text("origin_zone"),
         destination_page=text("destination_page"),
         destination_zone=text("destination_zone"),
+        cable_name=text("cable_name"),
+        job_key=text("job_key"),
+        origin_direction=text("origin_direction"),
+        destination_direction=text("destination_direction"),
+        bundling_side=text("bundling_side"),
     )

@@ -10,6 +10,15 @@ base_iri = "https://example.org/cell/qe01/"
 path = "ids.wri"                 # relative to this manifest
 kind = "wri"                     # optional when the suffix or content tells
 
+[[source]]
+path = "scene.x3d"
+frame = "cabinet"                # frame of the scene's root (scene readers only)
+
+[derive]                         # optional; these are the defaults
+approach_distance = 0.15         # metres in front of a component for its target pose
+rail_pattern = "^RAIL"           # labels of DIN rails (a regular expression)
+cluster_tolerance = 0.005        # metres: pins this close in height / column form a cluster
+
 [[frame]]
 parent = "world"
 child = "cabinet"
@@ -33,16 +42,18 @@ from cadkg.derive.frames import Quaternion, normalize_quaternion, quaternion_fro
 from cadkg.errors import ManifestError
 from cadkg.ingest.registry import kinds
 
-__all__ = ["PROFILES", "CellSpec", "FrameSpec", "Manifest", "SourceSpec", "load_manifest"]
+__all__ = ["PROFILES", "CellSpec", "DeriveSpec", "FrameSpec", "Manifest", "SourceSpec", "load_manifest"]
 
 PROFILES = ("iema", "elvez", "elimco", "vw", "enki")
 _KEYS = {
-    "": {"cell", "source", "frame"},
+    "": {"cell", "source", "frame", "derive"},
     "cell": {"name", "profile", "base_iri", "description"},
-    "source": {"path", "kind", "description"},
+    "source": {"path", "kind", "description", "frame"},
+    "derive": {"approach_distance", "rail_pattern", "cluster_tolerance"},
     "frame": {"parent", "child", "xyz", "rpy", "quaternion"},
 }
 _FRAME_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_./-]*$")
+_FRAME_EXPECTED = "letters, digits, _ . / - (a ROS frame id)"
 
 
 @dataclass(frozen=True, slots=True)
@@ -61,6 +72,16 @@ class SourceSpec:
     rel: str
     kind: str | None
     line: int
+    frame: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class DeriveSpec:
+    """Settings of the derived geometry (see cadkg.derive)."""
+
+    approach_distance: float = 0.15
+    rail_pattern: str = "^RAIL"
+    cluster_tolerance: float = 0.005
 
 
 @dataclass(frozen=True, slots=True)
@@ -80,6 +101,7 @@ class Manifest:
     cell: CellSpec
     sources: tuple[SourceSpec, ...]
     frames: tuple[FrameSpec, ...]
+    derive: DeriveSpec = DeriveSpec()
 
 
 class _Locator:
@@ -152,7 +174,7 @@ def load_manifest(path: str | Path) -> Manifest:
                 path,
                 f"unknown key {key!r}",
                 line=locate.line(key, None, None),
-                expected="cell, source or frame",
+                expected="cell, source, frame or derive",
             )
     if not isinstance(data.get("cell"), dict):
         raise ManifestError(path, "missing [cell] table", expected="[cell] with name, profile, base_iri")
@@ -238,7 +260,14 @@ def load_manifest(path: str | Path) -> Manifest:
                 found=rel,
             )
         seen_paths[resolved] = line
-        sources.append(SourceSpec(path=resolved, rel=Path(rel).as_posix(), kind=kind, line=line))
+        frame_name = string("source", index, entry, "frame", required=False)
+        if frame_name is not None and not _FRAME_NAME.match(frame_name):
+            raise fail(
+                "source", index, "frame", "malformed frame name", found=frame_name, expected=_FRAME_EXPECTED
+            )
+        sources.append(
+            SourceSpec(path=resolved, rel=Path(rel).as_posix(), kind=kind, line=line, frame=frame_name)
+        )
 
     frames = []
     children: dict[str, int] = {}
@@ -256,7 +285,7 @@ def load_manifest(path: str | Path) -> Manifest:
                     key,
                     "malformed frame name",
                     found=name,
-                    expected="letters, digits, _ . / - (a ROS frame id)",
+                    expected=_FRAME_EXPECTED,
                 )
         if child in children:
             raise fail(
@@ -278,7 +307,51 @@ def load_manifest(path: str | Path) -> Manifest:
             quaternion = quaternion_from_rpy(roll, pitch, yaw)
         frames.append(FrameSpec(parent, child, (xyz[0], xyz[1], xyz[2]), quaternion, line))
     _check_tree(path, frames)
-    return Manifest(path=path.resolve(), cell=cell_spec, sources=tuple(sources), frames=tuple(frames))
+    return Manifest(
+        path=path.resolve(),
+        cell=cell_spec,
+        sources=tuple(sources),
+        frames=tuple(frames),
+        derive=_derive_spec(fail, data.get("derive")),
+    )
+
+
+def _derive_spec(fail: Any, table: object) -> DeriveSpec:
+    if table is None:
+        return DeriveSpec()
+    if not isinstance(table, dict):
+        raise fail("derive", None, None, "'derive' must be a table", expected="[derive]")
+    for key in table:
+        if key not in _KEYS["derive"]:
+            raise fail(
+                "derive",
+                None,
+                key,
+                f"unknown key {key!r} in [derive]",
+                expected=", ".join(sorted(_KEYS["derive"])),
+            )
+    defaults = DeriveSpec()
+    values: dict[str, Any] = {}
+    for key in ("approach_distance", "cluster_tolerance"):
+        value = table.get(key, getattr(defaults, key))
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int | float)
+            or not math.isfinite(value)
+            or value < 0
+        ):
+            raise fail("derive", None, key, f"{key!r} must be a non-negative number of metres", found=value)
+        values[key] = float(value)
+    pattern = table.get("rail_pattern", defaults.rail_pattern)
+    try:
+        if not isinstance(pattern, str):
+            raise TypeError
+        re.compile(pattern)
+    except (re.error, TypeError):
+        raise fail(
+            "derive", None, "rail_pattern", "not a regular expression", found=pattern, expected="e.g. ^RAIL"
+        ) from None
+    return DeriveSpec(rail_pattern=pattern, **values)
 
 
 def _vector(

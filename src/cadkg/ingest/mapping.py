@@ -10,7 +10,7 @@ value read from a file can never break out of its term.
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from datetime import UTC, datetime
 from decimal import Decimal
 from functools import cache, singledispatch
@@ -23,7 +23,19 @@ from cadkg.ingest.manifest import FrameSpec, Manifest
 from cadkg.ingest.wri import IdEntry
 from cadkg.ontology.terms import CK, RDF_TYPE
 
-__all__ = ["TripleWriter", "graph_iri", "map_manifest", "map_records", "sha256_of"]
+__all__ = [
+    "TripleWriter",
+    "component_node",
+    "frame_node",
+    "graph_iri",
+    "map_manifest",
+    "map_record",
+    "map_records",
+    "pin_node",
+    "sha256_of",
+    "term",
+    "write_pose",
+]
 
 _ESCAPES = str.maketrans({"\\": "\\\\", '"': '\\"', "\n": "\\n", "\r": "\\r"})
 _XSD = "http://www.w3.org/2001/XMLSchema#"
@@ -50,12 +62,19 @@ def _t(name: str) -> str:
 _TYPE = f"<{RDF_TYPE.value}>"
 
 
+def term(name: str) -> str:
+    """An ontology term as N-Triples (``"type"`` is rdf:type); misspelt names raise."""
+    return _TYPE if name == "type" else _t(name)
+
+
 class TripleWriter:
     """Collects N-Triples lines for one named graph; IRIs are minted under ``base_iri``."""
 
     def __init__(self, base_iri: str) -> None:
         self.base = base_iri
         self.lines: list[str] = []
+        self.files: dict[str, bytes] = {}
+        self.root_frame = "cabinet"
         self._seen: set[str] = set()
 
     def iri(self, kind: str, *parts: str) -> str:
@@ -103,12 +122,21 @@ def map_provenance(w: TripleWriter, graph: str, rel_path: str, sha256: str, kind
 def map_records(w: TripleWriter, records: Iterable[object], source_slug: str) -> None:
     """Append the triples of every record; ``source_slug`` names per-file things (the plan)."""
     for record in records:
-        _map(record, w, source_slug)
+        map_record(record, w, source_slug)
 
 
 @singledispatch
-def _map(record: object, w: TripleWriter, source_slug: str) -> None:
+def map_record(record: object, w: TripleWriter, source_slug: str) -> None:
     raise TypeError(f"no mapping for records of type {type(record).__name__}")
+
+
+def component_node(w: TripleWriter, label: str) -> str:
+    """The component labelled ``label``, typed and labelled once per graph."""
+    return _component(w, label)
+
+
+def pin_node(w: TripleWriter, ref: PinRef) -> str:
+    return _pin(w, ref)
 
 
 def _component(w: TripleWriter, label: str) -> str:
@@ -119,7 +147,7 @@ def _component(w: TripleWriter, label: str) -> str:
     return node
 
 
-@_map.register
+@map_record.register
 def _(record: IdEntry, w: TripleWriter, source_slug: str) -> None:
     item = w.iri("item", record.cad_id)
     component = _component(w, record.label)
@@ -143,7 +171,7 @@ def _(record: IdEntry, w: TripleWriter, source_slug: str) -> None:
         w.add(item, _t("instanceOf"), model)
 
 
-@_map.register
+@map_record.register
 def _(record: ConnectionListInfo, w: TripleWriter, source_slug: str) -> None:
     plan = w.iri("plan", source_slug)
     w.add(plan, _TYPE, _t("ActionPlan"))
@@ -166,7 +194,7 @@ def _pin(w: TripleWriter, ref: PinRef) -> str:
     return node
 
 
-@_map.register
+@map_record.register
 def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
     key = record.wire_number
     wire = w.iri("wire", key)
@@ -196,6 +224,11 @@ def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
         ("originZone", record.origin_zone),
         ("destinationPage", record.destination_page),
         ("destinationZone", record.destination_zone),
+        ("cableName", record.cable_name),
+        ("jobKey", record.job_key),
+        ("originDirection", record.origin_direction),
+        ("destinationDirection", record.destination_direction),
+        ("bundlingSide", record.bundling_side),
     ):
         if value is not None:
             add(wire, _t(name), text(value))
@@ -217,6 +250,9 @@ def map_manifest(w: TripleWriter, manifest: Manifest) -> None:
     w.add(cell, _t("profile"), w.text(manifest.cell.profile))
     if manifest.cell.description:
         w.add(cell, _t("description"), w.text(manifest.cell.description))
+    w.add(cell, _t("approachDistance"), w.typed(manifest.derive.approach_distance))
+    w.add(cell, _t("railPattern"), w.text(manifest.derive.rail_pattern))
+    w.add(cell, _t("clusterTolerance"), w.typed(manifest.derive.cluster_tolerance))
     for frame in manifest.frames:
         _map_frame(w, frame)
 
@@ -229,14 +265,27 @@ def _frame(w: TripleWriter, name: str) -> str:
     return node
 
 
+def frame_node(w: TripleWriter, name: str) -> str:
+    """The frame called ``name`` (a ROS frame id), described once per graph."""
+    return _frame(w, name)
+
+
+def write_pose(
+    w: TripleWriter, node: str, xyz: Sequence[float], quaternion: Sequence[float], parent: str
+) -> str:
+    """A ck:Pose ``node`` in frame ``parent``: translation in metres, quaternion (x, y, z, w)."""
+    w.add(node, _TYPE, _t("Pose"))
+    w.add(node, _t("parentFrame"), parent)
+    for name, value in zip(("tx", "ty", "tz"), xyz, strict=True):
+        w.add(node, _t(name), w.typed(float(value)))
+    for name, value in zip(("qx", "qy", "qz", "qw"), quaternion, strict=True):
+        w.add(node, _t(name), w.typed(float(value)))
+    return node
+
+
 def _map_frame(w: TripleWriter, frame: FrameSpec) -> None:
     child = _frame(w, frame.child)
     pose = w.iri("pose", frame.child)
     w.add(child, _t("hasPose"), pose)
-    w.add(pose, _TYPE, _t("Pose"))
-    w.add(pose, _t("parentFrame"), _frame(w, frame.parent))
+    write_pose(w, pose, frame.xyz, frame.quaternion, _frame(w, frame.parent))
     w.add(pose, _t("sourceLine"), w.typed(frame.line))
-    for name, value in zip(("tx", "ty", "tz"), frame.xyz, strict=True):
-        w.add(pose, _t(name), w.typed(float(value)))
-    for name, value in zip(("qx", "qy", "qz", "qw"), frame.quaternion, strict=True):
-        w.add(pose, _t(name), w.typed(float(value)))

@@ -46,10 +46,15 @@ class GraphData:
     graph: str
     ntriples: bytes
     report: SourceReport
+    files: dict[str, bytes] = field(default_factory=dict)
 
 
-def read_source(path: Path, rel_path: str, kind: str | None, base_iri: str) -> GraphData:
+def read_source(
+    path: Path, rel_path: str, kind: str | None, base_iri: str, frame: str | None = None
+) -> GraphData:
     """Read one file with the reader of its kind and map it into its named graph.
+
+    ``frame`` names the frame a scene file's root is placed in (default ``cabinet``).
 
     Raises
     ------
@@ -67,6 +72,7 @@ def read_source(path: Path, rel_path: str, kind: str | None, base_iri: str) -> G
         records = reader.read(path)
     graph = graph_iri(base_iri, rel_path)
     writer = TripleWriter(base_iri)
+    writer.root_frame = frame or "cabinet"
     map_provenance(writer, graph, rel_path, sha256_of(path), kind)
     map_records(writer, records, Path(rel_path).stem)
     report = SourceReport(
@@ -77,7 +83,7 @@ def read_source(path: Path, rel_path: str, kind: str | None, base_iri: str) -> G
         seconds=time.perf_counter() - started,
         warnings=tuple(str(w.message) for w in caught if issubclass(w.category, IngestWarning)),
     )
-    return GraphData(graph=graph, ntriples=writer.data(), report=report)
+    return GraphData(graph=graph, ntriples=writer.data(), report=report, files=writer.files)
 
 
 def manifest_graph(manifest: Manifest) -> GraphData:
@@ -102,4 +108,4 @@ def read_manifest_graphs(
     for source in manifest.sources:
         if on_source is not None:
             on_source(source)
-        yield read_source(source.path, source.rel, source.kind, manifest.cell.base_iri)
+        yield read_source(source.path, source.rel, source.kind, manifest.cell.base_iri, source.frame)

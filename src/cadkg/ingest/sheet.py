@@ -1,0 +1,168 @@
+"""Spreadsheets (XLSX, ODS) as rows of cell values with Excel-style addresses.
+
+Readers of tabular formats that also arrive as workbooks read the first sheet that
+holds any value, so a workbook whose first tab was left blank still reads. Errors
+name cells as Excel does (``Sheet1!C7``: column letters, 1-based rows), which is
+what a user can find in the spreadsheet program.
+"""
+
+from __future__ import annotations
+
+import datetime
+import math
+import re
+import warnings
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from cadkg.errors import IngestError
+
+__all__ = ["SHEET_SUFFIXES", "SheetRow", "cell_address", "cell_text", "column_letter", "read_sheet"]
+
+SHEET_SUFFIXES = (".xlsx", ".xlsm", ".ods")
+_ZIP = b"PK\x03\x04"
+_OLE2 = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
+_PLAIN_SHEET_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]*$")
+
+
+@dataclass(frozen=True, slots=True)
+class SheetRow:
+    """One spreadsheet row: its 1-based number and its values (``None`` for an empty cell)."""
+
+    number: int
+    cells: tuple[object, ...]
+
+    def cell(self, index: int) -> object:
+        """The value at 0-based column ``index``; ``None`` past the row's end."""
+        return self.cells[index] if index < len(self.cells) else None
+
+    @property
+    def is_blank(self) -> bool:
+        return not any(cell_text(c) for c in self.cells)
+
+
+def column_letter(index: int) -> str:
+    """``0`` → ``'A'``, ``25`` → ``'Z'``, ``26`` → ``'AA'`` (0-based column index)."""
+    letters = ""
+    index += 1
+    while index:
+        index, rest = divmod(index - 1, 26)
+        letters = chr(ord("A") + rest) + letters
+    return letters
+
+
+def cell_address(sheet: str, row: int, column: int) -> str:
+    """``'Sheet1!C7'`` for 1-based ``row`` 7 and 0-based ``column`` 2; odd sheet names are quoted."""
+    name = sheet if _PLAIN_SHEET_NAME.match(sheet) else "'" + sheet.replace("'", "''") + "'"
+    return f"{name}!{column_letter(column)}{row}"
+
+
+def cell_text(value: object) -> str:
+    """A cell as the text a user sees: stripped, whole floats without ``.0``, empty for no value."""
+    if value is None:
+        return ""
+    if isinstance(value, float) and value.is_integer():
+        return str(int(value))
+    if isinstance(value, datetime.datetime | datetime.date | datetime.time):
+        return value.isoformat()
+    return str(value).strip()
+
+
+def read_sheet(path: str | Path) -> tuple[str, list[SheetRow]]:
+    """The name and rows of the first non-empty sheet of an XLSX or ODS workbook.
+
+    Rows are numbered as the spreadsheet numbers them; blank rows in between are
+    kept (as rows without values) so numbering never drifts, trailing ones dropped.
+
+    Raises
+    ------
+    IngestError
+        When the file cannot be read, is empty, is not a workbook (not a ZIP
+        archive, an encrypted or legacy ``.xls`` file), is corrupt, or has no value
+        in any sheet.
+    """
+    expected = "an XLSX or ODS workbook"
+    try:
+        with Path(path).open("rb") as handle:
+            magic = handle.read(8)
+    except OSError as err:
+        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
+    if not magic:
+        raise IngestError(path, "the file is empty", expected=expected)
+    if magic.startswith(_OLE2):
+        raise IngestError(
+            path,
+            "an encrypted workbook or a legacy .xls file (OLE2 compound file)",
+            expected="an unencrypted XLSX or ODS workbook",
+        )
+    if not magic.startswith(_ZIP):
+        raise IngestError(path, "not a workbook (not a ZIP archive)", found=magic[:4], expected=expected)
+    # The content decides, not the suffix: an ODS archive starts with its mimetype entry.
+    is_ods = _zip_mimetype(path) == "application/vnd.oasis.opendocument.spreadsheet"
+    try:
+        sheets = _ods_sheets(path) if is_ods else _xlsx_sheets(path)
+    except Exception as err:
+        # openpyxl, odfpy and zipfile fail on a damaged archive in many unrelated ways.
+        raise IngestError(
+            path, f"corrupt workbook ({type(err).__name__}: {err})"[:300], expected=expected
+        ) from None
+    for name, rows in sheets:
+        while rows and rows[-1].is_blank:
+            rows.pop()
+        if rows:
+            return name, rows
+    raise IngestError(path, "no sheet holds any value", expected="a sheet with a header row")
+
+
+def _zip_mimetype(path: str | Path) -> str:
+    try:
+        with zipfile.ZipFile(path) as archive:
+            return archive.read("mimetype").decode("ascii", "replace")
+    except (KeyError, zipfile.BadZipFile, OSError, RuntimeError):
+        return ""
+
+
+def _xlsx_sheets(path: str | Path) -> list[tuple[str, list[SheetRow]]]:
+    import openpyxl  # deferred: a second or so of import for files that are mostly CSV
+
+    # A handle rather than the path: openpyxl refuses names not ending in .xlsx or .xlsm,
+    # while the content has already been checked to be a ZIP archive.
+    with warnings.catch_warnings(), Path(path).open("rb") as handle:
+        # openpyxl warns about styles and extensions it drops; none of them carry data.
+        warnings.simplefilter("ignore")
+        book = openpyxl.load_workbook(handle, read_only=True, data_only=True)
+        try:
+            sheets = []
+            for sheet in book.worksheets:
+                # Without this a file declaring a huge used range pads every row to it.
+                sheet.reset_dimensions()
+                rows = [
+                    SheetRow(number, tuple(values))
+                    for number, values in enumerate(sheet.iter_rows(values_only=True), start=1)
+                ]
+                sheets.append((str(sheet.title), rows))
+            return sheets
+        finally:
+            book.close()
+
+
+def _ods_sheets(path: str | Path) -> list[tuple[str, list[SheetRow]]]:
+    import pandas as pd
+
+    frames = pd.read_excel(path, engine="odf", header=None, dtype=object, sheet_name=None)
+    sheets = []
+    for name, frame in frames.items():
+        rows = [
+            SheetRow(number, tuple(_ods_value(v) for v in values))
+            for number, values in enumerate(frame.itertuples(index=False, name=None), start=1)
+        ]
+        sheets.append((str(name), rows))
+    return sheets
+
+
+def _ods_value(value: object) -> object:
+    # pandas marks empty cells with NaN; a real cell cannot hold NaN.
+    if isinstance(value, float) and math.isnan(value):
+        return None
+    return value

@@ -1,0 +1,136 @@
+"""The spreadsheet layer: addresses, cell text, the first non-empty sheet, and broken workbooks."""
+
+from __future__ import annotations
+
+import datetime
+from pathlib import Path
+
+import pytest
+
+from cadkg.errors import IngestError
+from cadkg.ingest.sheet import SheetRow, cell_address, cell_text, column_letter, read_sheet
+from tests.ingest.workbooks import write_ods, write_xlsx
+
+ROWS = [["Block", "Position"], [None, None], [None, None], ["X1600", 2.5], [None, "x"]]
+
+
+@pytest.mark.parametrize(
+    ("index", "letters"), [(0, "A"), (2, "C"), (25, "Z"), (26, "AA"), (51, "AZ"), (701, "ZZ"), (702, "AAA")]
+)
+def test_column_letter(index: int, letters: str) -> None:
+    assert column_letter(index) == letters
+
+
+@pytest.mark.parametrize(
+    ("sheet", "row", "column", "address"),
+    [
+        ("Sheet1", 7, 2, "Sheet1!C7"),
+        ("Morsetti_2", 1, 27, "Morsetti_2!AB1"),
+        ("My sheet", 1, 0, "'My sheet'!A1"),
+        ("O'Brien", 12, 1, "'O''Brien'!B12"),
+        ("2024", 3, 0, "'2024'!A3"),
+    ],
+)
+def test_cell_address(sheet: str, row: int, column: int, address: str) -> None:
+    assert cell_address(sheet, row, column) == address
+
+
+@pytest.mark.parametrize(
+    ("value", "text"),
+    [
+        (None, ""),
+        (2.0, "2"),
+        (2.5, "2.5"),
+        (7, "7"),
+        ("  a;b \n", "a;b"),
+        (datetime.date(2026, 11, 21), "2026-11-21"),
+    ],
+)
+def test_cell_text(value: object, text: str) -> None:
+    assert cell_text(value) == text
+
+
+def _write(kind: str, path: Path, sheets: list[tuple[str, list[list[object]]]]) -> Path:
+    return write_xlsx(path, sheets) if kind == "xlsx" else write_ods(path, sheets)
+
+
+@pytest.mark.parametrize("kind", ["xlsx", "ods"])
+def test_first_non_empty_sheet_with_row_numbers(tmp_path: Path, kind: str) -> None:
+    path = _write(kind, tmp_path / f"book.{kind}", [("Cover", []), ("Schema", ROWS), ("Later", [["z"]])])
+    name, rows = read_sheet(path)
+    assert name == "Schema"
+    assert [r.number for r in rows] == [1, 2, 3, 4, 5]
+    assert [r.is_blank for r in rows] == [False, True, True, False, False]
+    assert rows[0].cells[:2] == ("Block", "Position")
+    assert rows[3].cell(0) == "X1600" and rows[3].cell(1) == 2.5
+    assert rows[4].cell(1) == "x" and rows[4].cell(9) is None
+
+
+@pytest.mark.parametrize("kind", ["xlsx", "ods"])
+def test_leading_blank_rows_and_columns_keep_addresses(tmp_path: Path, kind: str) -> None:
+    path = _write(kind, tmp_path / f"book.{kind}", [("S", [[None], [None, None, "h"], [None, None, 3]])])
+    _, rows = read_sheet(path)
+    assert [(r.number, cell_text(r.cell(2))) for r in rows] == [(1, ""), (2, "h"), (3, "3")]
+
+
+def test_sheet_row_helpers() -> None:
+    row = SheetRow(4, (None, " ", 0))
+    assert not row.is_blank  # a zero is a value
+    assert SheetRow(5, (None, "  ")).is_blank
+
+
+@pytest.mark.parametrize("kind", ["xlsx", "ods"])
+def test_workbook_without_values(tmp_path: Path, kind: str) -> None:
+    path = _write(kind, tmp_path / f"empty.{kind}", [("A", []), ("B", [[None, None]])])
+    with pytest.raises(IngestError) as info:
+        read_sheet(path)
+    assert info.value.reason == "no sheet holds any value"
+
+
+def _truncated(tmp_path: Path) -> bytes:
+    return write_xlsx(tmp_path / "good.xlsx", [("S", ROWS)]).read_bytes()[:300]
+
+
+@pytest.mark.parametrize(
+    ("content", "reason"),
+    [
+        (b"", "the file is empty"),
+        (b"Block;Position\nX1;1\n", "not a workbook (not a ZIP archive)"),
+        (b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1" + bytes(500), "an encrypted workbook or a legacy .xls file"),
+        (None, "corrupt workbook (BadZipFile"),
+    ],
+    ids=["empty", "text", "encrypted", "truncated"],
+)
+@pytest.mark.parametrize("suffix", [".xlsx", ".ods"])
+def test_broken_workbook_is_an_ingest_error(
+    tmp_path: Path, suffix: str, content: bytes | None, reason: str
+) -> None:
+    path = tmp_path / f"bad{suffix}"
+    path.write_bytes(_truncated(tmp_path) if content is None else content)
+    with pytest.raises(IngestError) as info:
+        read_sheet(path)
+    assert info.value.path == str(path)
+    assert info.value.reason.startswith(reason)
+
+
+def test_zip_that_is_not_a_workbook(tmp_path: Path) -> None:
+    import zipfile
+
+    path = tmp_path / "notes.xlsx"
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.writestr("notes.txt", "hello")
+    with pytest.raises(IngestError) as info:
+        read_sheet(path)
+    assert info.value.reason.startswith("corrupt workbook (KeyError")
+
+
+def test_missing_file(tmp_path: Path) -> None:
+    with pytest.raises(IngestError, match="cannot read the file"):
+        read_sheet(tmp_path / "gone.xlsx")
+
+
+@pytest.mark.parametrize(("kind", "suffix"), [("xlsx", ".ods"), ("ods", ".xlsx")])
+def test_content_decides_the_workbook_format_not_the_suffix(tmp_path: Path, kind: str, suffix: str) -> None:
+    path = _write(kind, tmp_path / f"book.{kind}", [("S", [["a", 1]])])
+    renamed = path.rename(tmp_path / f"renamed{suffix}")
+    assert read_sheet(renamed) == ("S", [SheetRow(1, ("a", 1))])
