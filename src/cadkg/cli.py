@@ -229,6 +229,74 @@ def export(target: str, fmt: str | None, output: str) -> None:
     _err.print(f"wrote {output}")
 
 
+def _cursor_file(target: str) -> Path | None:
+    path = Path(target)
+    return path / "cursors.json" if path.is_dir() else None
+
+
+@cli.command(name="call")
+@click.argument("target", metavar="STORE_OR_MANIFEST")
+@click.argument("service", metavar="SERVICE")
+@click.argument("params", nargs=-1, metavar="[KEY=VALUE]...")
+@click.option("--client", default="default", show_default=True, help="Cursor owner for the cursor services.")
+@_guarded
+def call_service(target: str, service: str, params: tuple[str, ...], client: str) -> None:
+    """Call a service (see 'cadkg services') and print its result as JSON.
+
+    Cursors (connection providers, rail scanner) are kept per client in STORE/cursors.json,
+    so successive calls walk the list; a rebuilt store starts them afresh.
+    """
+    from cadkg.query.cursors import Session
+    from cadkg.query.services import call, to_jsonable
+
+    kg = _open(target)
+    session = Session(kg.cell_model())
+    state_file = _cursor_file(target)
+    generation = kg.generation
+    if state_file is not None and state_file.is_file():
+        try:
+            saved = json.loads(state_file.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            saved = {}
+        if isinstance(saved, dict) and saved.get("generation") == generation:
+            session.load(saved.get("clients", {}))
+    result = call(session, service, _params(params), client=client)
+    if state_file is not None:
+        state = {"generation": generation, "clients": session.dump()}
+        temporary = state_file.with_suffix(".tmp")
+        temporary.write_text(json.dumps(state, indent=1), encoding="utf-8")
+        temporary.replace(state_file)
+    _out.print_json(json.dumps(to_jsonable(result)))
+
+
+@cli.command(name="services")
+def list_services() -> None:
+    """List the services 'cadkg call' and the ROS adapter serve."""
+    from cadkg.query.services import SERVICES
+
+    table = Table("service", "parameters", "answers")
+    for service in SERVICES.values():
+        params = ", ".join(f"{k} ({t.__name__.lower()})" for k, t in service.params.items())
+        table.add_row(service.name, params, service.description)
+    _out.print(table)
+
+
+@cli.command()
+@click.argument("store_dir", metavar="STORE", type=click.Path(exists=True, file_okay=False))
+@click.argument("kind", type=click.Choice(["wire", "component", "operation"]))
+@click.argument("ident", metavar="ID")
+@click.argument("performer", type=click.Choice(["robot", "human"]))
+@_guarded
+def assign(store_dir: str, kind: str, ident: str, performer: str) -> None:
+    """Assign a wire (number), component (label) or operation (list position) to robot or human.
+
+    The choice is kept in its own named graph, so rebuilding the store keeps it.
+    """
+    with KnowledgeGraph.open(store_dir, read_only=False) as kg:
+        target = kg.assign(kind, ident, performer)
+    _err.print(f"{kind} {ident} → {performer} ({target})")
+
+
 @cli.command()
 def kinds() -> None:
     """List the input file kinds cadkg reads."""

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import shutil
+import tempfile
 import time
 import uuid
 from collections.abc import Callable, Iterable, Iterator, Mapping
@@ -30,6 +31,8 @@ if TYPE_CHECKING:
     import networkx as nx
     import pandas as pd
 
+    from cadkg.derive.cabinet import CellModel
+
 __all__ = ["EXPORT_FORMATS", "PREFIXES", "KnowledgeGraph", "QueryResult", "build", "open_store"]
 
 PREFIXES = {
@@ -47,6 +50,9 @@ EXPORT_FORMATS = {
     "jsonld": ox.RdfFormat.JSON_LD,
 }
 _CURRENT = "CURRENT"
+_FILES = "files"
+PERFORMERS = ("robot", "human")
+ASSIGNABLE = ("wire", "component", "operation")
 _XSD = "http://www.w3.org/2001/XMLSchema#"
 
 
@@ -125,6 +131,9 @@ class KnowledgeGraph:
         self.directory = directory
         self.read_only = read_only
         self.reports: list[SourceReport] = []
+        self._model: CellModel | None = None
+        self._scratch: tempfile.TemporaryDirectory[str] | None = None
+        self._files_dir: Path | None = None
 
     # -- opening and building -------------------------------------------------
     @classmethod
@@ -148,7 +157,9 @@ class KnowledgeGraph:
             store = ox.Store.read_only(str(generation)) if read_only else ox.Store(str(generation))
         except OSError as err:
             raise StoreError(f"{directory}: cannot open the store: {err}") from err
-        return cls(store, directory, read_only)
+        kg = cls(store, directory, read_only)
+        kg._files_dir = generation / _FILES
+        return kg
 
     @classmethod
     def build(
@@ -171,6 +182,7 @@ class KnowledgeGraph:
             kg = cls.memory()
             for data in read_manifest_graphs(manifest, on_source):
                 kg._write_graph(data, bulk=False)
+            kg.derive()
             return kg
         return cls._build_into(manifest, Path(directory), on_source)
 
@@ -187,10 +199,13 @@ class KnowledgeGraph:
         try:
             store = ox.Store(str(generation))
             kg = cls(store, directory)
+            kg._files_dir = generation / _FILES
             kg._load_ontology()
             for data in read_manifest_graphs(manifest, on_source):
                 kg._write_graph(data, bulk=True)
                 reports.append(data.report)
+            kg._keep_edits(directory, manifest.cell.base_iri)
+            kg.derive()
             store.flush()
             store.optimize()
             del kg, store
@@ -212,7 +227,108 @@ class KnowledgeGraph:
             path=ontology_path(), format=ox.RdfFormat.TURTLE, to_graph=ox.NamedNode(ONTOLOGY_IRI)
         )
 
+    def _keep_edits(self, directory: Path, base_iri: str) -> None:
+        # Assignments edited by hand live in their own graph; a rebuild from the
+        # source files carries them over from the live generation.
+        previous = _read_pointer(directory)
+        if previous is None or not (directory / previous).is_dir():
+            return
+        graph = ox.NamedNode(base_iri + "assignments")
+        try:
+            old = ox.Store.read_only(str(directory / previous))
+        except OSError:
+            return
+        self._store.extend(list(old.quads_for_pattern(None, None, None, graph)))
+        del old
+
+    @property
+    def generation(self) -> str | None:
+        """The name of the live generation of a store directory (None in memory)."""
+        return _read_pointer(self.directory) if self.directory is not None else None
+
+    @property
+    def files_dir(self) -> Path:
+        """Where files that come with the graph (STL meshes) are kept; ``ck:meshUri`` is relative to it."""
+        if self._files_dir is None:
+            self._scratch = tempfile.TemporaryDirectory(prefix="cadkg-files-")
+            self._files_dir = Path(self._scratch.name)
+        return self._files_dir
+
+    def _write_files(self, files: Mapping[str, bytes]) -> None:
+        for rel, content in files.items():
+            target = self.files_dir / rel
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(content)
+
+    # -- derived geometry and assignments -----------------------------------------
+    def cell_model(self) -> CellModel:
+        """The cabinet's derived geometry, computed from the graph once per change."""
+        if self._model is None:
+            from cadkg.derive.cabinet import derive_cell
+            from cadkg.derive.extract import extract
+
+            self._model = derive_cell(extract(self))
+        return self._model
+
+    def derive(self) -> CellModel:
+        """Recompute the derived geometry and replace the ``{base}derived`` graph with it."""
+        from cadkg.derive.emit import derived_ntriples
+
+        self._model = None
+        model = self.cell_model()
+        if model.base and not self.read_only:
+            graph = ox.NamedNode(model.base + "derived")
+            if graph in set(self._store.named_graphs()):
+                self._store.remove_graph(graph)
+            self._store.load(derived_ntriples(model, model.base), ox.RdfFormat.N_TRIPLES, to_graph=graph)
+        return model
+
+    def assign(self, kind: str, ident: str, performer: str) -> str:
+        """Decide who makes a wire, handles a component or performs an operation; kept across rebuilds.
+
+        Raises
+        ------
+        StoreError
+            On an unknown kind or performer, or a read-only store.
+        NotFound
+            When no such wire, component or operation is in the graph.
+        """
+        from urllib.parse import quote
+
+        from cadkg.errors import NotFound
+
+        if self.read_only:
+            raise StoreError("the store is open read-only")
+        if kind not in ASSIGNABLE or performer not in PERFORMERS:
+            raise StoreError(
+                f"cannot assign {kind!r} to {performer!r}: kind is one of {', '.join(ASSIGNABLE)}, "
+                f"performer one of {', '.join(PERFORMERS)}"
+            )
+        model = self.cell_model()
+        if not model.base:
+            raise StoreError("the store has no cell; build it from a manifest first")
+        known = {
+            "wire": {s.wire for s in model.steps},
+            "component": set(model.components),
+            "operation": {str(s.position) for s in model.steps},
+        }[kind]
+        if ident not in known:
+            raise NotFound(f"no {kind} {ident!r} in the graph")
+        target = f"{model.base}{kind}/{quote(ident, safe='')}"
+        node = f"{model.base}assignment/{kind}/{quote(ident, safe='')}"
+        graph = f"{model.base}assignments"
+        # One update request: the old decision goes only if the new one lands.
+        self._store.update(
+            f"""DELETE WHERE {{ GRAPH <{graph}> {{ <{node}> ?p ?o }} }} ;
+                INSERT DATA {{ GRAPH <{graph}> {{
+                  <{node}> a <{CK_NS}Assignment> ; <{CK_NS}assignmentOf> <{target}> ;
+                    <{CK_NS}assignedTo> <{CK_NS}{performer}> }} }}"""
+        )
+        self.derive()
+        return target
+
     def _write_graph(self, data: GraphData, *, bulk: bool) -> None:
+        self._write_files(data.files)
         graph = ox.NamedNode(data.graph)
         if bulk:
             self._store.bulk_load(data.ntriples, ox.RdfFormat.N_TRIPLES, to_graph=graph)
@@ -221,7 +337,12 @@ class KnowledgeGraph:
         self.reports.append(data.report)
 
     def replace_source(
-        self, path: str | Path, rel_path: str, base_iri: str, kind: str | None = None
+        self,
+        path: str | Path,
+        rel_path: str,
+        base_iri: str,
+        kind: str | None = None,
+        frame: str | None = None,
     ) -> SourceReport:
         """Re-read one input file and replace its named graph, leaving every other graph as is.
 
@@ -235,13 +356,15 @@ class KnowledgeGraph:
         """
         if self.read_only:
             raise StoreError("the store is open read-only")
-        data = read_source(Path(path), rel_path, kind, base_iri)
+        data = read_source(Path(path), rel_path, kind, base_iri, frame)
+        self._write_files(data.files)
         # One update request is one transaction: the old graph goes only if the new one lands.
         # The graph IRI is minted by us and every term of the data is escaped by the mapping.
         inserts = data.ntriples.decode("utf-8")
         self._store.update(
             f"DROP SILENT GRAPH <{data.graph}> ; INSERT DATA {{ GRAPH <{data.graph}> {{ {inserts} }} }}"
         )
+        self.derive()
         self.reports.append(data.report)
         return data.report
 
@@ -250,6 +373,8 @@ class KnowledgeGraph:
             with contextlib.suppress(OSError):
                 self._store.flush()
         del self._store
+        if self._scratch is not None:
+            self._scratch.cleanup()
 
     def __enter__(self) -> KnowledgeGraph:
         return self

@@ -1,0 +1,202 @@
+"""The table of services by name, with their parameters: what the CLI and the ROS adapter call.
+
+``call(session, "cad_service", label="F1500.1")`` runs one service; parameters
+arrive as text from the command line and are converted here, so every transport
+gets the same checks and messages.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from cadkg.derive.frames import normalize_quaternion, quaternion_from_rpy
+from cadkg.derive.geometry import Pose
+from cadkg.errors import QueryError
+from cadkg.query import iema
+from cadkg.query.cursors import Session
+
+__all__ = ["SERVICES", "Service", "call", "parse_pose", "to_jsonable"]
+
+
+@dataclass(frozen=True)
+class Service:
+    name: str
+    description: str
+    params: Mapping[str, type]
+    run: Callable[..., Any]
+
+
+def parse_pose(text: str) -> Pose:
+    """``x,y,z,qx,qy,qz,qw`` or ``x,y,z,roll,pitch,yaw`` (metres, radians)."""
+    try:
+        values = [float(v) for v in text.replace(" ", ",").split(",") if v]
+    except ValueError:
+        raise QueryError(
+            f"not a pose: {text!r}; expected x,y,z,qx,qy,qz,qw or x,y,z,roll,pitch,yaw"
+        ) from None
+    if len(values) not in (6, 7) or not all(math.isfinite(v) for v in values):
+        raise QueryError(f"not a pose: {text!r}; expected 6 or 7 finite numbers")
+    xyz = (values[0], values[1], values[2])
+    if len(values) == 6:
+        return Pose(xyz, quaternion_from_rpy(*values[3:]))
+    try:
+        return Pose(xyz, normalize_quaternion(values[3:]))
+    except ValueError as err:
+        raise QueryError(f"not a pose: {text!r}: {err}") from None
+
+
+def _bool(text: str) -> bool:
+    lowered = text.strip().lower()
+    if lowered in ("true", "1", "yes"):
+        return True
+    if lowered in ("false", "0", "no"):
+        return False
+    raise QueryError(f"not a boolean: {text!r}; expected true or false")
+
+
+def _float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise QueryError(f"not a number: {text!r}") from None
+    if not math.isfinite(value):
+        raise QueryError(f"not a finite number: {text!r}")
+    return value
+
+
+_CONVERT: dict[type, Callable[[str], Any]] = {str: str, bool: _bool, float: _float, Pose: parse_pose}
+
+
+def _label(fn: Callable[..., Any]) -> Callable[..., Any]:
+    return lambda s, label, client="default": fn(s.model, label)
+
+
+SERVICES: dict[str, Service] = {
+    s.name: s
+    for s in (
+        Service(
+            "cad_service",
+            "pose, corner, target, dimensions and pins of a component",
+            {"label": str},
+            _label(iema.cad_service),
+        ),
+        Service(
+            "full_cad_service",
+            "as cad_service, with the component's connections",
+            {"label": str},
+            _label(iema.full_cad_service),
+        ),
+        Service(
+            "get_item_screw_service",
+            "screws and holes re-expressed from a detected component pose",
+            {"label": str, "detected_pose": Pose},
+            lambda s, label, detected_pose, client="default": iema.get_item_screw_service(
+                s.model, label, detected_pose
+            ),
+        ),
+        Service(
+            "get_terminal_data",
+            "pins, start, length and height of a terminal block",
+            {"label": str},
+            _label(iema.get_terminal_data),
+        ),
+        Service(
+            "cluster_service",
+            "horizontal and vertical clusters of a component's connector points",
+            {"label": str},
+            _label(iema.cluster_service),
+        ),
+        Service(
+            "cad_reference",
+            "target and corner pose of a component",
+            {"label": str},
+            _label(iema.cad_reference),
+        ),
+        Service(
+            "full_connection_provider",
+            "next wire end to handle (occupancy: the gripper holds the wire's first end)",
+            {"occupancy": bool},
+            lambda s, occupancy, client="default": s.full_connection_provider(occupancy, client),
+        ),
+        Service(
+            "group_connection_provider",
+            "next wire with both ends, path and keypoints",
+            {},
+            lambda s, client="default": s.group_connection_provider(client),
+        ),
+        Service(
+            "reset_connection_list",
+            "rewind the connection cursor",
+            {},
+            lambda s, client="default": s.reset_connection_list(client),
+        ),
+        Service(
+            "reset_to_connection_list",
+            "move the connection cursor to a wire number (or list position) of a source",
+            {"data": float, "source": str},
+            lambda s, data, source="", client="default": s.reset_to_connection_list(data, source, client),
+        ),
+        Service(
+            "rail_scanner",
+            "the components along the next rail",
+            {},
+            lambda s, client="default": s.rail_scanner(client),
+        ),
+        Service(
+            "reset_rail_scanner",
+            "rewind the rail cursor",
+            {},
+            lambda s, client="default": s.reset_rail_scanner(client),
+        ),
+    )
+}
+_OPTIONAL = {"source"}
+
+
+def call(session: Session, name: str, params: Mapping[str, str | Any], client: str = "default") -> Any:
+    """Run service ``name``; text parameters are converted to the service's types.
+
+    Raises
+    ------
+    QueryError
+        On an unknown service, a missing, unknown or malformed parameter.
+    """
+    service = SERVICES.get(name)
+    if service is None:
+        raise QueryError(f"unknown service {name!r}; known: {', '.join(sorted(SERVICES))}")
+    unknown = set(params) - set(service.params)
+    if unknown:
+        raise QueryError(
+            f"{name}: unknown parameter {', '.join(sorted(unknown))}; "
+            f"parameters: {', '.join(service.params) or 'none'}"
+        )
+    missing = [p for p in service.params if p not in params and p not in _OPTIONAL]
+    if missing:
+        raise QueryError(f"{name}: missing parameter {', '.join(missing)}")
+    values = {
+        key: _CONVERT[service.params[key]](value) if isinstance(value, str) else value
+        for key, value in params.items()
+    }
+    return service.run(session, client=client, **values)
+
+
+def to_jsonable(value: Any) -> Any:
+    """A service result as JSON-ready data: poses as position/orientation objects."""
+    if isinstance(value, Pose):
+        x, y, z = value.position
+        qx, qy, qz, qw = value.orientation
+        return {"position": {"x": x, "y": y, "z": z}, "orientation": {"x": qx, "y": qy, "z": qz, "w": qw}}
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        data = {f.name: to_jsonable(getattr(value, f.name)) for f in dataclasses.fields(value)}
+        if hasattr(value, "missing") and "missing" not in data:
+            data["missing"] = value.missing
+        return data
+    if isinstance(value, tuple | list):
+        if len(value) == 3 and all(isinstance(v, float) for v in value):
+            return {"x": value[0], "y": value[1], "z": value[2]}
+        return [to_jsonable(v) for v in value]
+    return value
