@@ -83,7 +83,7 @@ REQUIRED_SUBCLASSES = {
     "Surface": "Element",
     "Duct": "Element",
     "TerminalBlock": "Component",
-    "TerminalItem": "Component",
+    "TerminalItem": "CadItem",
     "Connector": "Component",
     "InsertOperation": "Operation",
     "RouteOperation": "Operation",

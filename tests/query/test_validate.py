@@ -40,3 +40,11 @@ def test_shacl_findings_are_located(tmp_path: Path) -> None:
     assert {f.location for f in shacl} <= {"a.tsv:2", "b.tsv:2"}
     assert any("fromPin" in f.message for f in shacl)
     assert any("toPin" in f.message for f in shacl)
+
+
+def test_wire_ends_without_model_data_are_found() -> None:
+    from tests.query.test_iema_services import MINI
+
+    findings = [f for f in validate(cadkg.build(MINI), shacl=False) if f.check == "pin-without-data"]
+    assert [(f.location, f.severity) for f in findings] == [("connections.tsv:5", "error")]
+    assert "K9:1" in findings[0].message

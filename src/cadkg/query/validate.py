@@ -52,14 +52,16 @@ SELECT DISTINCT ?wire ?number ?from ?to ?sequence WHERE {
 }
 """
 
+# The derivation flags pins no model places; that is a finding only once component
+# models are loaded at all (a cell of ID table and connection list alone has none).
 _PINS_WITHOUT_DATA = """
-SELECT DISTINCT ?wire ?label ?pinName WHERE {
+SELECT DISTINCT ?wire ?label ?pinName ?level WHERE {
   { ?wire ck:fromPin ?pin } UNION { ?wire ck:toPin ?pin }
-  ?pin ck:pinOf ?component ; ck:pinName ?pinName .
-  ?component ck:label ?label ; ck:hasItem/ck:instanceOf ?model .
-  FILTER EXISTS { ?model ck:hasPin ?anyModelPin }
-  FILTER NOT EXISTS { ?model ck:hasPin/ck:pinName ?pinName }
+  ?pin ck:missingPinData true ; ck:pinOf/ck:label ?label ; ck:pinName ?pinName .
+  OPTIONAL { ?pin ck:level ?level }
+  FILTER EXISTS { ?anyModel ck:definesPin ?anyModelPin }
 }
+ORDER BY ?wire
 """
 
 
@@ -94,7 +96,8 @@ def _semantic(kg: KnowledgeGraph) -> list[Finding]:
                 _where(kg, row["wire"]),
                 "error",
                 "pin-without-data",
-                f"pin {row['label']}:{row['pinName']} has no data in the component model",
+                f"pin {row['label']}:{row['pinName']}{':' + row['level'] if row['level'] else ''} "
+                "has no screw or hole position in any component model",
             )
         )
     return findings
