@@ -306,6 +306,56 @@ def kinds() -> None:
     _out.print(table)
 
 
+def _ros_python() -> str | None:
+    """The Python that has rclpy: $CADKG_ROS_PYTHON, else the checkout's .venv-ros (scripts/ros-setup.sh)."""
+    import os
+
+    configured = os.environ.get("CADKG_ROS_PYTHON")
+    if configured:
+        return configured
+    candidate = Path(__file__).resolve().parents[2] / ".venv-ros" / "bin" / "python"
+    return str(candidate) if candidate.exists() else None
+
+
+@cli.command(name="ros", context_settings={"ignore_unknown_options": True})
+@click.argument("source", metavar="STORE_OR_MANIFEST", type=click.Path(exists=True))
+@click.option("--profile", default=None, help="Profile (default: the cell's).")
+@click.option("--namespace", default=None, help="Service namespace (default /gearbox_handler for iema).")
+@click.option("--approach-distance", type=float, default=None, help="Override the manifest's value (m).")
+@click.argument("ros_args", nargs=-1, type=click.UNPROCESSED)
+def ros(
+    source: str,
+    profile: str | None,
+    namespace: str | None,
+    approach_distance: float | None,
+    ros_args: tuple[str, ...],
+) -> None:
+    """Serve a cell to ROS 2 (needs rclpy: runs in .venv-ros, see docs/ros.md)."""
+    import importlib.util
+    import os
+
+    args = [str(Path(source).resolve())]
+    for flag, value in (
+        ("--profile", profile),
+        ("--namespace", namespace),
+        ("--approach-distance", approach_distance),
+    ):
+        if value is not None:
+            args += [flag, str(value)]
+    args += list(ros_args)
+    if importlib.util.find_spec("rclpy") is not None:
+        from cadkg.ros_adapter.node import main as ros_main
+
+        sys.exit(ros_main(args))
+    python = _ros_python()
+    if python is None:
+        _err.print(
+            "cadkg: error: no rclpy here and no .venv-ros; run scripts/ros-setup.sh first", markup=False
+        )
+        sys.exit(2)
+    os.execv(python, [python, "-m", "cadkg.ros_adapter", *args])
+
+
 def main(argv: Sequence[str] | None = None) -> None:
     """Entry point of the ``cadkg`` command."""
     try:

