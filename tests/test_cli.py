@@ -45,7 +45,7 @@ def test_query_sparql_text_as_csv(store: Path) -> None:
         "query", store, "SELECT (COUNT(DISTINCT ?w) AS ?n) WHERE { ?w a ck:Wire }", "--format", "csv"
     )
     assert result.returncode == 0, result.stderr
-    assert list(csv.reader(io.StringIO(result.stdout))) == [["n"], ["40"]]
+    assert list(csv.reader(io.StringIO(result.stdout))) == [["n"], ["110"]]
 
 
 def test_query_a_manifest_directly_and_a_rq_file(tmp_path: Path) -> None:
@@ -53,7 +53,7 @@ def test_query_a_manifest_directly_and_a_rq_file(tmp_path: Path) -> None:
     rq.write_text("SELECT ?label WHERE { ?c a ck:Component ; ck:label ?label } ORDER BY ?label LIMIT 1")
     result = run("query", IEMA, rq, "--format", "csv")
     assert result.returncode == 0, result.stderr
-    assert result.stdout.splitlines()[1] == "B0040.3"
+    assert result.stdout.splitlines()[1] == "A0080.1"
 
 
 def test_table_output(store: Path) -> None:

@@ -153,7 +153,15 @@ def test_fig3_potential_types_other_than_minus(fig3) -> None:
 
 
 @pytest.mark.parametrize(
-    ("path", "lines"), [(FIG3, [9, 10]), (LISTA, [13, 14, 37, 38, 40])], ids=["fig3", "lista"]
+    ("path", "lines"),
+    [
+        (FIG3, [9, 10]),
+        (
+            LISTA,
+            [13, 14, 37, 38, 40, 61, 63, 65, 66, 68, 70, 83, 84, 85, 98, 103, 104, 106, 108, 112, 113, 115],
+        ),
+    ],
+    ids=["fig3", "lista"],
 )
 def test_minus_potential_type_is_kept(path: Path, lines: list[int]) -> None:
     _, connections = split(read_connection_list(path))
@@ -177,9 +185,9 @@ def test_fig3_daisy_chain_shares_a_pin(fig3) -> None:
 def test_lista_preamble_and_header(lista) -> None:
     info, connections = lista
     assert info == ConnectionListInfo(project="REMODEL_QE01", job="24-0117", header_line=5)
-    assert len(connections) == 40
-    assert [c.index for c in connections] == list(range(1, 41))
-    assert [c.line for c in connections] == list(range(6, 46))
+    assert len(connections) == 110
+    assert [c.index for c in connections] == list(range(1, 111))
+    assert [c.line for c in connections] == list(range(6, 116))
 
 
 @pytest.mark.parametrize(
@@ -289,7 +297,7 @@ def test_lista_duct_paths_are_normalized_labels(lista) -> None:
     assert at_line(connections, 11).duct_path == ("U2", "U7", "U3")
     assert at_line(connections, 42).duct_path == ("U6", "U2")
     ducts = {d for c in connections for d in c.duct_path}
-    assert ducts == {f"U{i}" for i in range(1, 9)}
+    assert ducts == {f"U{i}" for i in range(1, 10)}
 
 
 def test_lista_terminations(lista) -> None:
@@ -301,6 +309,7 @@ def test_lista_terminations(lista) -> None:
         ("ELETTROSALDATO_molla", "ELETTROSALDATO_molla"),
         ("ELETTROSALDATO_molla", "PUNTALINO_vite"),
         ("CAPICORDA_vite", "PUNTALINO_vite"),
+        ("CAPICORDA_vite", "CAPICORDA_vite"),
     }
 
 

@@ -123,9 +123,9 @@ def test_duplicate_wire_numbers_get_distinct_iris(fig3_triples: Triples) -> None
 def test_wri_example_maps_items_labels_and_models() -> None:
     data = read_source(EXAMPLE / "ids.wri", "ids.wri", "wri", BASE)
     triples = Triples(data.ntriples)
-    assert data.report.records == 58
-    assert len(triples.of_type("CadItem")) == 58
-    assert len(triples.of_type("Component")) == 29
+    assert data.report.records == 110
+    assert len(triples.of_type("CadItem")) == 110
+    assert len(triples.of_type("Component")) == 62
     item = BASE + "item/ID000041"
     assert triples.value(item, "cadId") == "ID000041"
     assert triples.value(item, "instanceOf") == BASE + "model/6013277"

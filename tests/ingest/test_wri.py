@@ -34,15 +34,15 @@ def by_line(entries: list[IdEntry]) -> dict[int, IdEntry]:
 # --- the example -------------------------------------------------------------------------------------
 
 
-def test_example_has_58_entries_on_lines_1_to_58(ids: list[IdEntry]) -> None:
-    assert len(ids) == 58
-    assert [e.line for e in ids] == list(range(1, 59))
-    assert len({e.cad_id for e in ids}) == 58
+def test_example_has_110_entries_on_lines_1_to_110(ids: list[IdEntry]) -> None:
+    assert len(ids) == 110
+    assert [e.line for e in ids] == list(range(1, 111))
+    assert len({e.cad_id for e in ids}) == 110
 
 
-def test_example_has_29_labels(ids: list[IdEntry]) -> None:
+def test_example_has_62_labels(ids: list[IdEntry]) -> None:
     labels = {e.label for e in ids}
-    assert len(labels) == 29
+    assert len(labels) == 62
     assert {"F1500.1", "Q0010", "X1500", "X1600", "U1", "U8", "X00005.1", "B0040.3"} <= labels
     # With the EPLAN prefixes stripped no label starts with a structure sign.
     assert not [label for label in labels if label[0] in "=+-"]
@@ -50,7 +50,8 @@ def test_example_has_29_labels(ids: list[IdEntry]) -> None:
 
 def test_first_and_last_rows(ids: list[IdEntry]) -> None:
     assert ids[0] == IdEntry("ID000012", "Q0010", "=-Q0010", "6100231", 1)
-    assert ids[-1] == IdEntry("ID000098", "U8", "=-U8", None, 58)
+    assert ids[57] == IdEntry("ID000098", "U8", "=-U8", None, 58)
+    assert ids[-1] == IdEntry("ID000221", "SSB-10Q1", "-SSB-10Q1", "SIEMENS 5SL4202-8", 110)
 
 
 @pytest.mark.parametrize(

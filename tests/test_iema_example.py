@@ -1,0 +1,213 @@
+"""The bundled IEMA cabinet end to end: every reader, the derived geometry, every Table 1 service.
+
+Values asserted here are read from the example's own files (see its README); the
+hand-computed poses are in test_iema_example_values.py.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterator
+
+import pytest
+
+from cadkg.derive.cabinet import CellModel
+from cadkg.query import iema
+from cadkg.query.cursors import Session
+from cadkg.query.services import SERVICES, call
+from cadkg.store import KnowledgeGraph
+from tests.conftest import IEMA
+
+VRML = IEMA.parent / "manifest-vrml.toml"
+KOMAX = IEMA.parent / "manifest-komax.toml"
+
+
+def _model(manifest: object) -> Iterator[CellModel]:
+    kg = KnowledgeGraph.build(manifest)  # type: ignore[arg-type]
+    yield kg.cell_model()
+    kg.close()
+
+
+@pytest.fixture(scope="module")
+def model() -> Iterator[CellModel]:
+    yield from _model(IEMA)
+
+
+@pytest.fixture(scope="module")
+def vrml_model() -> Iterator[CellModel]:
+    yield from _model(VRML)
+
+
+@pytest.fixture(scope="module")
+def komax_model() -> Iterator[CellModel]:
+    yield from _model(KOMAX)
+
+
+def test_size_of_the_example(model: CellModel) -> None:
+    placed = [g for g in model.components.values() if g.original is not None]
+    on_rails = [g for g in placed if g.rail is not None]
+    assert [(r.label, len(r.components)) for r in model.rails] == [
+        ("RAIL1", 17),
+        ("RAIL2", 14),
+        ("RAIL3", 10),
+    ]
+    assert len(on_rails) == 41
+    assert sum(g.terminal_block for g in placed) >= 2
+    assert len(model.steps) >= 60
+
+
+def test_every_placed_component_answers_every_label_service(model: CellModel) -> None:
+    for label, geometry in model.components.items():
+        if geometry.original is None:
+            continue
+        for service in (iema.cad_service, iema.full_cad_service, iema.cluster_service, iema.cad_reference):
+            result = service(model, label)
+            assert result.success, (service.__name__, label, result.message)
+        assert iema.get_terminal_data(model, label).success is geometry.terminal_block
+
+
+def test_figure_3_wires_are_the_first_in_sequence(model: CellModel) -> None:
+    first = model.steps[0]
+    assert (first.wire, first.origin.label, first.origin.pin) == ("1500.51", "F1500.1", "14")
+    assert (first.destination.label, first.destination.pin) == ("Q1500.1", "A1")
+    assert [s.wire for s in model.steps[:3]] == ["1500.51", "1500.53", "1500.55"]
+
+
+def test_every_wire_end_has_pin_data(model: CellModel) -> None:
+    # The example is complete; the flagging of missing data is tested on tests/data/cells/mini.
+    assert [s.wire for s in model.steps if s.missing] == []
+
+
+# Hand-computed in the example's README (cabinet frame, metres).
+POSES = {
+    "F1500.1": ((0.07, 0.56, 0.0075), (0.054, 0.097, 0.097), (0.07, 0.56, 0.1045), (0.097, 0.6085, 0.206)),
+    "SSB-10Q1": (
+        (0.5544, 0.56, 0.0075),
+        (0.0898, 0.0359, 0.07448),
+        (0.5544, 0.56, 0.08198),
+        (0.53645, 0.6049, 0.19474),
+    ),
+    "B0040.3": (
+        (0.4178, 0.86, 0.0075),
+        (0.0175, 0.06, 0.04),
+        (0.4178, 0.86, 0.0475),
+        (0.40905, 0.83, 0.1775),
+    ),
+    "E0040.1": ((0.556, 0.02, 0.0), (0.148, 0.148, 0.067), (0.542, 0.006, 0.067), (0.616, 0.08, 0.1835)),
+    "Q0010": ((0.07, 0.86, 0.0075), (0.054, 0.085, 0.103), (0.07, 0.86, 0.1105), (0.097, 0.9025, 0.209)),
+}
+PINS = {
+    ("SSB-10Q1", "1"): ((0.5454, 0.5685, 0.05246), (0.5544, 0.56, 0.0075)),
+    ("SSB-10Q1", "2"): ((0.5454, 0.6413, 0.05246), (0.5454, 0.6363, 0.04446)),
+    ("F1500.1", "13"): ((0.1195, 0.647, 0.0675), (0.1195, 0.642, 0.0595)),
+    ("B0040.3", "1"): ((0.40905, 0.81, 0.0415), (0.40905, 0.815, 0.0335)),
+    ("X1500", "1:a"): ((0.2675, 0.3355, 0.055), (0.2675, 0.3305, 0.047)),
+}
+
+
+def _near(a: tuple[float, ...] | None, b: tuple[float, ...]) -> bool:
+    return a is not None and all(math.isclose(x, y, abs_tol=1e-9) for x, y in zip(a, b, strict=True))
+
+
+@pytest.mark.parametrize("label", sorted(POSES))
+def test_hand_computed_component_poses(model: CellModel, label: str) -> None:
+    origin, dims, corner, target = POSES[label]
+    result = iema.cad_service(model, label)
+    assert result.success
+    assert result.original_pose and _near(result.original_pose.position, origin)
+    assert _near(result.dimensions, dims)
+    assert result.corner_pose and _near(result.corner_pose.position, corner)
+    assert result.target_pose and _near(result.target_pose.position, target)
+
+
+@pytest.mark.parametrize(("label", "pin"), sorted(PINS))
+def test_hand_computed_pin_frames(model: CellModel, label: str, pin: str) -> None:
+    screw, hole = PINS[(label, pin)]
+    found = model.components[label].pins[pin]
+    assert found.screw and _near(found.screw.position, screw)
+    assert found.hole and _near(found.hole.position, hole)
+
+
+def test_hand_computed_terminal_blocks(model: CellModel) -> None:
+    x1500 = iema.get_terminal_data(model, "X1500")
+    assert math.isclose(x1500.length, 0.0654) and math.isclose(x1500.height, 0.0675)
+    assert x1500.terminal_start and _near(x1500.terminal_start.position, (0.2649, 0.28, 0.055))
+    # 12 terminals of two levels each, in block order.
+    assert len(x1500.pins) == 24 and x1500.pins[:4] == ("1:a", "1:b", "2:a", "2:b")
+    x1600 = iema.get_terminal_data(model, "X1600")
+    assert math.isclose(x1600.length, 0.023) and math.isclose(x1600.height, 0.06)
+
+
+def test_vrml_scene_gives_the_same_geometry_as_x3d(model: CellModel, vrml_model: CellModel) -> None:
+    assert model.components.keys() == vrml_model.components.keys()
+    for label, a in model.components.items():
+        b = vrml_model.components[label]
+        assert (a.original is None) == (b.original is None), label
+        if a.original is None or b.original is None:
+            continue
+        assert a.original.close_to(b.original, 1e-9), label
+        assert a.corner is not None and b.corner is not None and a.corner.close_to(b.corner, 1e-9), label
+        assert a.rail == b.rail, label
+        for name, pin in a.pins.items():
+            other = b.pins[name]
+            if pin.screw is not None:
+                assert other.screw is not None and pin.screw.close_to(other.screw, 1e-9), (label, name)
+    assert [r.components for r in model.rails] == [r.components for r in vrml_model.rails]
+
+
+def test_komax_export_gives_the_same_sequence(model: CellModel, komax_model: CellModel) -> None:
+    def ends(m: CellModel) -> list[tuple[str, str, str, str, str]]:
+        return [
+            (s.wire, s.origin.label, s.origin.pin, s.destination.label, s.destination.pin) for s in m.steps
+        ]
+
+    assert ends(komax_model) == ends(model)
+    assert [s.ducts for s in komax_model.steps] == [s.ducts for s in model.steps]
+
+
+def test_rails_are_ordered_along_x(model: CellModel) -> None:
+    for rail in model.rails:
+        xs = [model.components[c].rail_position for c in rail.components]
+        assert xs == sorted(xs), rail.label  # type: ignore[type-var]
+
+
+def test_providers_walk_every_robot_wire_once(model: CellModel) -> None:
+    session = Session(model)
+    seen = []
+    while not (step := session.group_connection_provider()).end:
+        seen.append(step.list_position)
+    robot = [s.position for s in model.steps if s.performer == "robot"]
+    human = [s.position for s in model.steps if s.performer == "human"]
+    assert seen == robot and human and not set(seen) & set(human)
+    assert 94 in human  # the overlay assigns operation 94 to a human
+
+
+def test_every_service_runs_on_the_example(model: CellModel) -> None:
+    session = Session(model)
+    args = {
+        "label": "F1500.1",
+        "detected_pose": "0.1,0.6,0.0075,0,0,0",
+        "occupancy": "false",
+        "data": "1500.51",
+        "source": "lista-cablaggio.csv",
+    }
+    for name, service in SERVICES.items():
+        params = {k: args[k] for k in service.params if k in args}
+        if name == "get_terminal_data":
+            params["label"] = "=-X1600"
+        result = call(session, name, params)
+        assert getattr(result, "success", True) is not False, name
+        assert getattr(result, "end", False) is False, name
+
+
+def test_keypoints_run_through_the_ducts(model: CellModel) -> None:
+    routed = [s for s in model.steps if s.ducts and s.keypoints]
+    assert routed
+    for step in routed:
+        assert step.origin.hole is not None and step.destination.hole is not None
+        assert step.keypoints[0].position == step.origin.hole.position
+        assert step.keypoints[-1].position == step.destination.hole.position
+        assert len(step.keypoints) >= 3
+        total = sum(math.dist(a.position, b.position) for a, b in itertools.pairwise(step.keypoints))
+        assert total >= math.dist(step.keypoints[0].position, step.keypoints[-1].position) - 1e-9
