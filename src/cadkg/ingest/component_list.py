@@ -7,16 +7,14 @@ the component model reader and its errors point at the physical line inside the 
 
 from __future__ import annotations
 
-import io
 import re
 from dataclasses import dataclass
-from itertools import islice
 from pathlib import Path
 
 from cadkg.errors import IngestError
 from cadkg.ingest.component_model import ComponentModel, parse_models_fragment
 from cadkg.ingest.eplan import normalize_label
-from cadkg.ingest.text import Row, iter_rows, read_text
+from cadkg.ingest.text import Row, find_header, read_text
 
 __all__ = ["ComponentListEntry", "looks_like_component_list", "read_component_list"]
 
@@ -73,19 +71,7 @@ def _columns(row: Row) -> dict[str, int]:
 
 
 def _find_header(text: str, path: str | Path) -> tuple[list[Row], int, dict[str, int]]:
-    head = "".join(islice(io.StringIO(text, newline=""), _HEADER_SCAN_ROWS))
-    best: tuple[int, str, int, dict[str, int]] | None = None
-    for delimiter in ("\t", ";", ","):
-        for position, row in enumerate(iter_rows(head, delimiter, path)):
-            columns = _columns(row)
-            if "label" in columns:
-                if best is None or len(columns) > best[0]:
-                    best = (len(columns), delimiter, position, columns)
-                break
-    if best is None:
-        raise IngestError(path, "no header row found in the first lines", line=1, expected=_EXPECTED)
-    _, delimiter, position, columns = best
-    return list(iter_rows(text, delimiter, path)), position, columns
+    return find_header(text, path, _columns, lambda columns: "label" in columns, _EXPECTED, _HEADER_SCAN_ROWS)
 
 
 def read_component_list(path: str | Path) -> list[ComponentListEntry]:

@@ -15,17 +15,15 @@ The row order is the operation sequence.
 
 from __future__ import annotations
 
-import io
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from decimal import Decimal
-from itertools import islice
 from pathlib import Path
 
 from cadkg.errors import IngestError
 from cadkg.ingest.eplan import PinRef, PinSyntaxError, normalize_label, parse_pin_ref
-from cadkg.ingest.text import Row, iter_rows, parse_decimal, read_text
+from cadkg.ingest.text import Row, find_header, parse_decimal, read_text
 
 __all__ = ["Connection", "ConnectionListInfo", "read_connection_list"]
 
@@ -177,22 +175,16 @@ def _columns(row: Row) -> dict[str, int]:
 
 
 def _find_header(text: str, path: str | Path) -> tuple[list[Row], int, dict[str, int]]:
-    # Choose the delimiter on the first lines only, then split the whole file once.
-    head = "".join(islice(io.StringIO(text, newline=""), _HEADER_SCAN_ROWS))
-    best: tuple[int, str, int, dict[str, int]] | None = None
-    for delimiter in ("\t", ";", ","):
-        for position, row in enumerate(iter_rows(head, delimiter, path)):
-            columns = _columns(row)
-            # One pin column is enough to take the row for the header, so that a missing
-            # twin is reported as a missing column rather than as no header at all.
-            if ({"origin_pin", "destination_pin"} & columns.keys()) and len(columns) >= 3:
-                if best is None or len(columns) > best[0]:
-                    best = (len(columns), delimiter, position, columns)
-                break
-    if best is None:
-        raise IngestError(path, "no header row found in the first lines", line=1, expected=_EXPECTED)
-    _, delimiter, position, columns = best
-    rows = list(iter_rows(text, delimiter, path))
+    # One pin column is enough to take the row for the header, so that a missing twin
+    # is reported as a missing column rather than as no header at all.
+    rows, position, columns = find_header(
+        text,
+        path,
+        _columns,
+        lambda columns: bool({"origin_pin", "destination_pin"} & columns.keys()) and len(columns) >= 3,
+        _EXPECTED,
+        _HEADER_SCAN_ROWS,
+    )
     # Figure 3's 11-column form shifts the potential columns: 'Tipo' then 'pot.' whose
     # numbers are the wire length in mm (there is no separate length column).
     if "potential_name" in columns and not ({"length_m", "length_mm"} & columns.keys()):

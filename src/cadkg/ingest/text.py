@@ -11,14 +11,15 @@ from __future__ import annotations
 import csv
 import io
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
+from itertools import islice
 from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
 
-__all__ = ["Row", "decode_text", "iter_rows", "parse_decimal", "read_text"]
+__all__ = ["Row", "decode_text", "find_header", "iter_rows", "parse_decimal", "read_text"]
 
 _BOM = b"\xef\xbb\xbf"
 _CONTROL_OK = {"\t", "\n", "\r", "\f"}
@@ -147,3 +148,37 @@ def parse_decimal(text: str) -> tuple[Decimal, str]:
         # A cell like 1e999999999 would expand to a gigabyte of digits when written out.
         raise ValueError(text)
     return number, unit
+
+
+def find_header(
+    text: str,
+    path: str | Path,
+    columns_of: Callable[[Row], dict[str, int]],
+    accept: Callable[[dict[str, int]], bool],
+    expected: str,
+    scan_rows: int = 40,
+) -> tuple[list[Row], int, dict[str, int]]:
+    """The rows of a delimited export and where its header is: (rows, header index, columns).
+
+    Tab, semicolon and comma are tried on the first ``scan_rows`` lines only; in each, the
+    first row whose column meanings ``accept`` is a candidate and the delimiter whose header
+    names the most columns wins. Then the whole file is split once.
+
+    Raises
+    ------
+    IngestError
+        When no delimiter gives an acceptable header row.
+    """
+    head = "".join(islice(io.StringIO(text, newline=""), scan_rows))
+    best: tuple[int, str, int, dict[str, int]] | None = None
+    for delimiter in ("\t", ";", ","):
+        for position, row in enumerate(iter_rows(head, delimiter, path)):
+            columns = columns_of(row)
+            if accept(columns):
+                if best is None or len(columns) > best[0]:
+                    best = (len(columns), delimiter, position, columns)
+                break
+    if best is None:
+        raise IngestError(path, "no header row found in the first lines", line=1, expected=expected)
+    _, delimiter, position, columns = best
+    return list(iter_rows(text, delimiter, path)), position, columns
