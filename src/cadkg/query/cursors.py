@@ -93,6 +93,9 @@ class Session:
 
     def __post_init__(self) -> None:
         self._robot_steps = [s for s in self.model.steps if s.performer == "robot"]
+        # Per ``source`` argument of reset_to_connection_list: the first robot step of each
+        # wire number and of each list position, built on first use.
+        self._lookup: dict[str, tuple[dict[Decimal, int], dict[int, int]]] = {}
         prefix = f"{self.model.base}component/"
         self._human_components = {
             label
@@ -173,23 +176,35 @@ class Session:
 
         ``source`` picks the connection list (its path, file name or stem) when a cell has several.
         """
-        candidates = [
-            (i, s)
-            for i, s in enumerate(self._robot_steps)
-            if not source or source in (s.source, s.source.rsplit("/", 1)[-1], s.source.rsplit(".", 1)[0])
-        ]
-        if not candidates:
+        by_wire, by_position = self._lookup_of(source)
+        if not by_position:
             return ResetToResult(False, f"no connection list {source!r} with robot work")
-        wanted = Decimal(repr(float(data))).normalize()
-        match = next((c for c in candidates if _as_decimal(c[1].wire) == wanted), None)
-        if match is None and float(data).is_integer():
-            match = next((c for c in candidates if c[1].position == int(data)), None)
-        if match is None:
+        index = by_wire.get(Decimal(repr(float(data))).normalize())
+        if index is None and float(data).is_integer():
+            index = by_position.get(int(data))
+        if index is None:
             return ResetToResult(False, f"no robot wire numbered {data:g} and no list position {data:g}")
         state = self.state(client)
-        index, step = match
+        step = self._robot_steps[index]
         state.step, state.holding = index, False
         return ResetToResult(True, f"next: list position {step.position} of {step.source}, wire {step.wire}")
+
+    def _lookup_of(self, source: str) -> tuple[dict[Decimal, int], dict[int, int]]:
+        """Wire number → and list position → index of the first robot step of ``source``'s list."""
+        lookup = self._lookup.get(source)
+        if lookup is None:
+            by_wire: dict[Decimal, int] = {}
+            by_position: dict[int, int] = {}
+            for i, s in enumerate(self._robot_steps):
+                names = (s.source, s.source.rsplit("/", 1)[-1], s.source.rsplit(".", 1)[0])
+                if source and source not in names:
+                    continue
+                number = _as_decimal(s.wire)
+                if number is not None and number.is_finite():
+                    by_wire.setdefault(number, i)
+                by_position.setdefault(s.position, i)
+            lookup = self._lookup[source] = (by_wire, by_position)
+        return lookup
 
     # -- rails ------------------------------------------------------------------------
     def rail_scanner(self, client: str = "default") -> RailScan:
