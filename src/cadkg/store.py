@@ -295,9 +295,8 @@ class KnowledgeGraph:
         NotFound
             When no such wire, component or operation is in the graph.
         """
-        from urllib.parse import quote
-
         from cadkg.errors import NotFound
+        from cadkg.ingest.mapping import node_iri
 
         if self.read_only:
             raise StoreError("the store is open read-only")
@@ -316,8 +315,8 @@ class KnowledgeGraph:
         }[kind]
         if ident not in known:
             raise NotFound(f"no {kind} {ident!r} in the graph")
-        target = f"{model.base}{kind}/{quote(ident, safe='')}"
-        node = f"{model.base}assignment/{kind}/{quote(ident, safe='')}"
+        target = node_iri(model.base, kind, ident)
+        node = node_iri(model.base, "assignment", kind, ident)
         graph = f"{model.base}assignments"
         # One update request: the old decision goes only if the new one lands.
         self._store.update(

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 from cadkg.derive.extract import CellInputs, PinInfo, WireInfo
 from cadkg.derive.geometry import IDENTITY, Pose, Vec3, bounds, box_corners, closest_point_on_segment
+from cadkg.ingest.mapping import node_iri
 
 __all__ = ["CadPin", "CellModel", "Cluster", "ComponentGeometry", "Rail", "WireStep", "derive_cell"]
 
@@ -453,14 +454,14 @@ def _step(
     base = cell.base
     performer = (
         performers.get(wire.iri)
-        or performers.get(f"{base}wire/{_quote(wire.number)}")
-        or performers.get(f"{base}operation/{wire.index}")
+        or performers.get(node_iri(base, "wire", wire.number))
+        or performers.get(node_iri(base, "operation", str(wire.index)))
         or (
             "human"
             if "human"
             in (
-                performers.get(f"{base}component/{_quote(origin.label)}"),
-                performers.get(f"{base}component/{_quote(destination.label)}"),
+                performers.get(node_iri(base, "component", origin.label)),
+                performers.get(node_iri(base, "component", destination.label)),
             )
             else "robot"
         )
@@ -477,9 +478,3 @@ def _step(
         performer=performer,
         terminations=wire.terminations,
     )
-
-
-def _quote(text: str) -> str:
-    from urllib.parse import quote
-
-    return quote(text, safe="")

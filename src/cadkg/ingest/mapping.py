@@ -31,6 +31,7 @@ __all__ = [
     "map_manifest",
     "map_record",
     "map_records",
+    "node_iri",
     "pin_node",
     "sha256_of",
     "term",
@@ -67,6 +68,11 @@ def term(name: str) -> str:
     return _TYPE if name == "type" else _t(name)
 
 
+def node_iri(base_iri: str, kind: str, *parts: str) -> str:
+    """The IRI cadkg mints for a thing: ``{base}{kind}/{part}/...``, each part percent-encoded."""
+    return base_iri + kind + "/" + "/".join(quote(p, safe="") for p in parts)
+
+
 class TripleWriter:
     """Collects N-Triples lines for one named graph; IRIs are minted under ``base_iri``."""
 
@@ -78,7 +84,7 @@ class TripleWriter:
         self._seen: set[str] = set()
 
     def iri(self, kind: str, *parts: str) -> str:
-        return "<" + self.base + kind + "/" + "/".join(quote(p, safe="") for p in parts) + ">"
+        return "<" + node_iri(self.base, kind, *parts) + ">"
 
     def add(self, s: str, p: str, o: str) -> None:
         self.lines.append(f"{s} {p} {o} .\n")

@@ -17,6 +17,7 @@ from decimal import Decimal, InvalidOperation
 
 from cadkg.derive.cabinet import CadPin, CellModel, WireStep
 from cadkg.derive.geometry import Pose, Vec3
+from cadkg.ingest.mapping import node_iri
 
 __all__ = [
     "ConnectionEnd",
@@ -96,11 +97,10 @@ class Session:
         # Per ``source`` argument of reset_to_connection_list: the first robot step of each
         # wire number and of each list position, built on first use.
         self._lookup: dict[str, tuple[dict[Decimal, int], dict[int, int]]] = {}
-        prefix = f"{self.model.base}component/"
         self._human_components = {
             label
             for label in self.model.components
-            if self.model.performers.get(prefix + _quoted(label)) == "human"
+            if self.model.performers.get(node_iri(self.model.base, "component", label)) == "human"
         }
 
     def state(self, client: str) -> CursorState:
@@ -234,9 +234,3 @@ def _as_decimal(text: str) -> Decimal | None:
         return Decimal(text).normalize()
     except InvalidOperation:
         return None
-
-
-def _quoted(text: str) -> str:
-    from urllib.parse import quote
-
-    return quote(text, safe="")

@@ -8,10 +8,12 @@ graph once per change) and returns a typed result. An unknown label gives
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from cadkg.derive.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, WireStep
 from cadkg.derive.geometry import Pose, Vec3
+from cadkg.ingest.eplan import normalize_label
 
 __all__ = [
     "CadConnection",
@@ -117,8 +119,6 @@ class CadReferenceResult:
 
 
 def _find(model: CellModel, label: str) -> tuple[ComponentGeometry | None, str]:
-    from cadkg.ingest.eplan import normalize_label
-
     key = normalize_label(label) if label else label
     geometry = model.components.get(key)
     if geometry is None:
@@ -133,8 +133,6 @@ def _pins_sorted(geometry: ComponentGeometry) -> list[CadPin]:
 
 
 def _natural(text: str) -> tuple[tuple[int, int | str], ...]:
-    import re
-
     return tuple((0, int(t)) if t.isdigit() else (1, t) for t in re.findall(r"\d+|\D+", text))
 
 
