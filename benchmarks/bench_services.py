@@ -9,7 +9,7 @@ schema, X3D scene, connection list, assignments) and, in this process:
 2. **cell model**: what ``kg.cell_model()`` computes when its cache is empty,
    ``derive_cell(extract(kg))``, split into the SPARQL extraction and the derivation,
    and ``Session(model)``;
-3. **services**: every service of ``cadkg.query.services.SERVICES``, timed per call
+3. **services**: every IEMA service of ``cadkg.query.services``, timed per call
    with ``time.perf_counter_ns`` over many calls with varied parameters (random
    components, random terminal blocks, random detected poses, random wire numbers;
    the cursor services walk their cursor and are rewound, untimed, at the end):
@@ -61,7 +61,7 @@ from cadkg.derive.cabinet import CellModel
 from cadkg.derive.geometry import Pose
 from cadkg.query import iema
 from cadkg.query.cursors import Session
-from cadkg.query.services import SERVICES, call
+from cadkg.query.services import call, services_for
 from cadkg.store import KnowledgeGraph
 from synthetic import CabinetFiles, write_cabinet_files
 
@@ -472,7 +472,7 @@ def _pose_text(pose: Pose) -> str:
 def build_cases(
     kg: KnowledgeGraph, model: CellModel, session: Session, count: int, rng: random.Random
 ) -> list[Case]:
-    """Every service of SERVICES with ``count`` varied parameter sets."""
+    """Every IEMA service with ``count`` varied parameter sets."""
     baseline = Baseline(kg)
     rails = {r.label for r in model.rails}
     placed = [
@@ -631,7 +631,7 @@ def build_cases(
             None,
         )
     )
-    missing = set(SERVICES) - {c.name for c in cases}
+    missing = {s.name for s in services_for("iema")} - {c.name for c in cases}
     if missing:
         raise SystemExit(f"bench_services.py does not know how to call: {', '.join(sorted(missing))}")
     return cases

@@ -250,7 +250,7 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
     from cadkg.query.services import call, to_jsonable
 
     kg = _open(target)
-    session = Session(kg.cell_model())
+    session = Session(kg.cell_model(), kg=kg)
     state_file = _cursor_file(target)
     generation = kg.generation
     if state_file is not None and state_file.is_file():
@@ -274,10 +274,13 @@ def list_services() -> None:
     """List the services 'cadkg call' and the ROS adapter serve."""
     from cadkg.query.services import SERVICES
 
-    table = Table("service", "parameters", "answers")
-    for service in SERVICES.values():
-        params = ", ".join(f"{k} ({t.__name__.lower()})" for k, t in service.params.items())
-        table.add_row(service.name, params, service.description)
+    table = Table("profile", "service", "parameters", "answers")
+    for service in sorted(SERVICES.values(), key=lambda s: s.profile):
+        params = ", ".join(
+            f"{k} ({t.__name__.lower()}{', optional' if k in service.optional else ''})"
+            for k, t in service.params.items()
+        )
+        table.add_row(service.profile, service.name, params, service.description)
     _out.print(table)
 
 

@@ -12,12 +12,17 @@ Both share one position, so they can be mixed, and ``reset_connection_list`` rew
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from decimal import Decimal, InvalidOperation
+from typing import Any, TypeVar, cast
 
 from cadkg.derive.cabinet import CadPin, CellModel, WireStep
 from cadkg.derive.geometry import Pose, Vec3
+from cadkg.errors import QueryError
 from cadkg.ingest.mapping import node_iri
+
+T = TypeVar("T")
 
 __all__ = [
     "ConnectionEnd",
@@ -87,10 +92,21 @@ class CursorState:
 
 @dataclass
 class Session:
-    """Cursor state of every client over one cell model."""
+    """What the services of one served cell share: the cabinet model, the cursors of every
+    client, the graph, and the models of the other profiles, each built on first use."""
 
     model: CellModel
     states: dict[str, CursorState] = field(default_factory=dict)
+    kg: Any = None
+    _models: dict[str, Any] = field(default_factory=dict, repr=False)
+
+    def profile_model(self, key: str, build: Callable[[Any], T]) -> T:
+        """The model ``build(kg)`` of a profile, built once per session (so once per reload)."""
+        if key not in self._models:
+            if self.kg is None:
+                raise QueryError(f"the {key} services need a graph; this session has none")
+            self._models[key] = build(self.kg)
+        return cast(T, self._models[key])
 
     def __post_init__(self) -> None:
         self._robot_steps = [s for s in self.model.steps if s.performer == "robot"]

@@ -3,6 +3,10 @@
 ``call(session, "cad_service", label="F1500.1")`` runs one service; parameters
 arrive as text from the command line and are converted here, so every transport
 gets the same checks and messages.
+
+Each service belongs to a profile (the use case of a cell: iema, elvez, elimco, vw,
+enki); the IEMA services are listed here, the other profiles' in their own modules,
+which :func:`register` them when imported at the end of this one.
 """
 
 from __future__ import annotations
@@ -19,15 +23,19 @@ from cadkg.errors import QueryError
 from cadkg.query import iema
 from cadkg.query.cursors import Session
 
-__all__ = ["SERVICES", "Service", "call", "parse_pose", "to_jsonable"]
+__all__ = ["SERVICES", "Service", "call", "parse_pose", "register", "services_for", "to_jsonable"]
 
 
 @dataclass(frozen=True)
 class Service:
+    """``run(session, client=..., **params)``; ``optional`` parameters may be left out."""
+
     name: str
     description: str
     params: Mapping[str, type]
     run: Callable[..., Any]
+    profile: str = "iema"
+    optional: frozenset[str] = frozenset()
 
 
 def parse_pose(text: str) -> Pose:
@@ -68,7 +76,20 @@ def _float(text: str) -> float:
     return value
 
 
-_CONVERT: dict[type, Callable[[str], Any]] = {str: str, bool: _bool, float: _float, Pose: parse_pose}
+def _int(text: str) -> int:
+    try:
+        return int(text.strip())
+    except ValueError:
+        raise QueryError(f"not an integer: {text!r}") from None
+
+
+_CONVERT: dict[type, Callable[[str], Any]] = {
+    str: str,
+    bool: _bool,
+    float: _float,
+    int: _int,
+    Pose: parse_pose,
+}
 
 
 def _label(fn: Callable[..., Any]) -> Callable[..., Any]:
@@ -139,6 +160,7 @@ SERVICES: dict[str, Service] = {
             "move the connection cursor to a wire number (or list position) of a source",
             {"data": float, "source": str},
             lambda s, data, source="", client="default": s.reset_to_connection_list(data, source, client),
+            optional=frozenset({"source"}),
         ),
         Service(
             "rail_scanner",
@@ -154,7 +176,20 @@ SERVICES: dict[str, Service] = {
         ),
     )
 }
-_OPTIONAL = {"source"}
+
+
+def register(*services: Service) -> None:
+    """Add the services of a profile module; a name may be registered once."""
+    for service in services:
+        if service.name in SERVICES:
+            raise ValueError(f"service {service.name!r} is already registered")
+        SERVICES[service.name] = service
+
+
+def services_for(profile: str) -> list[Service]:
+    """The services of one profile (``""`` counts as iema, the first profile)."""
+    wanted = profile or "iema"
+    return [s for s in SERVICES.values() if s.profile == wanted]
 
 
 def call(session: Session, name: str, params: Mapping[str, str | Any], client: str = "default") -> Any:
@@ -174,7 +209,7 @@ def call(session: Session, name: str, params: Mapping[str, str | Any], client: s
             f"{name}: unknown parameter {', '.join(sorted(unknown))}; "
             f"parameters: {', '.join(service.params) or 'none'}"
         )
-    missing = [p for p in service.params if p not in params and p not in _OPTIONAL]
+    missing = [p for p in service.params if p not in params and p not in service.optional]
     if missing:
         raise QueryError(f"{name}: missing parameter {', '.join(missing)}")
     values = {

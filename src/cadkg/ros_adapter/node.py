@@ -88,7 +88,7 @@ def load(source: str, approach_distance: float | None = None) -> Loaded:
         model = kg.cell_model()
     rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
     profile = str(rows[0]["p"]) if rows else ""
-    return Loaded(kg, inputs, model, Session(model), profile)
+    return Loaded(kg, inputs, model, Session(model, kg=kg), profile)
 
 
 def _latched(depth: int = 1) -> QoSProfile:
@@ -128,7 +128,7 @@ class CadkgNode:
             node.create_service(
                 srv_type(name), f"{self.namespace}/{name}", self._callback(name), callback_group=group
             )
-            for name in services.SERVICES
+            for name in (s.name for s in services.services_for(self.profile))
         ]
         sparql_type = srv_type("sparql")
         reload_type = srv_type("reload")

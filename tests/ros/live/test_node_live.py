@@ -31,10 +31,13 @@ def close(actual: tuple[float, ...], expected: tuple[float, ...]) -> bool:
 
 
 def test_every_service_is_advertised_with_its_type(ros: Any, server: Server) -> None:
-    from cadkg.query.services import SERVICES
+    from cadkg.query.services import services_for
     from cadkg.ros_adapter.convert import srv_type_name
 
-    expected = {f"{NAMESPACE}/{n}": [f"cadkg_interfaces/srv/{srv_type_name(n)}"] for n in SERVICES}
+    expected = {
+        f"{NAMESPACE}/{n}": [f"cadkg_interfaces/srv/{srv_type_name(n)}"]
+        for n in (s.name for s in services_for("iema"))
+    }
     expected[f"{NAMESPACE}/sparql"] = ["cadkg_interfaces/srv/Sparql"]
     expected[f"{NAMESPACE}/reload"] = ["cadkg_interfaces/srv/Reload"]
 
