@@ -15,7 +15,7 @@ import pytest
 from cadkg.derive.cabinet import CellModel
 from cadkg.query import iema
 from cadkg.query.cursors import Session
-from cadkg.query.services import SERVICES, call
+from cadkg.query.services import call, services_for
 from cadkg.store import KnowledgeGraph
 from tests.conftest import IEMA
 
@@ -192,7 +192,8 @@ def test_every_service_runs_on_the_example(model: CellModel) -> None:
         "data": "1500.51",
         "source": "lista-cablaggio.csv",
     }
-    for name, service in SERVICES.items():
+    for service in services_for("iema"):
+        name = service.name
         params = {k: args[k] for k in service.params if k in args}
         if name == "get_terminal_data":
             params["label"] = "=-X1600"

@@ -18,11 +18,23 @@ EXAMPLE = REPO / "examples" / "iema-switchgear"
 
 READERS = kinds()
 BUILTIN_KINDS = [
+    "action-plan",
     "assignments",
+    "cable-info",
     "component-list",
     "component-model",
     "connection-list",
+    "element-models",
+    "elimco-cable-list",
+    "harness-components",
+    "harness-structure",
+    "harness-text",
+    "hose",
+    "kbl",
+    "path-info",
+    "pin-info",
     "terminal-schema",
+    "tools",
     "vrml",
     "wri",
     "x3d",

@@ -8,6 +8,7 @@ from cadkg.ingest.assignments import read_assignments
 from cadkg.ingest.component_list import looks_like_component_list, read_component_list
 from cadkg.ingest.component_model import looks_like_component_models, read_component_models
 from cadkg.ingest.connection_list import read_connection_list
+from cadkg.ingest.elimco_cable_list import workbook_strings
 from cadkg.ingest.registry import Reader, register
 from cadkg.ingest.terminal_schema import looks_like_terminal_schema, read_terminal_schema
 from cadkg.ingest.vrml import read_vrml
@@ -80,13 +81,23 @@ register(
         sniff=looks_like_component_list,
     )
 )
+
+
+def _looks_like_terminal_schema(head: bytes) -> bool:
+    # .xlsx is also the ELIMCO cable list's suffix, and a workbook is compressed: its header
+    # is looked for among the strings of the sheet parts that start in the head.
+    if head.startswith(b"PK\x03\x04"):
+        head = "\t".join(workbook_strings(head)).encode("utf-8")
+    return looks_like_terminal_schema(head)
+
+
 register(
     Reader(
         kind="terminal-schema",
         suffixes=(".csv", ".xlsx", ".ods"),
         read=read_terminal_schema,
         description="Terminal block schema: terminal items in order along each block, and their levels",
-        sniff=looks_like_terminal_schema,
+        sniff=_looks_like_terminal_schema,
     )
 )
 
@@ -108,3 +119,143 @@ register(
 
 # The mappings of the cabinet records register themselves with the mapping on import.
 import_module("cadkg.ingest.mapping_cabinet")
+
+
+def _register_elvez() -> None:
+    # The ELVEZ harness-assembly cell; shared suffixes are told apart by the first element
+    # (XML) or the header row (CSV).
+    from cadkg.ingest.action_plan import looks_like_action_plan, read_action_plan
+    from cadkg.ingest.elvez_models import looks_like_element_models, read_element_models
+    from cadkg.ingest.elvez_tools import looks_like_tools, read_tools
+    from cadkg.ingest.harness_components import looks_like_harness_components, read_harness_components
+    from cadkg.ingest.harness_structure import looks_like_harness_structure, read_harness_structure
+
+    for reader in (
+        Reader(
+            "element-models",
+            (".xml",),
+            read_element_models,
+            "Platform element models XML (<element_models>): size, key frames, key size, STL mesh",
+            looks_like_element_models,
+        ),
+        Reader(
+            "tools",
+            (".xml",),
+            read_tools,
+            "Robot tools XML (<tools>): ATC slot, base-to-wrist and wrist-to-action frames, size",
+            looks_like_tools,
+        ),
+        Reader(
+            "harness-structure",
+            (".xml",),
+            read_harness_structure,
+            "Harness structure XML (<harness_structure>): main connector, branches, cables, pins",
+            looks_like_harness_structure,
+        ),
+        Reader(
+            "harness-components",
+            (".csv", ".tsv"),
+            read_harness_components,
+            "Harness components: name, type, red, green, blue, diameter_mm, length_mm, x/y/z_mm",
+            looks_like_harness_components,
+        ),
+        Reader(
+            "action-plan",
+            (".csv", ".tsv"),
+            read_action_plan,
+            "ELVEZ action plan: index, operation (insert/route/tape), components, spots, tool",
+            looks_like_action_plan,
+        ),
+    ):
+        register(reader)
+    import_module("cadkg.ingest.mapping_elvez")
+
+
+_register_elvez()
+
+
+def _register_vw() -> None:
+    # Volkswagen harness descriptions: KBL files and the harness text format.
+    from cadkg.ingest.harness_text import looks_like_harness_text, read_harness_text
+    from cadkg.ingest.kbl import looks_like_kbl, read_kbl
+
+    register(
+        Reader(
+            "kbl",
+            (".kbl",),
+            read_kbl,
+            "KBL harness (VDA 4964) 2.3 SR-1, 2.4: connectors, topology, wires",
+            looks_like_kbl,
+        )
+    )
+    register(
+        Reader(
+            "harness-text",
+            (".harness",),
+            read_harness_text,
+            "Harness text description: connectors, nodes, segments, wires with cavities",
+            looks_like_harness_text,
+        )
+    )
+    import_module("cadkg.ingest.mapping_harness")
+
+
+_register_vw()
+
+
+def _register_elimco_enki() -> None:
+    # ELIMCO's cable list and route-design files, ENKI's hose products. Shared suffixes are
+    # told apart by the root element (XML) or the header row (CSV and workbooks).
+    from cadkg.ingest.elimco_cable_list import looks_like_cable_list, read_elimco_cable_list
+    from cadkg.ingest.hose import looks_like_hose_table, read_hoses
+    from cadkg.ingest.route_design import (
+        looks_like_cable_info,
+        looks_like_path_info,
+        looks_like_pin_info,
+        read_cable_info,
+        read_path_info,
+        read_pin_info,
+    )
+
+    for reader in (
+        Reader(
+            "elimco-cable-list",
+            (".csv", ".tsv", ".xlsx", ".ods"),
+            read_elimco_cable_list,
+            "ELIMCO cable list (Figure 11): PN, REP, ZONA_A, BORNIA_A, HILO, CABLE, LONGITUD, ZONA_B ...",
+            looks_like_cable_list,
+        ),
+        Reader(
+            "pin-info",
+            (".xml",),
+            read_pin_info,
+            "Route design pin_info.xml (<pin_info>): bench pins, drawing position, role, double pins",
+            looks_like_pin_info,
+        ),
+        Reader(
+            "cable-info",
+            (".xml",),
+            read_cable_info,
+            "Route design cable_info.xml (<cable_info>): cables, initial and final connector, length",
+            looks_like_cable_info,
+        ),
+        Reader(
+            "path-info",
+            (".xml",),
+            read_path_info,
+            "Route design path_info.xml (<path_info>): route of each cable over the bench pins",
+            looks_like_path_info,
+        ),
+        Reader(
+            "hose",
+            (".csv",),
+            read_hoses,
+            "Hose products: product, diameter_mm, optional length_m, material, bend_radius_mm",
+            looks_like_hose_table,
+        ),
+    ):
+        register(reader)
+    import_module("cadkg.ingest.mapping_elimco")
+
+
+_register_elimco_enki()

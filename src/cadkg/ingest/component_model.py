@@ -17,6 +17,7 @@ from lxml import etree
 
 from cadkg.errors import IngestError
 from cadkg.ingest.text import read_text
+from cadkg.ingest.xml_input import parse_untrusted_xml
 
 __all__ = [
     "ChildPlacement",
@@ -36,7 +37,6 @@ _SUBITEMS = {"couple": ("screw", "hole"), "child": ("relative",)}
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 # Checked on the text before parsing: even with entity expansion off, a DOCTYPE can
 # pull in external subsets or declare entities whose meaning we would silently drop.
-_FORBIDDEN = re.compile(r"<!(DOCTYPE|ENTITY)", re.IGNORECASE)
 
 
 @dataclass(frozen=True, slots=True)
@@ -132,21 +132,9 @@ class _Parser:
         return int(line) if line is not None else None
 
     def models(self, text: str) -> list[ComponentModel]:
-        forbidden = _FORBIDDEN.search(text)
-        if forbidden is not None:
-            raise self.error(
-                f"<!{forbidden.group(1).upper()}> is not allowed in component model XML",
-                text.count("\n", 0, forbidden.start()) + 1,
-                expected="plain XML without a document type or entity declarations",
-            )
-        parser = etree.XMLParser(
-            resolve_entities=False, no_network=True, load_dtd=False, encoding="utf-8", huge_tree=False
+        root = parse_untrusted_xml(
+            self.path, text, what="component model XML", expected=_EXPECTED, line_offset=self.offset
         )
-        try:
-            root = etree.fromstring(text.encode("utf-8"), parser)
-        except etree.XMLSyntaxError as err:
-            line = err.lineno if isinstance(err.lineno, int) and err.lineno > 0 else 1
-            raise self.error(f"malformed XML: {err.msg}", line, expected=_EXPECTED) from None
         if root.tag != "data":
             raise self.error(
                 "the root element is not <data>", self.at(root), found=f"<{root.tag}>", expected=_EXPECTED

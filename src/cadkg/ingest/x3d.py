@@ -15,6 +15,7 @@ from lxml import etree
 from cadkg.errors import IngestError
 from cadkg.ingest.scene import SceneItem
 from cadkg.ingest.scenegraph import MAX_NESTING, Field, Node, ParsedFile, check_bytes, read_scene
+from cadkg.ingest.xml_input import parse_untrusted_xml
 
 __all__ = ["X3D_NAMESPACE", "parse_x3d", "read_x3d"]
 
@@ -56,27 +57,7 @@ def parse_x3d(path: Path) -> ParsedFile:
     except OSError as err:
         raise IngestError(path, f"cannot read the file: {err.strerror}") from err
     check_bytes(path, data, _EXPECTED)
-    entity = data.find(b"<!ENTITY")
-    if entity >= 0:
-        raise IngestError(
-            path,
-            "the document declares XML entities, which are refused",
-            line=data.count(b"\n", 0, entity) + 1,
-            found="<!ENTITY",
-            expected="an X3D document without entity declarations",
-        )
-    parser = etree.XMLParser(
-        resolve_entities=False,
-        no_network=True,
-        load_dtd=False,
-        huge_tree=False,
-        remove_comments=True,
-        remove_pis=True,
-    )
-    try:
-        root = etree.fromstring(data, parser)
-    except etree.XMLSyntaxError as err:
-        raise IngestError(path, f"malformed XML: {err.msg}", line=err.lineno, expected=_EXPECTED) from None
+    root = parse_untrusted_xml(path, data, what="X3D", expected=_EXPECTED, allow_doctype=True)
     return _Builder(path).document(root)
 
 

@@ -108,6 +108,10 @@ class Session:
             self._models[key] = build(self.kg)
         return cast(T, self._models[key])
 
+    def forget(self, key: str) -> None:
+        """Drop the model of a profile, so the next call rebuilds it from the (changed) graph."""
+        self._models.pop(key, None)
+
     def __post_init__(self) -> None:
         self._robot_steps = [s for s in self.model.steps if s.performer == "robot"]
         # Per ``source`` argument of reset_to_connection_list: the first robot step of each

@@ -15,6 +15,7 @@ import dataclasses
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from importlib import import_module
 from typing import Any
 
 from cadkg.derive.frames import normalize_quaternion, quaternion_from_rpy
@@ -235,3 +236,9 @@ def to_jsonable(value: Any) -> Any:
             return {"x": value[0], "y": value[1], "z": value[2]}
         return [to_jsonable(v) for v in value]
     return value
+
+
+import_module("cadkg.query.elvez_services")
+import_module("cadkg.query.vw_services")
+import_module("cadkg.query.elimco_services")
+import_module("cadkg.query.enki")

@@ -1,0 +1,71 @@
+"""Parsing untrusted XML: one place that decides what an input file may not do.
+
+Factory files arrive from outside; a document type or an entity declaration could
+expand to gigabytes or reach the network, so they are refused with the line they
+are on, before lxml sees them, and the parser itself resolves nothing.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from lxml import etree
+
+from cadkg.errors import IngestError
+
+__all__ = ["parse_untrusted_xml"]
+
+_DECLARATIONS = re.compile(rb"<!(DOCTYPE|ENTITY)", re.IGNORECASE)
+_ENTITY = re.compile(rb"<!(ENTITY)", re.IGNORECASE)
+
+
+def parse_untrusted_xml(
+    path: str | Path,
+    data: bytes | str,
+    *,
+    what: str,
+    expected: str,
+    line_offset: int = 0,
+    allow_doctype: bool = False,
+) -> etree._Element:
+    """The root element of ``data``, parsed without DTDs, entities or network access.
+
+    ``what`` names the format in messages ("KBL", "route-design XML"); ``line_offset``
+    is added to every line (XML embedded in a cell of another file); ``allow_doctype``
+    lets a plain ``<!DOCTYPE>`` through (X3D files carry one), entities stay refused.
+
+    Raises
+    ------
+    IngestError
+        On a declaration that is refused, or malformed XML, with its line.
+    """
+    encoded = data.encode("utf-8") if isinstance(data, str) else data
+    declaration = (_ENTITY if allow_doctype else _DECLARATIONS).search(encoded)
+    if declaration is not None:
+        raise IngestError(
+            path,
+            f"<!{declaration.group(1).decode().upper()}> is not allowed in {what}",
+            found=declaration.group(0).decode(),
+            line=line_offset + encoded.count(b"\n", 0, declaration.start()) + 1,
+            expected="plain XML without entity declarations"
+            if allow_doctype
+            else "plain XML without a document type or entity declarations",
+        )
+    parser = etree.XMLParser(
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        huge_tree=False,
+        remove_comments=True,
+        remove_pis=True,
+        # Text already decoded by the reader wins over the document's own encoding label.
+        encoding="utf-8" if isinstance(data, str) else None,
+    )
+    try:
+        return etree.fromstring(encoded, parser)
+    except etree.XMLSyntaxError as err:
+        line = err.lineno if isinstance(err.lineno, int) and err.lineno > 0 else 1
+        raise IngestError(
+            path, f"malformed XML: {err.msg}", line=line_offset + line, expected=expected
+        ) from None

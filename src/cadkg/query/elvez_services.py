@@ -1,0 +1,86 @@
+"""Registration of the ELVEZ services (profile ``elvez``): Table 2 of D3.1 and the route traversal.
+
+Each service answers from the session's ELVEZ model, built from the graph on first use.
+"""
+
+from __future__ import annotations
+
+from cadkg.query import elvez
+from cadkg.query.cursors import Session
+from cadkg.query.services import Service, register
+
+__all__: list[str] = []
+
+PROFILE = "elvez"
+
+
+def _model(session: Session) -> elvez.ElvezModel:
+    return session.profile_model(PROFILE, elvez.build_model)
+
+
+register(
+    Service(
+        "guide_info",
+        "a guide's CAD ID, dimensions, origin, key and key corner frames (robot base or 'frame'), key size",
+        {"name": str, "frame": str},
+        lambda s, name, frame="", client="default": elvez.guide_info(_model(s), name, frame),
+        profile=PROFILE,
+        optional=frozenset({"frame"}),
+    ),
+    Service(
+        "cable_info",
+        "a cable's colour, length, diameter, harness, connector and cavity indices",
+        {"name": str},
+        lambda s, name, client="default": elvez.cable_info(_model(s), name),
+        profile=PROFILE,
+    ),
+    Service(
+        "con_info",
+        "a connector's colour, dimensions, harness and cables",
+        {"name": str},
+        lambda s, name, client="default": elvez.con_info(_model(s), name),
+        profile=PROFILE,
+    ),
+    Service(
+        "wh_info",
+        "a wire harness's main connector and branches (connector and cables of each)",
+        {"number": int},
+        lambda s, number, client="default": elvez.wh_info(_model(s), number),
+        profile=PROFILE,
+    ),
+    Service(
+        "all_tools",
+        "the names of every tool",
+        {},
+        lambda s, client="default": elvez.all_tools(_model(s)),
+        profile=PROFILE,
+    ),
+    Service(
+        "tool_info",
+        "a tool's ATC slot, base-to-wrist and wrist-to-action frames and dimensions",
+        {"name": str},
+        lambda s, name, client="default": elvez.tool_info(_model(s), name),
+        profile=PROFILE,
+    ),
+    Service(
+        "all_op",
+        "every operation of the action plan: type, spots, components, tool",
+        {},
+        lambda s, client="default": elvez.all_op(_model(s)),
+        profile=PROFILE,
+    ),
+    Service(
+        "index_op",
+        "one operation of the action plan by its index (1-based)",
+        {"index": int},
+        lambda s, index, client="default": elvez.index_op(_model(s), index),
+        profile=PROFILE,
+    ),
+    Service(
+        "wh_routes",
+        "each cable of a harness: from and to connector cavity, guides it is routed through, tape spots",
+        {"number": int},
+        lambda s, number, client="default": elvez.wh_routes(_model(s), number),
+        profile=PROFILE,
+    ),
+)
