@@ -62,8 +62,25 @@ def _guarded(func: F) -> F:
     return wrapper  # type: ignore[return-value]
 
 
+def _store_auth(auth: str | None = None, auth_digest: str | None = None) -> Any:
+    """Credentials for a remote store: the command's own, else ``cadkg --auth/--auth-digest``."""
+    from cadkg.remote import parse_auth
+
+    if not (auth or auth_digest):
+        root = click.get_current_context().find_root().params
+        auth, auth_digest = root.get("auth"), root.get("auth_digest")
+    if auth_digest:
+        return parse_auth(auth_digest, digest=True)
+    return parse_auth(auth) if auth else None
+
+
 def _open(target: str) -> KnowledgeGraph:
-    """A store directory is opened read-only; a manifest is built in memory."""
+    """A store directory is opened read-only; a manifest is built in memory; an http(s) URL is a
+    remote SPARQL endpoint (docs/remote.md)."""
+    from cadkg.remote import RemoteGraph, is_url
+
+    if is_url(target):
+        return RemoteGraph(target, auth=_store_auth())
     path = Path(target)
     if path.is_dir():
         return KnowledgeGraph.open(path)
@@ -107,8 +124,17 @@ def _print_result(result: QueryResult, fmt: str) -> None:
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--debug", is_flag=True, help="Show tracebacks of errors.")
+@click.option(
+    "--auth", envvar="CADKG_STORE_AUTH", metavar="USER:PASSWORD", help="Basic auth for a store URL."
+)
+@click.option(
+    "--auth-digest",
+    envvar="CADKG_STORE_AUTH_DIGEST",
+    metavar="USER:PASSWORD",
+    help="Digest auth for a store URL.",
+)
 @click.version_option(package_name="cadkg")
-def cli(debug: bool) -> None:
+def cli(debug: bool, auth: str | None, auth_digest: str | None) -> None:
     """cadkg: one knowledge graph of a robotic wiring cell, from the factory's own files."""
 
 
@@ -183,6 +209,44 @@ def query(target: str, query: str, params: tuple[str, ...], fmt: str) -> None:
 
 
 @cli.command()
+@click.argument("target", metavar="STORE_OR_MANIFEST")
+@click.option("--endpoint", required=True, metavar="URL", help="The store's SPARQL (Update) endpoint.")
+@click.option("--graph-store", metavar="URL", help="The store's Graph Store Protocol endpoint (if any).")
+@click.option(
+    "--method", type=click.Choice(["auto", "graph-store", "update"]), default="auto", show_default=True
+)
+@click.option("--auth", metavar="USER:PASSWORD", help="Basic auth (default: cadkg --auth).")
+@click.option("--auth-digest", metavar="USER:PASSWORD", help="Digest auth (Virtuoso's *-auth endpoints).")
+@click.option("--batch", type=click.IntRange(min=1), default=None, help="Most triples in one request.")
+@_guarded
+def push(
+    target: str,
+    endpoint: str,
+    graph_store: str | None,
+    method: str,
+    auth: str | None,
+    auth_digest: str | None,
+    batch: int | None,
+) -> None:
+    """Upload every named graph of a store to an external SPARQL 1.1 store (docs/remote.md)."""
+    from cadkg.push import push as push_graphs
+    from cadkg.remote import is_url
+
+    if is_url(target):
+        raise click.BadParameter("push sends a store directory or a manifest, not a URL")
+    kg = _open(target)
+    credentials = _store_auth(auth, auth_digest)
+    report = push_graphs(kg, endpoint, graph_store=graph_store, auth=credentials, method=method, batch=batch)
+    table = Table("graph", "triples", "requests", "seconds", title=f"{report.method} → {report.target}")
+    for sent in report.graphs:
+        table.add_row(sent.graph, str(sent.triples), str(sent.requests), f"{sent.seconds:.3f}")
+    _out.print(table)
+    _out.print(f"{report.triples} triples in {len(report.graphs)} named graphs sent")
+    for note in report.notes:
+        _err.print(f"cadkg: note: {note}", markup=False)
+
+
+@cli.command()
 def queries() -> None:
     """List the named queries and their parameters."""
     table = Table("name", "parameters", "answers")
@@ -219,13 +283,31 @@ def validate(target: str, no_shacl: bool, strict: bool) -> None:
     help="Default: from the output suffix.",
 )
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
+@click.option(
+    "--view",
+    type=click.Choice(["structure", "topology", "wires"]),
+    default=None,
+    help="GraphML only: every structural relation (default), or one harness's topology or wires.",
+)
+@click.option(
+    "--harness", default=None, metavar="ID", help="The harness of --view (when the store holds several)."
+)
 @_guarded
-def export(target: str, fmt: str | None, output: str) -> None:
+def export(target: str, fmt: str | None, output: str, view: str | None, harness: str | None) -> None:
     """Write the graph as Turtle, N-Triples, N-Quads, TriG, JSON-LD or GraphML."""
     fmt = fmt or Path(output).suffix.lstrip(".").lower()
     if fmt not in (*EXPORT_FORMATS, "graphml"):
         raise click.BadParameter(f"cannot tell the format from {output!r}; give --format")
-    _open(target).export(output, fmt)
+    if harness is not None and view in (None, "structure"):
+        view = "topology"
+    if view in ("topology", "wires"):
+        from cadkg.query.graphml import write_harness_graphml
+
+        if fmt != "graphml":
+            raise click.BadParameter(f"--view {view} writes GraphML, not {fmt}")
+        write_harness_graphml(_open(target), output, view, harness)
+    else:
+        _open(target).export(output, fmt)
     _err.print(f"wrote {output}")
 
 
@@ -309,6 +391,95 @@ def kinds() -> None:
     _out.print(table)
 
 
+@cli.command()
+@click.argument("target", metavar="STORE_OR_MANIFEST_OR_URL")
+@click.option("--host", default="127.0.0.1", show_default=True, help="Address to listen on.")
+@click.option("--port", type=click.IntRange(0, 65535), default=7878, show_default=True)
+@click.option(
+    "--allow-non-loopback", is_flag=True, help="Allow a --host other machines can reach (see docs/server.md)."
+)
+@click.option(
+    "--allow-update", is_flag=True, help="Accept SPARQL Update and Graph Store writes (needs --token)."
+)
+@click.option(
+    "--token", envvar="CADKG_SERVE_TOKEN", default=None, help="Bearer token for writes and /reload."
+)
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0.1),
+    default=30.0,
+    show_default=True,
+    help="Seconds a request may take.",
+)
+@click.option(
+    "--max-rows",
+    type=click.IntRange(min=1),
+    default=10_000,
+    show_default=True,
+    help="Rows (or triples) per answer.",
+)
+@click.option(
+    "--max-body",
+    type=click.IntRange(min=1),
+    default=1 << 20,
+    show_default=True,
+    help="Bytes per request body.",
+)
+@click.option(
+    "--workers", type=click.IntRange(min=1), default=4, show_default=True, help="Queries evaluated at once."
+)
+@click.option(
+    "--cache-mb", type=click.IntRange(min=0), default=64, show_default=True, help="Answer cache (0: none)."
+)
+@click.option(
+    "--watch",
+    type=click.FloatRange(min=0),
+    default=2.0,
+    show_default=True,
+    help="Seconds between checks for a rebuilt store (0: never).",
+)
+@_guarded
+def serve(
+    target: str,
+    host: str,
+    port: int,
+    allow_non_loopback: bool,
+    allow_update: bool,
+    token: str | None,
+    timeout: float,
+    max_rows: int,
+    max_body: int,
+    workers: int,
+    cache_mb: int,
+    watch: float,
+) -> None:
+    """Serve the graph over HTTP: SPARQL 1.1 Protocol at /sparql, services at /api, a web page at /.
+
+    Read-only unless --allow-update with a --token; listens on loopback unless
+    --allow-non-loopback. A rebuilt store directory is picked up without losing requests.
+    """
+    from cadkg.remote import RemoteGraph, is_url
+    from cadkg.server import Limits, Settings
+    from cadkg.server import serve as run_server
+
+    if allow_update and not token:
+        raise click.BadParameter("--allow-update needs --token (or CADKG_SERVE_TOKEN)")
+    credentials = _store_auth() if is_url(target) else None
+
+    def load() -> Any:
+        if is_url(target):
+            return RemoteGraph(target, auth=credentials)
+        if allow_update and Path(target).is_dir():
+            return KnowledgeGraph.open(target, read_only=False)
+        return _open(target)
+
+    limits = Limits(timeout=timeout, max_rows=max_rows, max_body=max_body, workers=workers)
+    settings = Settings(
+        limits=limits, allow_update=allow_update, token=token, cache_bytes=cache_mb << 20, watch_seconds=watch
+    )
+    run_server(load, settings, host, port, allow_non_loopback=allow_non_loopback)
+
+
 def _ros_python() -> str | None:
     """The Python that has rclpy: $CADKG_ROS_PYTHON, else the checkout's .venv-ros (scripts/ros-setup.sh)."""
     import os
@@ -321,7 +492,7 @@ def _ros_python() -> str | None:
 
 
 @cli.command(name="ros", context_settings={"ignore_unknown_options": True})
-@click.argument("source", metavar="STORE_OR_MANIFEST", type=click.Path(exists=True))
+@click.argument("source", metavar="STORE_OR_MANIFEST_OR_URL")
 @click.option("--profile", default=None, help="Profile (default: the cell's).")
 @click.option("--namespace", default=None, help="Service namespace (default /gearbox_handler for iema).")
 @click.option("--approach-distance", type=float, default=None, help="Override the manifest's value (m).")
@@ -337,7 +508,14 @@ def ros(
     import importlib.util
     import os
 
-    args = [str(Path(source).resolve())]
+    from cadkg.remote import is_url
+
+    args = [] if is_url(source) else [str(Path(source).resolve())]
+    if is_url(source):
+        # Handed to the node's 'source' parameter as is: a positional source is resolved as a path.
+        ros_args = (*ros_args, "--ros-args", "-p", f"source:={source}")
+    elif not Path(source).exists():
+        raise click.BadParameter(f"{source!r} does not exist", param_hint="STORE_OR_MANIFEST_OR_URL")
     for flag, value in (
         ("--profile", profile),
         ("--namespace", namespace),

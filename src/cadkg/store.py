@@ -25,6 +25,7 @@ import pyoxigraph as ox
 from cadkg.errors import QueryError, StoreError
 from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
 from cadkg.ingest.pipeline import GraphData, SourceReport, read_manifest_graphs, read_source
+from cadkg.loading import BackgroundLoader
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
 
 if TYPE_CHECKING:
@@ -56,31 +57,41 @@ ASSIGNABLE = ("wire", "component", "operation")
 _XSD = "http://www.w3.org/2001/XMLSchema#"
 
 
+def _boolean(text: str) -> bool:
+    return text in ("true", "1")
+
+
+# Lexical form -> Python value per datatype; rows of big SELECTs go through here,
+# so it is one dict lookup per literal.
+_LITERAL_VALUE: dict[str, Any] = {
+    _XSD + "integer": int,
+    _XSD + "int": int,
+    _XSD + "long": int,
+    _XSD + "decimal": Decimal,
+    _XSD + "double": float,
+    _XSD + "float": float,
+    _XSD + "boolean": _boolean,
+    _XSD + "dateTime": datetime.fromisoformat,
+    _XSD + "date": date.fromisoformat,
+}
+
+
 def _to_python(term: Any) -> Any:
+    kind = type(term)
+    if kind is ox.Literal:
+        convert = _LITERAL_VALUE.get(term.datatype.value)
+        if convert is None:
+            return term.value
+        try:
+            return convert(term.value)
+        except (ValueError, ArithmeticError):
+            return term.value
+    if kind is ox.NamedNode:
+        return term.value
     if term is None:
         return None
-    if isinstance(term, ox.NamedNode):
-        return term.value
-    if isinstance(term, ox.BlankNode):
+    if kind is ox.BlankNode:
         return f"_:{term.value}"
-    if isinstance(term, ox.Literal):
-        dt = term.datatype.value
-        try:
-            if dt in (_XSD + "integer", _XSD + "int", _XSD + "long"):
-                return int(term.value)
-            if dt == _XSD + "decimal":
-                return Decimal(term.value)
-            if dt in (_XSD + "double", _XSD + "float"):
-                return float(term.value)
-            if dt == _XSD + "boolean":
-                return term.value in ("true", "1")
-            if dt == _XSD + "dateTime":
-                return datetime.fromisoformat(term.value)
-            if dt == _XSD + "date":
-                return date.fromisoformat(term.value)
-        except ValueError:
-            return term.value
-        return term.value
     return str(term)
 
 
@@ -180,8 +191,7 @@ class KnowledgeGraph:
             manifest = load_manifest(manifest)
         if directory is None:
             kg = cls.memory()
-            for data in read_manifest_graphs(manifest, on_source):
-                kg._write_graph(data, bulk=False)
+            kg._load_sources(manifest, on_source, bulk=False)
             kg.derive()
             return kg
         return cls._build_into(manifest, Path(directory), on_source)
@@ -201,9 +211,7 @@ class KnowledgeGraph:
             kg = cls(store, directory)
             kg._files_dir = generation / _FILES
             kg._load_ontology()
-            for data in read_manifest_graphs(manifest, on_source):
-                kg._write_graph(data, bulk=True)
-                reports.append(data.report)
+            reports = kg._load_sources(manifest, on_source, bulk=True)
             kg._keep_edits(directory, manifest.cell.base_iri)
             kg.derive()
             store.flush()
@@ -221,6 +229,20 @@ class KnowledgeGraph:
         opened = cls.open(directory, read_only=False)
         opened.reports = reports
         return opened
+
+    def _load_sources(
+        self, manifest: Manifest, on_source: Callable[[SourceSpec], None] | None, *, bulk: bool
+    ) -> list[SourceReport]:
+        # A failure anywhere discards the whole store being built, so chunks of a file may be
+        # loaded while the rest of it is still being mapped. On disk, one bulk load per file:
+        # bulk-loading many chunks writes many small tables that cost more to merge.
+        with BackgroundLoader(self._store, bulk=bulk) as loader:
+            sink = None if bulk else loader.put
+            for data in read_manifest_graphs(manifest, on_source, sink=sink):
+                loader.put(data.graph, data.ntriples)
+                self._write_files(data.files)
+                self.reports.append(data.report)
+        return list(self.reports)
 
     def _load_ontology(self) -> None:
         self._store.load(
@@ -455,7 +477,10 @@ class KnowledgeGraph:
         if not isinstance(result, ox.QuerySolutions):
             raise QueryError("query() runs SELECT queries; use ask() or construct()")
         variables = tuple(v.value for v in result.variables)
-        rows = tuple({name: _to_python(solution[name]) for name in variables} for solution in result)
+        convert, width = _to_python, range(len(variables))
+        rows = tuple(
+            dict(zip(variables, [convert(solution[i]) for i in width], strict=True)) for solution in result
+        )
         return QueryResult(variables, rows)
 
     def ask(self, sparql: str, **bindings: Any) -> bool:
@@ -472,6 +497,10 @@ class KnowledgeGraph:
 
     def quads(self) -> Iterator[ox.Quad]:
         return iter(self._store)
+
+    def graph_quads(self, graph: str) -> Iterator[ox.Quad]:
+        """The quads of one named graph (``cadkg push`` sends a store graph by graph)."""
+        return iter(self._store.quads_for_pattern(None, None, None, ox.NamedNode(graph)))
 
     # -- export -----------------------------------------------------------------
     def serialize(self, fmt: str = "ttl", *, include_ontology: bool = False) -> bytes:
@@ -518,6 +547,49 @@ class KnowledgeGraph:
         from cadkg.query.named import run_named
 
         return run_named(self, name, **params)
+
+    def execute(
+        self,
+        sparql: str,
+        *,
+        update: bool = False,
+        default_graphs: Iterable[str] | None = None,
+        named_graphs: Iterable[str] | None = None,
+    ) -> Any:
+        """Run a SPARQL 1.1 Protocol operation: a query over an explicit dataset, or an update.
+
+        With ``default_graphs`` the default graph is the merge of those graphs (not the union of
+        all), and the named graphs are ``named_graphs`` (none when not given); with neither the
+        dataset is as in :meth:`raw_query`. An update invalidates the cached cell model.
+
+        Raises
+        ------
+        QueryError
+            On a syntax error (with its line and column) or an evaluation error.
+        StoreError
+            On an update of a read-only store.
+        """
+        try:
+            if update:
+                if self.read_only:
+                    raise StoreError("the store is open read-only")
+                self._store.update(sparql, prefixes=PREFIXES)
+                self._model = None
+                return None
+            if default_graphs is None and named_graphs is None:
+                return self._store.query(sparql, prefixes=PREFIXES, use_default_graph_as_union=True)
+            return self._store.query(
+                sparql,
+                prefixes=PREFIXES,
+                default_graph=[ox.NamedNode(g) for g in default_graphs or ()],
+                named_graphs=[ox.NamedNode(g) for g in named_graphs or ()],
+            )
+        except SyntaxError as err:
+            raise QueryError(f"SPARQL syntax error: {err}") from None
+        except ValueError as err:
+            raise QueryError(f"not an IRI: {err}") from None
+        except (RuntimeError, OSError) as err:
+            raise QueryError(str(err)) from None
 
 
 def _read_pointer(directory: Path) -> str | None:

@@ -282,7 +282,7 @@ class _Deriver:
             return self._pin(geometry.label, key, info.item, info.level or info.name)
         for item in geometry.items:
             model = self.cell.models.get(self.cell.item_model.get(item, ""))
-            if model is not None and key in model.couples:
+            if model is not None and (key in model.screws or key in model.holes):
                 return self._pin(geometry.label, key, item, key)
         return CadPin(geometry.label, key, None, None, None)
 
@@ -453,17 +453,21 @@ def _step(
     origin, destination = ends
     base = cell.base
     performer = (
-        performers.get(wire.iri)
-        or performers.get(node_iri(base, "wire", wire.number))
-        or performers.get(node_iri(base, "operation", str(wire.index)))
-        or (
-            "human"
-            if "human"
-            in (
-                performers.get(node_iri(base, "component", origin.label)),
-                performers.get(node_iri(base, "component", destination.label)),
+        "robot"
+        if not performers
+        else (
+            performers.get(wire.iri)
+            or performers.get(node_iri(base, "wire", wire.number))
+            or performers.get(node_iri(base, "operation", str(wire.index)))
+            or (
+                "human"
+                if "human"
+                in (
+                    performers.get(node_iri(base, "component", origin.label)),
+                    performers.get(node_iri(base, "component", destination.label)),
+                )
+                else "robot"
             )
-            else "robot"
         )
     )
     return WireStep(

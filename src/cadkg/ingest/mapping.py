@@ -10,10 +10,10 @@ value read from a file can never break out of its term.
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from datetime import UTC, datetime
 from decimal import Decimal
-from functools import cache, singledispatch
+from functools import cache, lru_cache, singledispatch
 from pathlib import Path
 from urllib.parse import quote
 
@@ -40,6 +40,7 @@ __all__ = [
 
 _ESCAPES = str.maketrans({"\\": "\\\\", '"': '\\"', "\n": "\\n", "\r": "\\r"})
 _XSD = "http://www.w3.org/2001/XMLSchema#"
+_CHUNK_LINES = 250_000
 
 
 def sha256_of(path: str | Path) -> str:
@@ -68,9 +69,15 @@ def term(name: str) -> str:
     return _TYPE if name == "type" else _t(name)
 
 
+@lru_cache(maxsize=1 << 17)
+def _segment(part: str) -> str:
+    # Labels and pin names repeat across wires; quoting each once pays at 100k wires.
+    return quote(part, safe="")
+
+
 def node_iri(base_iri: str, kind: str, *parts: str) -> str:
     """The IRI cadkg mints for a thing: ``{base}{kind}/{part}/...``, each part percent-encoded."""
-    return base_iri + kind + "/" + "/".join(quote(p, safe="") for p in parts)
+    return base_iri + kind + "/" + "/".join([_segment(p) for p in parts])
 
 
 class TripleWriter:
@@ -82,6 +89,24 @@ class TripleWriter:
         self.files: dict[str, bytes] = {}
         self.root_frame = "cabinet"
         self._seen: set[str] = set()
+        self._flushed = 0
+        self._sink: Callable[[bytes], None] | None = None
+
+    def stream_to(self, sink: Callable[[bytes], None]) -> None:
+        """Hand the lines to ``sink`` in chunks while mapping, so a store can load one chunk
+        while the next is mapped; :meth:`data` then gives only what was not handed yet."""
+        self._sink = sink
+
+    def maybe_flush(self) -> None:
+        if self._sink is not None and len(self.lines) >= _CHUNK_LINES:
+            self._sink(self.data())
+            self._flushed += len(self.lines)
+            self.lines = []
+
+    @property
+    def triples(self) -> int:
+        """Triples written so far, streamed or not."""
+        return self._flushed + len(self.lines)
 
     def iri(self, kind: str, *parts: str) -> str:
         return "<" + node_iri(self.base, kind, *parts) + ">"
@@ -129,6 +154,7 @@ def map_records(w: TripleWriter, records: Iterable[object], source_slug: str) ->
     """Append the triples of every record; ``source_slug`` names per-file things (the plan)."""
     for record in records:
         map_record(record, w, source_slug)
+        w.maybe_flush()
 
 
 @singledispatch

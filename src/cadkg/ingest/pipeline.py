@@ -50,11 +50,19 @@ class GraphData:
 
 
 def read_source(
-    path: Path, rel_path: str, kind: str | None, base_iri: str, frame: str | None = None
+    path: Path,
+    rel_path: str,
+    kind: str | None,
+    base_iri: str,
+    frame: str | None = None,
+    sink: Callable[[str, bytes], None] | None = None,
 ) -> GraphData:
     """Read one file with the reader of its kind and map it into its named graph.
 
     ``frame`` names the frame a scene file's root is placed in (default ``cabinet``).
+    With ``sink``, the N-Triples go to ``sink(graph, chunk)`` as they are mapped (after the
+    whole file has been read, so a reader error still leaves nothing behind) and the
+    returned ``ntriples`` is empty.
 
     Raises
     ------
@@ -73,17 +81,23 @@ def read_source(
     graph = graph_iri(base_iri, rel_path)
     writer = TripleWriter(base_iri)
     writer.root_frame = frame or "cabinet"
+    if sink is not None:
+        writer.stream_to(lambda chunk: sink(graph, chunk))
     map_provenance(writer, graph, rel_path, sha256_of(path), kind)
     map_records(writer, records, Path(rel_path).stem)
     report = SourceReport(
         rel_path=rel_path,
         kind=kind,
         records=len(records),
-        triples=len(writer.lines),
+        triples=writer.triples,
         seconds=time.perf_counter() - started,
         warnings=tuple(str(w.message) for w in caught if issubclass(w.category, IngestWarning)),
     )
-    return GraphData(graph=graph, ntriples=writer.data(), report=report, files=writer.files)
+    ntriples = writer.data()
+    if sink is not None:
+        sink(graph, ntriples)
+        ntriples = b""
+    return GraphData(graph=graph, ntriples=ntriples, report=report, files=writer.files)
 
 
 def manifest_graph(manifest: Manifest) -> GraphData:
@@ -101,11 +115,18 @@ def manifest_graph(manifest: Manifest) -> GraphData:
 
 
 def read_manifest_graphs(
-    manifest: Manifest, on_source: Callable[[SourceSpec], None] | None = None
+    manifest: Manifest,
+    on_source: Callable[[SourceSpec], None] | None = None,
+    sink: Callable[[str, bytes], None] | None = None,
 ) -> Iterator[GraphData]:
-    """The manifest's own graph, then one graph per source, in manifest order."""
+    """The manifest's own graph, then one graph per source, in manifest order.
+
+    ``sink`` receives the sources' N-Triples in chunks (see :func:`read_source`).
+    """
     yield manifest_graph(manifest)
     for source in manifest.sources:
         if on_source is not None:
             on_source(source)
-        yield read_source(source.path, source.rel, source.kind, manifest.cell.base_iri, source.frame)
+        yield read_source(
+            source.path, source.rel, source.kind, manifest.cell.base_iri, source.frame, sink=sink
+        )

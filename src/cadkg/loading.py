@@ -1,0 +1,72 @@
+"""Loading N-Triples into a pyoxigraph store on a thread of its own.
+
+pyoxigraph parses and indexes without holding the GIL, so while one chunk of a
+source is loaded the mapping (pure Python) goes on with the next: a build costs
+about the longer of the two instead of their sum.
+"""
+
+from __future__ import annotations
+
+import queue
+import threading
+from types import TracebackType
+
+import pyoxigraph as ox
+
+__all__ = ["BackgroundLoader"]
+
+_DONE = None
+
+
+class BackgroundLoader:
+    """``put(graph, chunk)`` queues N-Triples for ``graph``; ``close()`` waits and re-raises.
+
+    The queue is short so mapped text does not pile up in memory when loading is the
+    slower side.
+    """
+
+    def __init__(self, store: ox.Store, *, bulk: bool, depth: int = 2) -> None:
+        self._store = store
+        self._bulk = bulk
+        self._queue: queue.Queue[tuple[str, bytes] | None] = queue.Queue(maxsize=depth)
+        self._error: BaseException | None = None
+        self._thread = threading.Thread(target=self._run, name="cadkg-load", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while (item := self._queue.get()) is not _DONE:
+            if self._error is not None:
+                continue  # drain, so a producer blocked on put() can go on and see the error
+            graph, chunk = item
+            try:
+                load = self._store.bulk_load if self._bulk else self._store.load
+                # The mapping percent-encodes IRI parts and escapes literals: no re-validation.
+                load(chunk, ox.RdfFormat.N_TRIPLES, to_graph=ox.NamedNode(graph), lenient=True)
+            except BaseException as err:  # re-raised in the producer by close()
+                self._error = err
+
+    def put(self, graph: str, chunk: bytes) -> None:
+        if self._error is not None:
+            raise self._error
+        if chunk:
+            self._queue.put((graph, chunk))
+
+    def close(self) -> None:
+        """Wait until every queued chunk is loaded; raise the first load error."""
+        if self._thread.is_alive():
+            self._queue.put(_DONE)
+            self._thread.join()
+        if self._error is not None:
+            raise self._error
+
+    def __enter__(self) -> BackgroundLoader:
+        return self
+
+    def __exit__(
+        self, kind: type[BaseException] | None, error: BaseException | None, tb: TracebackType | None
+    ) -> None:
+        if kind is None:
+            self.close()
+        elif self._thread.is_alive():
+            self._queue.put(_DONE)
+            self._thread.join()
