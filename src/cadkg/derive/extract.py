@@ -88,12 +88,15 @@ class CellInputs:
 def extract(kg: KnowledgeGraph) -> CellInputs:
     """Read the source graphs of a store into :class:`CellInputs`."""
     cell = kg.query(
-        """SELECT ?cell ?d ?p ?t WHERE { ?cell a ck:Cell .
+        """SELECT ?cell ?d ?p ?t ?profile WHERE { ?cell a ck:Cell .
              OPTIONAL { ?cell ck:approachDistance ?d } OPTIONAL { ?cell ck:railPattern ?p }
-             OPTIONAL { ?cell ck:clusterTolerance ?t } } LIMIT 1"""
+             OPTIONAL { ?cell ck:clusterTolerance ?t } OPTIONAL { ?cell ck:profile ?profile } } LIMIT 1"""
     ).rows
     base = cell[0]["cell"].removesuffix("cell/this") if cell else ""
     settings = cell[0] if cell else {}
+    # Pins and wires are the cabinet's wiring; a harness cell's cables end at connector
+    # cavities, which the cabinet geometry must not take for component pins.
+    wiring = (settings.get("profile") or "iema") == "iema"
 
     items_of: dict[str, list[str]] = defaultdict(list)
     item_lines: dict[str, int] = {}
@@ -118,7 +121,8 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
         row["name"]: (row["parent"], _pose(row))
         for row in kg.query(
             f"""SELECT DISTINCT ?name ?parent ?tx ?ty ?tz ?qx ?qy ?qz ?qw WHERE {{
-                  ?f ck:hasPose ?pose ; ck:label ?name . ?pose ck:parentFrame/ck:label ?parent . {_POSE} }}"""
+                  ?f a ck:Frame ; ck:hasPose ?pose ; ck:label ?name .
+                  ?pose ck:parentFrame/ck:label ?parent . {_POSE} }}"""
         )
     }
     bboxes = {
@@ -149,8 +153,8 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
         meshes=meshes,
         models=_models(kg),
         blocks=_blocks(kg),
-        pins=_pins(kg),
-        wires=_wires(kg),
+        pins=_pins(kg) if wiring else {},
+        wires=_wires(kg) if wiring else [],
         assignments=[
             (row["g"], row["target"], row["who"].rsplit("#", 1)[-1])
             for row in kg.query(

@@ -36,6 +36,8 @@ class Finding:
 _UNKNOWN_LABELS = """
 SELECT DISTINCT ?wire ?label ?pinName ?node WHERE {
   FILTER EXISTS { ?anyItem a ck:CadItem }
+  # Wires of a connection list (a plan): harness cables end at connectors, not at CAD items.
+  ?wire a ck:Wire ; ck:inPlan ?plan .
   { ?wire ck:fromPin ?pin } UNION { ?wire ck:toPin ?pin }
   ?pin ck:pinOf ?component ; ck:pinName ?pinName .
   ?component ck:label ?label .
@@ -46,9 +48,11 @@ SELECT DISTINCT ?wire ?label ?pinName ?node WHERE {
 """
 
 _WIRE_ENDS = """
-SELECT DISTINCT ?wire ?number ?from ?to ?sequence WHERE {
+SELECT DISTINCT ?wire ?number ?from ?to ?sequence ?scope WHERE {
   ?wire a ck:Wire ; ck:wireNumber ?number ; ck:fromPin ?from ; ck:toPin ?to .
   OPTIONAL { ?wire ck:sequenceIndex ?sequence }
+  # Wire numbers are unique within a harness (directly or through its cable), else within the cell.
+  OPTIONAL { ?wire ck:partOf+ ?scope . ?scope a ck:Harness }
 }
 """
 
@@ -108,12 +112,12 @@ def _duplicate_wire_numbers(kg: KnowledgeGraph) -> list[Finding]:
     (EPLAN numbers potential jumpers that way); each further chain is an error."""
     import networkx as nx
 
-    by_number: dict[str, nx.Graph] = {}
+    by_number: dict[tuple[str, str], nx.Graph] = {}
     for row in kg.query(_WIRE_ENDS):
-        chains = by_number.setdefault(row["number"], nx.Graph())
+        chains = by_number.setdefault((row["scope"] or "", row["number"]), nx.Graph())
         chains.add_edge(row["from"], row["to"], wire=row["wire"], order=row["sequence"] or 0)
     findings = []
-    for number, chains in by_number.items():
+    for (_, number), chains in by_number.items():
         parts = [
             sorted((data["order"], data["wire"]) for _, _, data in chains.subgraph(nodes).edges(data=True))
             for nodes in nx.connected_components(chains)
