@@ -66,7 +66,7 @@ def test_guide_info_prints_g4_in_the_robot_base_frame(store: Path) -> None:
     )
     corner = (0.6975 - 0.0015 * math.sqrt(3), 0.0985 + 0.0025 * math.sqrt(3), 0.095)
     assert printed(data["key_corner_frame"]) == pytest.approx(pose(corner, 30), abs=1e-12)
-    assert data["dimensions"] == pytest.approx({"x": 0.04, "y": 0.03, "z": 0.05})
+    assert data["dimensions"] == pytest.approx([0.04, 0.03, 0.05])
     assert (data["key_length"], data["key_gap"], data["key_height"]) == pytest.approx((0.03, 0.006, 0.025))
 
 

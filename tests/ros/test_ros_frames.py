@@ -7,7 +7,8 @@ from pathlib import Path
 import pytest
 
 from cadkg.derive.extract import extract
-from cadkg.ros_adapter.frames import ARROW_LENGTH, marker_specs, static_frames
+from cadkg.derive.geometry import Pose
+from cadkg.ros_adapter.frames import ARROW_LENGTH, Frame, marker_specs, static_frames
 from cadkg.store import KnowledgeGraph
 from tests.conftest import ROOT
 
@@ -36,3 +37,46 @@ def test_frames_and_markers_of_the_mini_cell() -> None:
         assert a1.points[0] == pytest.approx((0.155, 0.57, 0.0675 + ARROW_LENGTH))
         screws = sum(1 for g in model.components.values() for p in g.pins.values() if p.screw)
         assert len(arrows) == screws > 0
+
+
+def _compose(frames: dict[str, Frame], child: str, root: str) -> Pose:
+    pose, name = Pose(), child
+    while name != root:
+        frame = frames[name]
+        pose = frame.pose * pose
+        name = frame.parent
+    return pose
+
+
+def test_elvez_publishes_every_element_and_point_of_interest() -> None:
+    from cadkg.query.cursors import Session
+
+    with KnowledgeGraph.build(ROOT / "examples" / "elvez-cell" / "manifest.toml") as kg:
+        session = Session(kg.cell_model(), kg=kg)
+        inputs = extract(kg)
+        frames = {f.child: f for f in static_frames(inputs, session.model, "elvez", session)}
+        # G4 is ID000005; its key frame hangs in it (examples/elvez-cell/README.md, step 4).
+        assert frames["G4_key"].parent == "ID000005"
+        key = _compose(frames, "G4_key", "cell_top_corner")
+        base = _compose(frames, "robot_base", "cell_top_corner")
+        in_base = base.inverse() * key
+        assert in_base.position == pytest.approx((0.705, 0.0913397, 0.12), abs=1e-6)
+        assert in_base.orientation == pytest.approx((0, 0, 0.2588190, 0.9659258), abs=1e-6)
+        assert not any(name.endswith(("/original", "/corner", "/target")) for name in frames)
+        specs = marker_specs(inputs, session.model, kg.files_dir, "elvez", session)
+        elements = {s.text: s for s in specs if s.ns == "elements"}
+        assert elements["G4"].frame_id == "ID000005"
+        stl = Path(elements["G4"].mesh_uri.removeprefix("file://")).read_bytes()
+        triangles = int.from_bytes(stl[80:84], "little")
+        assert triangles > 0 and len(stl) == 84 + 50 * triangles  # a binary STL RViz can load
+
+
+def test_elimco_publishes_the_bench_pin_frames() -> None:
+    from cadkg.query.cursors import Session
+
+    with KnowledgeGraph.build(ROOT / "examples" / "elimco-bench" / "manifest.toml") as kg:
+        session = Session(kg.cell_model(), kg=kg)
+        frames = {f.child: f for f in static_frames(extract(kg), session.model, "elimco", session)}
+        pins = [name for name in frames if name.startswith("pin_")]
+        assert pins and all(frames[name].parent.startswith(("pins_centroid", "pin_")) for name in pins)
+        assert "pins_centroid" in frames

@@ -328,7 +328,8 @@ def _base_iri(kg: Any) -> str:
     return str(rows[0]["cell"]).removesuffix("cell/this")
 
 
-def _model(session: Session) -> ElimcoModel:
+def model_of(session: Session) -> ElimcoModel:
+    """The ELIMCO model of a session, built once (again after load_files)."""
     return session.profile_model(_MODEL, elimco_model)
 
 
@@ -345,7 +346,7 @@ register(
         "bench pin poses, in the drawing frame or the pins' centroid frame",
         {"use_centroid": bool, "pin_connector_distance": float},
         lambda s, use_centroid, pin_connector_distance=0.0, client="default": get_pin_positions(
-            _model(s), use_centroid, pin_connector_distance
+            model_of(s), use_centroid, pin_connector_distance
         ),
         profile="elimco",
         optional=frozenset({"pin_connector_distance"}),
@@ -354,21 +355,21 @@ register(
         "pin_frames",
         "the centroid frame and one frame per pin (two more per double pin), to publish",
         {},
-        lambda s, client="default": pin_frames(_model(s)),
+        lambda s, client="default": pin_frames(model_of(s)),
         profile="elimco",
     ),
     Service(
         "get_cable_list",
         "the cables of the harness: connectors, length, path, cores",
         {},
-        lambda s, client="default": get_cable_list(_model(s)),
+        lambda s, client="default": get_cable_list(model_of(s)),
         profile="elimco",
     ),
     Service(
         "get_path_positions",
         "the pin poses along the route of a cable (or path index), in the centroid frame",
         {"cable": str},
-        lambda s, cable, client="default": get_path_positions(_model(s), cable),
+        lambda s, cable, client="default": get_path_positions(model_of(s), cable),
         profile="elimco",
     ),
 )

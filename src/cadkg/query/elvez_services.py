@@ -14,7 +14,8 @@ __all__: list[str] = []
 PROFILE = "elvez"
 
 
-def _model(session: Session) -> elvez.ElvezModel:
+def model_of(session: Session) -> elvez.ElvezModel:
+    """The ELVEZ model of a session, built once."""
     return session.profile_model(PROFILE, elvez.build_model)
 
 
@@ -23,7 +24,7 @@ register(
         "guide_info",
         "a guide's CAD ID, dimensions, origin, key and key corner frames (robot base or 'frame'), key size",
         {"name": str, "frame": str},
-        lambda s, name, frame="", client="default": elvez.guide_info(_model(s), name, frame),
+        lambda s, name, frame="", client="default": elvez.guide_info(model_of(s), name, frame),
         profile=PROFILE,
         optional=frozenset({"frame"}),
     ),
@@ -31,56 +32,56 @@ register(
         "cable_info",
         "a cable's colour, length, diameter, harness, connector and cavity indices",
         {"name": str},
-        lambda s, name, client="default": elvez.cable_info(_model(s), name),
+        lambda s, name, client="default": elvez.cable_info(model_of(s), name),
         profile=PROFILE,
     ),
     Service(
         "con_info",
         "a connector's colour, dimensions, harness and cables",
         {"name": str},
-        lambda s, name, client="default": elvez.con_info(_model(s), name),
+        lambda s, name, client="default": elvez.con_info(model_of(s), name),
         profile=PROFILE,
     ),
     Service(
         "wh_info",
         "a wire harness's main connector and branches (connector and cables of each)",
         {"number": int},
-        lambda s, number, client="default": elvez.wh_info(_model(s), number),
+        lambda s, number, client="default": elvez.wh_info(model_of(s), number),
         profile=PROFILE,
     ),
     Service(
         "all_tools",
         "the names of every tool",
         {},
-        lambda s, client="default": elvez.all_tools(_model(s)),
+        lambda s, client="default": elvez.all_tools(model_of(s)),
         profile=PROFILE,
     ),
     Service(
         "tool_info",
         "a tool's ATC slot, base-to-wrist and wrist-to-action frames and dimensions",
         {"name": str},
-        lambda s, name, client="default": elvez.tool_info(_model(s), name),
+        lambda s, name, client="default": elvez.tool_info(model_of(s), name),
         profile=PROFILE,
     ),
     Service(
         "all_op",
         "every operation of the action plan: type, spots, components, tool",
         {},
-        lambda s, client="default": elvez.all_op(_model(s)),
+        lambda s, client="default": elvez.all_op(model_of(s)),
         profile=PROFILE,
     ),
     Service(
         "index_op",
         "one operation of the action plan by its index (1-based)",
         {"index": int},
-        lambda s, index, client="default": elvez.index_op(_model(s), index),
+        lambda s, index, client="default": elvez.index_op(model_of(s), index),
         profile=PROFILE,
     ),
     Service(
         "wh_routes",
         "each cable of a harness: from and to connector cavity, guides it is routed through, tape spots",
         {"number": int},
-        lambda s, number, client="default": elvez.wh_routes(_model(s), number),
+        lambda s, number, client="default": elvez.wh_routes(model_of(s), number),
         profile=PROFILE,
     ),
 )

@@ -220,21 +220,23 @@ def call(session: Session, name: str, params: Mapping[str, str | Any], client: s
     return service.run(session, client=client, **values)
 
 
-def to_jsonable(value: Any) -> Any:
-    """A service result as JSON-ready data: poses as position/orientation objects."""
+def to_jsonable(value: Any, annotation: str = "") -> Any:
+    """A service result as JSON-ready data: poses as position/orientation objects, vectors
+    (fields annotated ``Vec3``) as x/y/z objects, other sequences as lists."""
     if isinstance(value, Pose):
         x, y, z = value.position
         qx, qy, qz, qw = value.orientation
         return {"position": {"x": x, "y": y, "z": z}, "orientation": {"x": qx, "y": qy, "z": qz, "w": qw}}
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        data = {f.name: to_jsonable(getattr(value, f.name)) for f in dataclasses.fields(value)}
+        data = {f.name: to_jsonable(getattr(value, f.name), str(f.type)) for f in dataclasses.fields(value)}
         if hasattr(value, "missing") and "missing" not in data:
             data["missing"] = value.missing
         return data
     if isinstance(value, tuple | list):
-        if len(value) == 3 and all(isinstance(v, float) for v in value):
+        if annotation.startswith("Vec3") and len(value) == 3:
             return {"x": value[0], "y": value[1], "z": value[2]}
-        return [to_jsonable(v) for v in value]
+        inner = annotation.removeprefix("tuple[").removeprefix("list[") if "[" in annotation else ""
+        return [to_jsonable(v, inner) for v in value]
     return value
 
 

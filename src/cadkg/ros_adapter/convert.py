@@ -33,6 +33,7 @@ __all__ = [
     "request_params",
     "response",
     "srv_type_name",
+    "typed_response",
     "vector",
 ]
 
@@ -208,8 +209,86 @@ FIELDS: dict[str, dict[str, Converter]] = {
 _OPTIONAL_GEOMETRY = {pose, vector}
 
 
+FieldTypes = Mapping[str, str]
+
+_SCALARS: dict[str, Converter] = {
+    "bool": lambda v: bool(v) if v is not None else False,
+    "str": _text,
+    "int": lambda v: int(v) if v is not None else 0,
+    "float": lambda v: float(v) if v is not None else math.nan,
+    "geometry_msgs/Pose": pose,
+    "geometry_msgs/Vector3": vector,
+    "geometry_msgs/Point": vector,
+}
+# Field types as ``get_fields_and_field_types()`` and as .msg files spell them.
+_CANONICAL = {
+    "bool": "bool", "boolean": "bool",
+    "string": "str", "wstring": "str",
+    "float64": "float", "double": "float", "float32": "float", "float": "float",
+    "int8": "int", "int16": "int", "int32": "int", "int64": "int",
+    "uint8": "int", "uint16": "int", "uint32": "int", "uint64": "int", "octet": "int",
+}  # fmt: skip
+_ARRAY = re.compile(r"^(?:sequence<(?P<seq>[^,>]+)(?:,\s*\d+)?>|(?P<arr>[\w/]+)\[\d*\])$")
+
+
+def _typed(value: Any, kind: str, fields_of: Callable[[str], FieldTypes], where: str) -> Any:
+    array = _ARRAY.match(kind)
+    if array is not None:
+        element = array["seq"] or array["arr"]
+        return [_typed(v, element, fields_of, where) for v in (value or ())]
+    kind = kind.replace("/msg/", "/")
+    scalar = _SCALARS.get(_CANONICAL.get(kind, kind))
+    if scalar is not None:
+        return scalar(value)
+    if value is None:
+        raise TypeError(f"{where}: no value for a {kind} message")
+    return {
+        name: _typed(_attribute(value, name, where), sub, fields_of, f"{where}.{name}")
+        for name, sub in fields_of(kind).items()
+    }
+
+
+def _attribute(value: Any, name: str, where: str) -> Any:
+    if isinstance(value, Mapping):
+        if name not in value:
+            raise TypeError(f"{where}: no field {name!r}")
+        return value[name]
+    if not hasattr(value, name):
+        raise TypeError(f"{where}: {type(value).__name__} has no field {name!r}")
+    return getattr(value, name)
+
+
+def typed_response(result: Any, fields: FieldTypes, fields_of: Callable[[str], FieldTypes]) -> Data:
+    """The response of a service result whose fields mirror the ``.srv`` response by name.
+
+    ``fields`` are the response's field types, ``fields_of("cadkg_interfaces/X")`` those of a
+    message; both as ``get_fields_and_field_types()`` gives them (or as .msg files spell them).
+    Missing numbers become NaN, missing texts "", missing poses the identity.
+
+    Raises
+    ------
+    TypeError
+        When the result lacks a field of the response.
+    """
+    name = type(result).__name__
+    optional = {"success": True, "message": ""}
+    data = {
+        field: _typed(
+            getattr(result, field, optional[field]) if field in optional else _attribute(result, field, name),
+            kind,
+            fields_of,
+            f"{name}.{field}",
+        )
+        for field, kind in fields.items()
+    }
+    if not data.get("message"):
+        data["message"] = "ok" if data.get("success", True) else "failed"
+    return data
+
+
 def response(result: Any) -> Data:
-    """The response fields (``success``, ``message`` and the result's own) of a service result.
+    """The response fields (``success``, ``message`` and the result's own) of a cabinet (IEMA)
+    service result; the other profiles' results go through :func:`typed_response`.
 
     Raises
     ------
@@ -267,6 +346,8 @@ def request_params(params: Mapping[str, type], request: Any) -> dict[str, Any]:
             values[name] = bool(value)
         elif kind is float:
             values[name] = float(value)
+        elif kind is int:
+            values[name] = int(value)
         else:
             values[name] = str(value)
     return values

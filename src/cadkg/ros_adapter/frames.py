@@ -6,11 +6,19 @@ Frame names (``child`` of each static transform):
 * every scene item under its CAD id (the scene's ``DEF``), in its parent item or the scene's frame;
 * per component ``LABEL/original``, ``LABEL/corner`` and ``LABEL/target`` in the component's
   frame (the scene's frame, e.g. ``cabinet``), ``LABEL/terminal_start`` for a terminal block;
-* per rail ``LABEL/start``.
+* per rail ``LABEL/start``;
+* elvez: every platform element under its CAD id and each point of interest (``G4_key``,
+  ``G4_key_corner`` ...) in its element, as the reference's Figure 25 orders them;
+* elimco: ``pins_centroid`` and a frame per bench pin (``pin_<name>``, and ``_a``/``_b`` for
+  the two pins of a double pin), as the ``pin_frames`` service gives them.
+
+The component frames (original, corner, target, rails) are the cabinet's, published for the
+iema profile only.
 
 Markers: one ``MESH_RESOURCE`` per scene item with a mesh, in the item's own frame, with a
 ``file://`` URI under the store's files directory; one ``ARROW`` per pin with a screw pose,
-from 2 cm above the screw (along the screw's z) down to the screw, in the component's frame.
+from 2 cm above the screw (along the screw's z) down to the screw, in the component's frame;
+for elvez one ``MESH_RESOURCE`` per platform element with its model's STL, in its own frame.
 """
 
 from __future__ import annotations
@@ -24,6 +32,7 @@ from cadkg.derive.geometry import Pose, Vec3
 if TYPE_CHECKING:
     from cadkg.derive.cabinet import CellModel
     from cadkg.derive.extract import CellInputs
+    from cadkg.query.cursors import Session
 
 __all__ = ["ARROW_LENGTH", "Frame", "MarkerSpec", "marker_specs", "static_frames"]
 
@@ -49,8 +58,13 @@ class MarkerSpec:
     text: str = ""
 
 
-def static_frames(inputs: CellInputs, model: CellModel) -> list[Frame]:
-    """One transform per frame of the cell; a name given twice keeps its first placement."""
+def static_frames(
+    inputs: CellInputs, model: CellModel, profile: str = "iema", session: Session | None = None
+) -> list[Frame]:
+    """One transform per frame of the cell; a name given twice keeps its first placement.
+
+    ``session`` (with its graph) gives the profile's own frames (elvez, elimco).
+    """
     frames: dict[str, Frame] = {}
 
     def add(parent: str, child: str, pose: Pose | None) -> None:
@@ -59,6 +73,11 @@ def static_frames(inputs: CellInputs, model: CellModel) -> list[Frame]:
 
     for name, (parent, pose) in inputs.frames.items():
         add(parent, name, pose)
+    if session is not None:
+        for parent, child, pose in _profile_frames(profile, session):
+            add(parent, child, pose)
+    if (profile or "iema") != "iema":
+        return list(frames.values())
     for label, geometry in sorted(model.components.items()):
         add(geometry.frame, f"{label}/original", geometry.original)
         add(geometry.frame, f"{label}/corner", geometry.corner)
@@ -70,12 +89,41 @@ def static_frames(inputs: CellInputs, model: CellModel) -> list[Frame]:
     return list(frames.values())
 
 
-def marker_specs(inputs: CellInputs, model: CellModel, files_dir: Path) -> list[MarkerSpec]:
-    """Meshes of the scene items and an arrow onto every screw."""
+def _profile_frames(profile: str, session: Session) -> list[tuple[str, str, Pose]]:
+    if profile == "elvez":
+        from cadkg.query.elvez_services import model_of as elvez_model
+
+        return list(elvez_model(session).platforms.tree.transforms())
+    if profile == "elimco":
+        from cadkg.query.elimco_services import model_of as elimco_model
+        from cadkg.query.elimco_services import pin_frames
+
+        result = pin_frames(elimco_model(session))
+        return [(f.parent, f.name, f.pose) for f in result.frames]
+    return []
+
+
+def marker_specs(
+    inputs: CellInputs,
+    model: CellModel,
+    files_dir: Path,
+    profile: str = "iema",
+    session: Session | None = None,
+) -> list[MarkerSpec]:
+    """Meshes of the scene items (and of the platform elements) and an arrow onto every screw."""
     specs: list[MarkerSpec] = []
     for index, (item, rel) in enumerate(sorted(inputs.meshes.items())):
         uri = "file://" + str((Path(files_dir) / rel).resolve())
         specs.append(MarkerSpec("mesh", "meshes", index, item, mesh_uri=uri, text=item))
+    if profile == "elvez" and session is not None:
+        from cadkg.query.elvez_services import model_of as elvez_model
+
+        elements = sorted(elvez_model(session).platforms.elements.values(), key=lambda e: e.label)
+        for index, element in enumerate(e for e in elements if e.mesh):
+            uri = "file://" + str((Path(files_dir) / str(element.mesh)).resolve())
+            specs.append(
+                MarkerSpec("mesh", "elements", index, element.frame, mesh_uri=uri, text=element.label)
+            )
     index = 0
     for label, geometry in sorted(model.components.items()):
         for name, pin in sorted(geometry.pins.items()):

@@ -37,7 +37,13 @@ from cadkg.store import KnowledgeGraph
 
 __all__ = ["NAMESPACES", "CadkgNode", "Loaded", "load", "main", "srv_type"]
 
-NAMESPACES = {"iema": "/gearbox_handler", "elvez": "/elvez"}
+NAMESPACES = {
+    "iema": "/gearbox_handler",
+    "elvez": "/elvez",
+    "elimco": "/elimco",
+    "vw": "/vw_harness",
+    "enki": "/enki",
+}
 DEFAULT_NAMESPACE = "/cadkg"
 
 
@@ -45,6 +51,10 @@ def srv_type(name: str) -> Any:
     """The ``cadkg_interfaces`` service class of a service name (``cad_service`` → ``CadService``)."""
     module = importlib.import_module("cadkg_interfaces.srv")
     return getattr(module, convert.srv_type_name(name))
+
+
+def _fields_of(type_name: str) -> dict[str, str]:
+    return dict(_resolve(type_name)().get_fields_and_field_types())
 
 
 def _resolve(type_name: str) -> Any:
@@ -66,7 +76,8 @@ class Loaded:
 
 
 def load(source: str, approach_distance: float | None = None) -> Loaded:
-    """Open a store directory read-only, or build a manifest in memory, and derive the model.
+    """Open a store directory read-only, build a manifest in memory, or read a remote SPARQL
+    endpoint (an http(s) URL; credentials from CADKG_STORE_AUTH[_DIGEST]), and derive the model.
 
     Raises
     ------
@@ -74,7 +85,11 @@ def load(source: str, approach_distance: float | None = None) -> Loaded:
         When the source cannot be read.
     """
     path = Path(source)
-    if path.is_dir():
+    if source.lower().startswith(("http://", "https://")):
+        from cadkg.remote import RemoteGraph, auth_from_env
+
+        kg: KnowledgeGraph = RemoteGraph(source, auth=auth_from_env())
+    elif path.is_dir():
         kg = KnowledgeGraph.open(path, read_only=True)
     elif path.is_file():
         kg = KnowledgeGraph.build(path)
@@ -157,7 +172,11 @@ class CadkgNode:
                     result = services.call(
                         self.loaded.session, name, params, client=convert.client_of(request)
                     )
-                data = convert.response(result)
+                data = (
+                    convert.response(result)
+                    if type(result).__name__ in convert.FIELDS
+                    else convert.typed_response(result, response.get_fields_and_field_types(), _fields_of)
+                )
             except CadkgError as err:
                 data = {"success": False, "message": str(err)}
             return convert.fill(response, data, _resolve)
@@ -197,8 +216,17 @@ class CadkgNode:
         """Publish every frame on /tf_static and the markers, latched."""
         with self._lock:
             loaded = self.loaded
-            frames = static_frames(loaded.inputs, loaded.model)
-            specs = marker_specs(loaded.inputs, loaded.model, loaded.kg.files_dir)
+            try:
+                frames = static_frames(loaded.inputs, loaded.model, self.profile, loaded.session)
+                specs = marker_specs(
+                    loaded.inputs, loaded.model, loaded.kg.files_dir, self.profile, loaded.session
+                )
+            except CadkgError as err:
+                # The profile's services report the same error to every caller; the cell's
+                # own frames still go out.
+                self.node.get_logger().error(f"{self.profile} frames not published: {err}")
+                frames = static_frames(loaded.inputs, loaded.model, self.profile)
+                specs = marker_specs(loaded.inputs, loaded.model, loaded.kg.files_dir, self.profile)
         stamp = self.node.get_clock().now().to_msg()
         transforms = []
         for frame in frames:

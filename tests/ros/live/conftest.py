@@ -29,12 +29,12 @@ NAMESPACE = "/gearbox_handler"
 
 
 class Server:
-    def __init__(self, manifest: Path, log: Path) -> None:
+    def __init__(self, manifest: Path, log: Path, node_name: str = "cadkg") -> None:
         self.manifest = manifest
         self.log = log
         self._out = log.open("w")
         self.process = subprocess.Popen(
-            [sys.executable, "-m", "cadkg.ros_adapter", str(manifest)],
+            [sys.executable, "-m", "cadkg.ros_adapter", str(manifest), "--node-name", node_name],
             stdout=self._out,
             stderr=subprocess.STDOUT,
             cwd=ROOT,

@@ -1,0 +1,167 @@
+"""The node serving the ELVEZ, ELIMCO, Volkswagen and ENKI examples, called through real rclpy clients.
+
+One node per profile, each in its own process under its own name and namespace; expected
+values are the hand computations in each example's README.
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from cadkg_interfaces import srv
+from tf2_msgs.msg import TFMessage
+from visualization_msgs.msg import Marker, MarkerArray
+
+from tests.ros.live.conftest import ROOT, Server, wait_for
+from tests.ros.live.test_node_live import _latched
+
+NAMESPACES = {"elvez": "/elvez", "elimco": "/elimco", "vw": "/vw_harness", "enki": "/enki"}
+EXAMPLES = {"elvez": "elvez-cell", "elimco": "elimco-bench", "vw": "vw-harness", "enki": "enki-hose"}
+
+
+@pytest.fixture(scope="module", params=sorted(EXAMPLES))
+def profile(
+    request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory
+) -> Iterator[tuple[str, Server]]:
+    name = str(request.param)
+    cell = tmp_path_factory.mktemp(name) / EXAMPLES[name]
+    shutil.copytree(ROOT / "examples" / EXAMPLES[name], cell)
+    running = Server(cell / "manifest.toml", cell.parent / "node.log", node_name=f"cadkg_{name}")
+    yield name, running
+    running.stop()
+
+
+def _call(ros: Any, server: Server, namespace: str) -> Callable[..., Any]:
+    def run(srv_type: Any, service: str, **fields: Any) -> Any:
+        client = ros.create_client(srv_type, f"{namespace}/{service}")
+        try:
+            wait_for(ros, client.service_is_ready, 60.0, server)
+            future = client.call_async(srv_type.Request(**fields))
+            wait_for(ros, future.done, 30.0, server)
+            return future.result()
+        finally:
+            ros.destroy_client(client)
+
+    return run
+
+
+def _frames(ros: Any, server: Server, wanted: str) -> dict[str, Any]:
+    """The /tf_static message (of any node) holding frame ``wanted``, from a late subscriber."""
+    found: dict[str, Any] = {}
+
+    def keep(message: TFMessage) -> None:
+        frames = {t.child_frame_id: t for t in message.transforms}
+        if wanted in frames:
+            found.update(frames)
+
+    subscription = ros.create_subscription(TFMessage, "/tf_static", keep, _latched())
+    try:
+        wait_for(ros, lambda: bool(found), 60.0, server)
+    finally:
+        ros.destroy_subscription(subscription)
+    return found
+
+
+def close(actual: tuple[float, ...], expected: tuple[float, ...], tol: float = 1e-6) -> bool:
+    return all(math.isclose(a, e, abs_tol=tol) for a, e in zip(actual, expected, strict=True))
+
+
+def test_every_service_of_the_profile_answers(ros: Any, profile: tuple[str, Server]) -> None:
+    from cadkg.query.services import services_for
+    from cadkg.ros_adapter.convert import srv_type_name
+
+    name, server = profile
+    namespace = NAMESPACES[name]
+    call = _call(ros, server, namespace)
+    expected = {
+        f"{namespace}/{s.name}": [f"cadkg_interfaces/srv/{srv_type_name(s.name)}"] for s in services_for(name)
+    }
+    wait_for(
+        ros,
+        lambda: all(dict(ros.get_service_names_and_types()).get(k) == v for k, v in expected.items()),
+        60.0,
+        server,
+    )
+
+    if name == "elvez":
+        g4 = call(srv.GuideInfo, "guide_info", name="G4", frame="")
+        assert g4.success and g4.id == "ID000005" and g4.frame == "robot_base"
+        p, q = g4.key_frame.position, g4.key_frame.orientation
+        assert close((p.x, p.y, p.z), (0.705, 0.0913397, 0.12))
+        assert close((q.x, q.y, q.z, q.w), (0.0, 0.0, 0.2588190, 0.9659258))
+        assert close((g4.key_length, g4.key_gap, g4.key_height), (0.030, 0.006, 0.025))
+        assert not call(srv.GuideInfo, "guide_info", name="G99", frame="").success
+        cable = call(srv.CableInfo, "cable_info", name="W101")
+        assert cable.success and cable.wh == 1 and cable.connector == "C11"
+        assert call(srv.ConInfo, "con_info", name="C12").success
+        assert call(srv.WhInfo, "wh_info", number=2).success
+        tools = call(srv.AllTools, "all_tools")
+        assert list(tools.names) == ["gripper_left", "gripper_right", "taping_gun"]
+        assert call(srv.ToolInfo, "tool_info", name="taping_gun").success
+        plan = call(srv.AllOp, "all_op")
+        assert plan.success and [op.index for op in plan.operations] == list(
+            range(1, len(plan.operations) + 1)
+        )
+        first = call(srv.IndexOp, "index_op", index=1)
+        assert first.success and first.type == "insert" and first.tool == "gripper_left"
+        assert call(srv.WhRoutes, "wh_routes", number=3).success
+    elif name == "elimco":
+        centred = call(
+            srv.GetPinPositions, "get_pin_positions", use_centroid=True, pin_connector_distance=0.0
+        )
+        assert centred.success and centred.frame == "pins_centroid"
+        assert close((centred.centroid.position.x, centred.centroid.position.y), (11.939, 2.724))
+        pins = {p.name: p for p in centred.pins}
+        assert close((pins["A1UZ3C"].pose.position.x, pins["A1UZ3C"].pose.position.y), (0.461, -0.722))
+        assert pins["pin_1_doble"].is_double and close((pins["pin_1_doble"].double_distance,), (0.02,))
+        assert len(call(srv.PinFrames, "pin_frames").frames) > len(pins)
+        cables = call(srv.GetCableList, "get_cable_list")
+        assert cables.success and {c.name for c in cables.cables} >= {
+            "A4351-1669",
+            "A4351-2401",
+            "A4351-1677",
+        }
+        path = call(srv.GetPathPositions, "get_path_positions", cable="A4351-1677")
+        assert path.success and close((path.total_length,), (1.168,))
+        refused = call(srv.LoadFiles, "load_files", paths="/nonexistent/pin_info.xml")
+        assert not refused.success and "nothing loaded" in refused.message
+    elif name == "vw":
+        topology = call(srv.HarnessTopology, "harness_topology", harness="DOOR-L", view="")
+        assert topology.success and len(topology.segments) == 5 and len(topology.wires) == 7
+        assert topology.graphml.startswith("<graphml") and topology.graphml.count("<edge ") == 5
+    else:
+        hose = call(srv.HoseInfo, "hose_info", product="HX-25")
+        assert hose.success and close((hose.diameter, hose.bend_radius), (0.0254, 0.125))
+        assert math.isnan(hose.length) and hose.material == "PVC"
+        assert not call(srv.HoseInfo, "hose_info", product="HX-99").success
+
+
+def test_tf_static_and_markers_of_the_profile(ros: Any, profile: tuple[str, Server]) -> None:
+    name, server = profile
+    if name == "elvez":
+        frames = _frames(ros, server, "G4_key")
+        assert frames["G4_key"].header.frame_id == "ID000005"
+        assert {"G4_key_corner", "robot_base", "assembly_platform", "ID000001"} <= set(frames)
+        meshes: list[Marker] = []
+
+        def keep(message: MarkerArray) -> None:
+            meshes.extend(m for m in message.markers if m.ns == "elements")
+
+        subscription = ros.create_subscription(MarkerArray, "/cadkg_elvez/markers", keep, _latched())
+        try:
+            wait_for(ros, lambda: bool(meshes), 60.0, server)
+        finally:
+            ros.destroy_subscription(subscription)
+        g4 = next(m for m in meshes if m.text == "G4")
+        assert g4.type == Marker.MESH_RESOURCE and g4.header.frame_id == "ID000005"
+        assert Path(g4.mesh_resource.removeprefix("file://")).is_file()
+    elif name == "elimco":
+        frames = _frames(ros, server, "pins_centroid")
+        assert any(f.startswith("pin_") for f in frames)
+    else:
+        server.check_alive()  # no geometry of their own: the manifest's frames only
