@@ -75,6 +75,12 @@ def _segment(part: str) -> str:
     return quote(part, safe="")
 
 
+@lru_cache(maxsize=1 << 16)
+def _literal(value: str) -> str:
+    # Colours, terminations, pages and zones repeat across thousands of wires.
+    return '"' + value.translate(_ESCAPES) + '"'
+
+
 def node_iri(base_iri: str, kind: str, *parts: str) -> str:
     """The IRI cadkg mints for a thing: ``{base}{kind}/{part}/...``, each part percent-encoded."""
     return base_iri + kind + "/" + "/".join([_segment(p) for p in parts])
@@ -123,7 +129,7 @@ class TripleWriter:
 
     @staticmethod
     def text(value: str) -> str:
-        return '"' + value.translate(_ESCAPES) + '"'
+        return _literal(value)
 
     @staticmethod
     def typed(value: int | float | Decimal | bool | datetime) -> str:
