@@ -1,0 +1,369 @@
+"""The JSON side of the endpoint: services, named queries, the graph view, info and reload.
+
+- ``GET /api``: the services (with their parameters) and the named queries.
+- ``GET|POST /api/<service>?key=value&client=name``: one service call, answered as
+  ``cadkg call`` prints it (cursors are kept per client for the life of the served graph).
+- ``GET /api/queries``: the named queries with their text; ``GET /api/queries/<name>?param=value``
+  runs one, answered like ``/sparql`` (SPARQL JSON by default).
+- ``GET /api/graph?component=LABEL`` or ``?node=IRI``: nodes and edges around a component
+  (its pins, the wires to other components) or around any node, for the page's graph view.
+- ``GET /api/info``: generation, size, named graphs, limits.
+- ``POST /reload``: open the store again (token, or loopback client when there is none).
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import json
+from collections.abc import Callable
+from typing import Any
+from urllib.parse import parse_qsl
+
+import pyoxigraph as ox
+from starlette.requests import Request
+from starlette.responses import Response
+
+from cadkg.errors import CadkgError, NotFound, QueryError
+from cadkg.query.named import coerce_params, named_queries
+from cadkg.query.services import SERVICES, call, to_jsonable
+from cadkg.server.context import Answer, Endpoint, ProtocolError, json_response, status_of
+from cadkg.server.holder import Served
+from cadkg.server.limits import Deadline
+from cadkg.server.protocol import _FORM, evaluate, fail, read_body
+from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, NotAcceptableError, negotiate
+from cadkg.store import PREFIXES
+
+__all__ = [
+    "component_graph",
+    "graph_view",
+    "index",
+    "info",
+    "named",
+    "node_graph",
+    "queries",
+    "reload",
+    "service",
+]
+
+_NEIGHBOURS = 150
+
+_PINS = """
+SELECT ?label ?component ?pin ?pinName ?level WHERE {
+  ?component ck:label ?label ; a ck:Component .
+  ?pin ck:pinOf ?component ; ck:pinName ?pinName .
+  OPTIONAL { ?pin ck:level ?level }
+}"""
+_WIRES = """
+SELECT ?label ?pin ?wire ?wireNumber ?other ?otherLabel ?otherPinName WHERE {
+  { SELECT DISTINCT ?label ?wire ?pin ?otherPin WHERE {
+      ?component ck:label ?label ; a ck:Component .
+      ?pin ck:pinOf ?component .
+      ?wire ck:fromPin|ck:toPin ?pin .
+      ?wire ck:fromPin|ck:toPin ?otherPin .
+      FILTER(?otherPin != ?pin) } }
+  ?wire ck:wireNumber ?wireNumber .
+  ?otherPin ck:pinName ?otherPinName ; ck:pinOf ?other .
+  ?other ck:label ?otherLabel .
+}"""
+_AROUND = f"""
+SELECT ?node ?p ?o ?out WHERE {{
+  {{ ?node ?p ?o . BIND(true AS ?out) }} UNION {{ ?o ?p ?node . BIND(false AS ?out) }}
+  FILTER(!isLiteral(?o))
+}} LIMIT {_NEIGHBOURS}"""
+_LITERALS = """
+SELECT ?node ?p ?o WHERE { ?node ?p ?o FILTER(isLiteral(?o)) } LIMIT 60"""
+_LABELS = (
+    "SELECT ?n ?l WHERE {{ VALUES ?n {{ {nodes} }} ?n ck:label|rdfs:label|ck:pinName|ck:wireNumber ?l }}"
+)
+
+
+def _error(err: Exception) -> Response:
+    status, headers = status_of(err)
+    return json_response({"error": str(err)}, status, headers)
+
+
+async def _params(request: Request, limit: int) -> dict[str, str]:
+    pairs = parse_qsl(request.url.query, keep_blank_values=True)
+    if request.method == "POST":
+        body = await read_body(request, limit)
+        media = request.headers.get("content-type", "").split(";")[0].strip().lower()
+        if media == "application/json":
+            try:
+                data = json.loads(body or b"{}")
+            except ValueError as err:
+                raise ProtocolError(400, f"the body is not JSON: {err}") from None
+            if not isinstance(data, dict):
+                raise ProtocolError(400, "the body is a JSON object of parameters")
+            pairs += [(str(k), v if isinstance(v, str) else str(v).lower()) for k, v in data.items()]
+        elif media == _FORM:
+            pairs += parse_qsl(body.decode("utf-8", "replace"), keep_blank_values=True)
+        elif body:
+            raise ProtocolError(415, "parameters come as a query string, a form or a JSON object")
+    return dict(pairs)
+
+
+async def index(request: Request) -> Response:
+    """``GET /api``: what this endpoint offers."""
+    services = [
+        {
+            "name": s.name,
+            "profile": s.profile,
+            "description": s.description,
+            "params": {k: t.__name__.lower() for k, t in s.params.items()},
+            "optional": sorted(s.optional),
+        }
+        for s in sorted(SERVICES.values(), key=lambda s: (s.profile, s.name))
+    ]
+    return json_response(
+        {
+            "services": services,
+            "queries": [q.name for q in named_queries().values()],
+            "endpoints": {
+                "sparql": "/sparql",
+                "graph_store": "/graph-store",
+                "service": "/api/<service>?param=value&client=name",
+                "named_query": "/api/queries/<name>?param=value",
+                "graph_view": "/api/graph?component=LABEL or ?node=IRI",
+            },
+        }
+    )
+
+
+async def service(request: Request) -> Response:
+    """``/api/<service>``: one service call, as JSON."""
+    endpoint: Endpoint = request.app.state.endpoint
+    name = request.path_params["service"]
+    deadline = Deadline(endpoint.limits.timeout)
+    try:
+        if name not in SERVICES:
+            raise NotFound(f"unknown service {name!r}; known: {', '.join(sorted(SERVICES))}")
+        params = await _params(request, endpoint.limits.max_body)
+        client = params.pop("client", "default") or "default"
+
+        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+            def job(_: Deadline) -> Answer:
+                with served.lock:  # cursors move one call at a time
+                    result = call(served.session(), name, params, client=client)
+                    data = to_jsonable(result)
+                return Answer(json.dumps(data, default=str).encode(), "application/json")
+
+            return job
+
+        answer, generation = await endpoint.run(make_job, None, deadline)
+        return endpoint.respond(answer, generation)
+    except CadkgError as err:
+        return _error(err)
+
+
+async def queries(request: Request) -> Response:
+    """``GET /api/queries``: the named queries, their parameters and text."""
+    return json_response(
+        [
+            {
+                "name": q.name,
+                "description": q.description,
+                "params": [{"name": p.name, "type": p.type, "description": p.description} for p in q.params],
+                "text": q.text,
+            }
+            for q in named_queries().values()
+        ]
+    )
+
+
+async def named(request: Request) -> Response:
+    """``GET /api/queries/<name>?param=value``: run a named query, answered like ``/sparql``."""
+    endpoint: Endpoint = request.app.state.endpoint
+    deadline = Deadline(endpoint.limits.timeout)
+    text = ""
+    try:
+        name = request.path_params["name"]
+        known = named_queries()
+        if name not in known:
+            raise NotFound(f"no named query {name!r}; known: {', '.join(known)}")
+        query = known[name]
+        text = query.text
+        params = dict(parse_qsl(request.url.query, keep_blank_values=True))
+        fmt = params.pop("format", None)
+        bindings = coerce_params(query, params)
+        accept = request.headers.get("accept")
+        results_fmt = negotiate(accept, fmt, RESULT_FORMATS)
+        max_rows = endpoint.limits.max_rows
+
+        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+            return lambda d: evaluate(
+                lambda: served.graph.raw_query(text, bindings),
+                results_fmt,
+                NotAcceptableError("a named query answers with results"),
+                max_rows,
+                d,
+            )
+
+        key = ("named", name, tuple(sorted(params.items())), results_fmt.name)
+        answer, generation = await endpoint.run(make_job, key, deadline)
+        return endpoint.respond(answer, generation)
+    except CadkgError as err:
+        return fail(err, text, endpoint.settings.retry_after)
+
+
+def _tail(iri: str) -> str:
+    return iri.rstrip("/#").rsplit("#", 1)[-1].rsplit("/", 1)[-1] or iri
+
+
+def component_graph(graph: Any, label: str) -> dict[str, Any]:
+    """A component, its pins and the wires from them to other components, as nodes and edges.
+
+    Raises
+    ------
+    NotFound
+        When no component has this label.
+    """
+    pins = graph.query(_PINS, label=label).rows
+    if not pins:
+        raise NotFound(f"no component labelled {label!r} with pins")
+    centre = pins[0]["component"]
+    nodes: dict[str, dict[str, Any]] = {centre: {"id": centre, "label": label, "kind": "component"}}
+    edges: list[dict[str, str]] = []
+    for row in pins:
+        name = row["pinName"] + (f":{row['level']}" if row["level"] is not None else "")
+        if row["pin"] not in nodes:  # the union of the graphs may repeat a row
+            nodes[row["pin"]] = {"id": row["pin"], "label": name, "kind": "pin"}
+            edges.append({"source": centre, "target": row["pin"], "label": "pin", "kind": "pin"})
+    seen: set[tuple[str, str]] = set()
+    for row in graph.query(_WIRES, label=label).rows:
+        other = row["other"]
+        nodes.setdefault(other, {"id": other, "label": row["otherLabel"], "kind": "component"})
+        if (row["wire"], row["pin"]) in seen:
+            continue
+        seen.add((row["wire"], row["pin"]))
+        edges.append(
+            {
+                "source": row["pin"],
+                "target": other,
+                "label": f"{row['wireNumber']} → {row['otherPinName']}",
+                "kind": "wire",
+                "wire": row["wire"],
+            }
+        )
+    return {"center": centre, "nodes": list(nodes.values()), "edges": edges, "properties": []}
+
+
+def node_graph(graph: Any, iri: str) -> dict[str, Any]:
+    """A node's neighbours (IRIs and blank nodes, both directions) and its literal properties.
+
+    Raises
+    ------
+    NotFound
+        When nothing in the graph mentions the node.
+    """
+    try:
+        node = ox.NamedNode(iri)
+    except ValueError as err:
+        raise QueryError(f"node={iri!r} is not an IRI: {err}") from None
+    rows = graph.query(_AROUND, node=node).rows
+    literals = graph.query(_LITERALS, node=node).rows
+    if not rows and not literals:
+        raise NotFound(f"nothing in the graph mentions <{iri}>")
+    nodes: dict[str, dict[str, Any]] = {iri: {"id": iri, "label": _tail(iri), "kind": "center"}}
+    edges = []
+    seen: set[tuple[str, str, str]] = set()
+    for row in rows:
+        other = row["o"]
+        nodes.setdefault(other, {"id": other, "label": _tail(other), "kind": "node"})
+        source, target = (iri, other) if row["out"] else (other, iri)
+        if (source, row["p"], target) not in seen:
+            seen.add((source, row["p"], target))
+            edges.append({"source": source, "target": target, "label": _tail(row["p"]), "kind": "relation"})
+    named = [ox.NamedNode(n) for n in nodes if not n.startswith("_:")]
+    if named:
+        text = _LABELS.format(nodes=" ".join(str(n) for n in named))
+        for row in graph.query(text).rows:
+            nodes[row["n"]]["label"] = str(row["l"])
+    properties = [{"property": _tail(r["p"]), "iri": r["p"], "value": str(r["o"])} for r in literals]
+    return {"center": iri, "nodes": list(nodes.values()), "edges": edges, "properties": properties}
+
+
+async def graph_view(request: Request) -> Response:
+    """``GET /api/graph?component=LABEL`` or ``?node=IRI``."""
+    endpoint: Endpoint = request.app.state.endpoint
+    deadline = Deadline(endpoint.limits.timeout)
+    try:
+        params = dict(parse_qsl(request.url.query, keep_blank_values=True))
+        label, iri = params.get("component"), params.get("node")
+        if bool(label) == bool(iri):
+            raise ProtocolError(400, "give component=LABEL or node=IRI")
+
+        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+            def job(_: Deadline) -> Answer:
+                data = component_graph(served.graph, label) if label else node_graph(served.graph, iri or "")
+                return Answer(json.dumps(data, default=str).encode(), "application/json")
+
+            return job
+
+        answer, generation = await endpoint.run(make_job, ("graph", label, iri), deadline)
+        return endpoint.respond(answer, generation)
+    except CadkgError as err:
+        return _error(err)
+
+
+async def info(request: Request) -> Response:
+    """``GET /api/info``: what is served, and under which limits."""
+    endpoint: Endpoint = request.app.state.endpoint
+    deadline = Deadline(endpoint.limits.timeout)
+    limits = endpoint.limits
+    try:
+
+        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+            def job(_: Deadline) -> Answer:
+                data = {
+                    "generation": served.generation,
+                    "triples": served.triples(),
+                    "named_graphs": served.graph.named_graphs(),
+                    "prefixes": PREFIXES,
+                    "limits": {
+                        "timeout_s": limits.timeout,
+                        "max_rows": limits.max_rows,
+                        "max_body_bytes": limits.max_body,
+                    },
+                    "update": endpoint.settings.allow_update,
+                    "formats": {"results": list(RESULT_FORMATS), "graph": list(GRAPH_FORMATS)},
+                    "cache": {
+                        "entries": len(endpoint.cache),
+                        "hits": endpoint.cache.hits,
+                        "misses": endpoint.cache.misses,
+                    },
+                    "reloads": endpoint.holder.reloads,
+                }
+                return Answer(json.dumps(data).encode(), "application/json")
+
+            return job
+
+        answer, generation = await endpoint.run(make_job, None, deadline)
+        return endpoint.respond(answer, generation)
+    except CadkgError as err:
+        return _error(err)
+
+
+def _loopback(host: str | None) -> bool:
+    try:
+        return host is not None and ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+async def reload(request: Request) -> Response:
+    """``POST /reload``: open the store again and serve the new graph; requests in flight finish
+    on the old one."""
+    endpoint: Endpoint = request.app.state.endpoint
+    try:
+        if endpoint.settings.token:
+            endpoint.check_bearer(request.headers.get("authorization"))
+        elif not _loopback(request.client.host if request.client else None):
+            raise ProtocolError(403, "a reload without a token is accepted from this machine only")
+        swapped = await endpoint.reload()
+        assert swapped is not None  # only a watch reload may find nothing to do
+        previous, generation = swapped
+        return json_response({"previous": previous, "generation": generation})
+    except CadkgError as err:
+        return _error(err)
+    except RuntimeError as err:
+        return json_response({"error": str(err)}, 409)

@@ -1,0 +1,193 @@
+"""The ASGI application of the endpoint (Starlette), and :func:`serve`, which runs it with uvicorn.
+
+Routes: ``/`` the web page; ``/sparql`` the SPARQL 1.1 Protocol; ``/graph-store`` the
+Graph Store Protocol; ``/api/...`` services, named queries, the graph view and info (see
+:mod:`cadkg.server.api`); ``POST /reload`` to serve a rebuilt store.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import ipaddress
+import sys
+from collections.abc import AsyncIterator, Callable
+from pathlib import Path
+from typing import Any
+
+from starlette.applications import Starlette
+from starlette.responses import FileResponse, Response
+from starlette.routing import Mount, Route
+from starlette.staticfiles import StaticFiles
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
+
+from cadkg.errors import StoreError
+from cadkg.server import api
+from cadkg.server.context import Endpoint, Settings
+from cadkg.server.holder import GraphHolder
+from cadkg.server.protocol import graph_store, sparql
+
+__all__ = ["STATIC", "create_app", "is_loopback", "serve"]
+
+STATIC = Path(__file__).resolve().parent / "static"
+# The page loads only its own files; nothing is fetched from elsewhere.
+_SECURITY_HEADERS = [
+    (b"x-content-type-options", b"nosniff"),
+    (b"referrer-policy", b"no-referrer"),
+    (b"x-frame-options", b"DENY"),
+    (
+        b"content-security-policy",
+        b"default-src 'self'; img-src 'self' data: blob:; style-src 'self'; script-src 'self'; "
+        b"connect-src 'self'; frame-ancestors 'none'",
+    ),
+]
+
+
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` (a name or an address, without port) is this machine only."""
+    name = host.strip("[]").lower()
+    if name == "localhost" or name.endswith(".localhost"):
+        return True
+    try:
+        return ipaddress.ip_address(name).is_loopback
+    except ValueError:
+        return False
+
+
+def _host_of(header: str) -> str:
+    if header.startswith("["):
+        return header[1 : header.find("]")] if "]" in header else header
+    return header.rsplit(":", 1)[0] if header.count(":") == 1 else header
+
+
+class _Guard:
+    """Refuses requests whose ``Host`` is not this machine (so a web page on another site cannot
+    reach a loopback endpoint through DNS rebinding) and adds the security headers."""
+
+    def __init__(self, app: ASGIApp, loopback_hosts_only: bool) -> None:
+        self.app = app
+        self.loopback_hosts_only = loopback_hosts_only
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        if self.loopback_hosts_only:
+            headers = dict(scope.get("headers") or [])
+            host = headers.get(b"host", b"").decode("latin-1")
+            if host and not is_loopback(_host_of(host)):
+                response = Response(
+                    f"host {host!r} is not this machine; the endpoint answers only loopback names\n",
+                    400,
+                    media_type="text/plain; charset=utf-8",
+                )
+                await response(scope, receive, send)
+                return
+
+        async def send_with_headers(message: Message) -> None:
+            if message["type"] == "http.response.start":
+                message["headers"] = list(message.get("headers", [])) + _SECURITY_HEADERS
+            await send(message)
+
+        await self.app(scope, receive, send_with_headers)
+
+
+async def _page(request: Any) -> Response:
+    return FileResponse(STATIC / "index.html", media_type="text/html; charset=utf-8")
+
+
+async def _watch(endpoint: Endpoint, seconds: float) -> None:
+    """Serve a rebuilt store: poll its ``CURRENT`` pointer and reload when it moves."""
+    while True:
+        await asyncio.sleep(seconds)
+        if endpoint.holder.stale():
+            try:
+                swapped = await endpoint.reload(only_if_stale=True)
+            except Exception as err:  # keep serving the old graph, say why, try again later
+                print(f"cadkg serve: reload failed, still serving the old graph: {err}", file=sys.stderr)
+                continue
+            if swapped is not None:
+                print(f"cadkg serve: reloaded {swapped[0]} → {swapped[1]}", file=sys.stderr, flush=True)
+
+
+def create_app(
+    graph_or_loader: Any | Callable[[], Any],
+    settings: Settings | None = None,
+    *,
+    loopback_hosts_only: bool = True,
+) -> ASGIApp:
+    """The endpoint's ASGI app over a graph, or over a loader that opens it (then ``/reload``
+    and the store watch can open it again).
+
+    ``graph_or_loader`` is a :class:`~cadkg.store.KnowledgeGraph`, a remote graph with the same
+    read methods, or a function returning one.
+    """
+    settings = settings or Settings()
+    if callable(graph_or_loader) and not hasattr(graph_or_loader, "raw_query"):
+        holder = GraphHolder(graph_or_loader(), graph_or_loader)
+    else:
+        holder = GraphHolder(graph_or_loader)
+    endpoint = Endpoint(holder, settings)
+
+    @contextlib.asynccontextmanager
+    async def lifespan(app: Starlette) -> AsyncIterator[None]:
+        watcher = None
+        if settings.watch_seconds > 0 and getattr(holder.current.graph, "directory", None) is not None:
+            watcher = asyncio.create_task(_watch(endpoint, settings.watch_seconds))
+        try:
+            yield
+        finally:
+            if watcher is not None:
+                watcher.cancel()
+            endpoint.evaluator.shutdown()
+            holder.close()
+
+    methods = ["GET", "POST"]
+    app = Starlette(
+        routes=[
+            Route("/", _page, methods=["GET"]),
+            Route("/sparql", sparql, methods=methods),
+            Route("/graph-store", graph_store, methods=["GET", "HEAD", "PUT", "POST", "DELETE"]),
+            Route("/api", api.index, methods=["GET"]),
+            Route("/api/info", api.info, methods=["GET"]),
+            Route("/api/graph", api.graph_view, methods=["GET"]),
+            Route("/api/queries", api.queries, methods=["GET"]),
+            Route("/api/queries/{name}", api.named, methods=["GET"]),
+            Route("/api/{service}", api.service, methods=methods),
+            Route("/reload", api.reload, methods=["POST"]),
+            Mount("/static", StaticFiles(directory=STATIC), name="static"),
+        ],
+        lifespan=lifespan,
+    )
+    app.state.endpoint = endpoint
+    return _Guard(app, loopback_hosts_only)
+
+
+def serve(
+    load: Callable[[], Any],
+    settings: Settings,
+    host: str = "127.0.0.1",
+    port: int = 7878,
+    *,
+    allow_non_loopback: bool = False,
+) -> None:
+    """Run the endpoint with uvicorn until interrupted.
+
+    Raises
+    ------
+    StoreError
+        When ``host`` is not a loopback address and ``allow_non_loopback`` is not given.
+    """
+    import uvicorn
+
+    loopback = is_loopback(host)
+    if not loopback and not allow_non_loopback:
+        raise StoreError(
+            f"refusing to listen on {host}: the endpoint has no user accounts and is meant for this "
+            "machine; give --allow-non-loopback to serve other machines (see docs/server.md)"
+        )
+    app = create_app(load, settings, loopback_hosts_only=loopback)
+    mode = "read-write (token)" if settings.allow_update else "read-only"
+    shown = f"[{host}]" if ":" in host else host
+    print(f"cadkg serve: http://{shown}:{port}/ ({mode})", file=sys.stderr, flush=True)
+    uvicorn.run(app, host=host, port=port, log_level="warning", access_log=False, timeout_keep_alive=30)

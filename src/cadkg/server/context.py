@@ -1,0 +1,341 @@
+"""What every handler of the endpoint shares: settings, the served graph, workers, answer cache."""
+
+from __future__ import annotations
+
+import asyncio
+import hmac
+import json
+import re
+from collections import OrderedDict
+from collections.abc import Awaitable, Callable, Hashable
+from dataclasses import dataclass, field
+from typing import Any
+
+from starlette.responses import Response
+
+from cadkg.errors import CadkgError, NotFound, QueryError, StoreError
+from cadkg.server.holder import GraphHolder, Served
+from cadkg.server.limits import BodyTooLargeError, Deadline, Evaluator, Limits, TimeLimitError
+from cadkg.server.results import NotAcceptableError
+
+__all__ = [
+    "Answer",
+    "AnswerCache",
+    "Endpoint",
+    "ProtocolError",
+    "Settings",
+    "error_response",
+    "json_response",
+    "syntax_message",
+]
+
+GENERATION_HEADER = "X-Cadkg-Generation"
+TRUNCATED_HEADER = "X-Cadkg-Truncated"
+_SYNTAX = re.compile(r"SPARQL syntax error: error at (\d+):(\d+)(?::\s*(.*))?", re.DOTALL)
+
+
+@dataclass(frozen=True)
+class Settings:
+    """How an endpoint is run: limits, writes, the answer cache, and the store watch."""
+
+    limits: Limits = field(default_factory=Limits)
+    allow_update: bool = False
+    token: str | None = None
+    cache_bytes: int = 64 << 20
+    warm_entries: int = 32
+    watch_seconds: float = 2.0
+    retry_after: int = 5
+
+    def __post_init__(self) -> None:
+        if self.allow_update and not self.token:
+            raise ValueError("updates need a token: give one with allow_update")
+
+
+class ProtocolError(CadkgError):
+    """A request the SPARQL 1.1 Protocol does not allow, with the HTTP status to answer."""
+
+    def __init__(self, status: int, message: str, headers: dict[str, str] | None = None) -> None:
+        super().__init__(message)
+        self.status = status
+        self.headers = headers or {}
+
+
+@dataclass(frozen=True)
+class Answer:
+    """A finished response body, cacheable."""
+
+    body: bytes
+    media_type: str
+    status: int = 200
+    headers: tuple[tuple[str, str], ...] = ()
+
+
+class AnswerCache:
+    """Answers by key, least recently used out first, bounded in bytes; equal requests that
+    arrive while one is computed wait for that one instead of computing again."""
+
+    def __init__(self, max_bytes: int) -> None:
+        self.max_bytes = max_bytes
+        self._entries: OrderedDict[Hashable, Answer] = OrderedDict()
+        self._size = 0
+        self._inflight: dict[Hashable, asyncio.Future[Answer]] = {}
+        self.hits = 0
+        self.misses = 0
+
+    async def get(
+        self, key: Hashable, compute: Callable[[], Awaitable[Answer]], deadline: Deadline
+    ) -> Answer:
+        """The cached answer of ``key``, or the one being computed, or a new computation's.
+
+        Raises
+        ------
+        TimeLimitError
+            When the answer is not there before the deadline.
+        """
+        if self.max_bytes <= 0:
+            return await compute()
+        cached = self._entries.get(key)
+        if cached is not None:
+            self._entries.move_to_end(key)
+            self.hits += 1
+            return cached
+        self.misses += 1
+        task = self._inflight.get(key)
+        if task is None:
+            task = asyncio.ensure_future(compute())
+            self._inflight[key] = task
+            task.add_done_callback(lambda done: self._finish(key, done))
+        try:
+            return await asyncio.wait_for(asyncio.shield(task), max(deadline.remaining(), 0.0))
+        except TimeoutError:
+            raise TimeLimitError(f"the query ran past the time limit of {deadline.seconds:g} s") from None
+
+    def _finish(self, key: Hashable, task: asyncio.Future[Answer]) -> None:
+        self._inflight.pop(key, None)
+        if task.cancelled() or task.exception() is not None:
+            return
+        self.put(key, task.result())
+
+    def recent(self, prefix: Hashable, count: int) -> list[Hashable]:
+        """The keys ``(prefix, key)`` used most recently, newest first (as their ``key`` parts)."""
+        found: list[Hashable] = []
+        for full in reversed(self._entries):
+            if isinstance(full, tuple) and full[0] == prefix:
+                found.append(full[1])
+                if len(found) == count:
+                    break
+        return found
+
+    def put(self, key: Hashable, answer: Answer) -> None:
+        """Keep ``answer`` unless it is an error or too large (over a quarter of the cache)."""
+        size = len(answer.body)
+        if answer.status != 200 or size > self.max_bytes // 4:
+            return
+        if key in self._entries:
+            self._size -= len(self._entries.pop(key).body)
+        self._entries[key] = answer
+        self._size += size
+        while self._size > self.max_bytes:
+            _, dropped = self._entries.popitem(last=False)
+            self._size -= len(dropped.body)
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def clear(self) -> None:
+        self._entries.clear()
+        self._size = 0
+
+
+def syntax_message(message: str, text: str) -> str:
+    """A parser's message with its position spelled out and the offending line marked."""
+    match = _SYNTAX.match(message)
+    if match is None:
+        return message
+    line, column = int(match.group(1)), int(match.group(2))
+    detail = (match.group(3) or "").strip()
+    if len(detail) > 300:
+        detail = detail[:300].rsplit(",", 1)[0] + ", …"
+    lines = text.splitlines() or [""]
+    source = lines[min(max(line, 1), len(lines)) - 1]
+    caret = " " * max(min(column, len(source) + 1) - 1, 0) + "^"
+    head = f"SPARQL syntax error at line {line}, column {column}" + (f": {detail}" if detail else "")
+    return f"{head}\n{source}\n{caret}"
+
+
+def error_response(status: int, message: str, headers: dict[str, str] | None = None) -> Response:
+    """A plain-text error body: one status, one message, no traceback."""
+    return Response(message.rstrip() + "\n", status, headers, media_type="text/plain; charset=utf-8")
+
+
+def json_response(data: Any, status: int = 200, headers: dict[str, str] | None = None) -> Response:
+    body = json.dumps(data, ensure_ascii=False, default=str).encode("utf-8")
+    return Response(body, status, headers, media_type="application/json")
+
+
+def status_of(err: Exception) -> tuple[int, dict[str, str]]:
+    """The HTTP status (and headers) an error of the endpoint is answered with."""
+    if isinstance(err, ProtocolError):
+        return err.status, err.headers
+    if isinstance(err, TimeLimitError):
+        return 503, {}
+    if isinstance(err, BodyTooLargeError):
+        return 413, {}
+    if isinstance(err, NotAcceptableError):
+        return 406, {}
+    if isinstance(err, NotFound):
+        return 404, {}
+    if isinstance(err, StoreError):
+        return 502, {}
+    if isinstance(err, QueryError | ValueError):
+        return 400, {}
+    return 500, {}
+
+
+class Endpoint:
+    """The served graph, the workers and the cache of one running endpoint."""
+
+    def __init__(self, holder: GraphHolder, settings: Settings) -> None:
+        self.holder = holder
+        self.settings = settings
+        self.evaluator = Evaluator(settings.limits.workers)
+        self.cache = AnswerCache(settings.cache_bytes)
+        self.requests = 0
+        self.retried = 0
+        # How each cached answer is computed, to compute it again on a reloaded graph.
+        self._jobs: OrderedDict[Hashable, Callable[[Served], Callable[[Deadline], Answer]]] = OrderedDict()
+        self._reloading = asyncio.Lock()
+
+    @property
+    def limits(self) -> Limits:
+        return self.settings.limits
+
+    async def _once(
+        self,
+        served: Served,
+        make_job: Callable[[Served], Callable[[Deadline], Answer]],
+        key: Hashable | None,
+        deadline: Deadline,
+    ) -> Answer:
+        async def compute() -> Answer:
+            served.retain()  # released when the job ends, even after its caller gave up
+            return await self.evaluator.run(
+                make_job(served), Deadline(self.limits.timeout), on_done=served.release
+            )
+
+        if key is None:
+            served.retain()
+            return await self.evaluator.run(make_job(served), deadline, on_done=served.release)
+        self._jobs[key] = make_job
+        self._jobs.move_to_end(key)
+        if len(self._jobs) > 4 * max(self.settings.warm_entries, 1):
+            self._jobs.popitem(last=False)
+        return await self.cache.get((served.key, key), compute, deadline)
+
+    async def run(
+        self,
+        make_job: Callable[[Served], Callable[[Deadline], Answer]],
+        key: Hashable | None,
+        deadline: Deadline,
+    ) -> tuple[Answer, str]:
+        """Run a job on the current graph in a worker; returns its answer and the generation.
+
+        A job that fails on a graph replaced meanwhile (its files may be gone) runs once more
+        on the new one, so a reload loses no request.
+
+        Raises
+        ------
+        TimeLimitError, QueryError, StoreError
+            As the job raises them.
+        """
+        self.requests += 1
+        served = self.holder.acquire()
+        try:
+            try:
+                return await self._once(served, make_job, key, deadline), served.generation
+            except (QueryError, StoreError, OSError) as err:
+                if served is self.holder.current or str(err).startswith("SPARQL syntax error"):
+                    raise
+            self.retried += 1
+            served.release()
+            served = self.holder.acquire()
+            return await self._once(served, make_job, key, deadline), served.generation
+        finally:
+            served.release()
+
+    async def reload(self, *, only_if_stale: bool = False) -> tuple[str, str] | None:
+        """Open the graph again, warm the cache with the most recent answers on it, then serve it.
+
+        Requests go on on the old graph meanwhile, answered from the cache as before, so a
+        rebuilt store brings no burst of slow first answers. Returns the previous and the new
+        generation, or None when ``only_if_stale`` and the store has not moved on.
+
+        Raises
+        ------
+        CadkgError
+            When the graph cannot be opened; the old one is still served.
+        RuntimeError
+            When the endpoint was given a graph, not a way to open one.
+        """
+        async with self._reloading:
+            if only_if_stale and not self.holder.stale():
+                return None
+            fresh = await asyncio.to_thread(self.holder.open)
+            await self._warm(fresh)
+            return self.holder.swap(fresh)
+
+    async def _warm(self, fresh: Served) -> None:
+        if self.cache.max_bytes <= 0 or self.settings.warm_entries <= 0:
+            return
+        keys = self.cache.recent(self.holder.current.key, self.settings.warm_entries)
+
+        async def one(key: Hashable) -> None:
+            make_job = self._jobs.get(key)
+            if make_job is None:
+                return
+            fresh.retain()
+            try:
+                answer = await self.evaluator.run(
+                    make_job(fresh), Deadline(self.limits.timeout), on_done=fresh.release
+                )
+            except Exception:  # the first request for it computes it then
+                return
+            self.cache.put((fresh.key, key), answer)
+
+        await asyncio.gather(*(one(key) for key in keys))
+
+    def respond(self, answer: Answer, generation: str) -> Response:
+        headers = dict(answer.headers)
+        headers[GENERATION_HEADER] = generation
+        return Response(answer.body, answer.status, headers, media_type=answer.media_type)
+
+    def check_token(self, authorization: str | None) -> None:
+        """Raises
+        ------
+        ProtocolError
+            403 when the endpoint is read-only, 401 without the right bearer token.
+        """
+        if not self.settings.allow_update:
+            raise ProtocolError(
+                403, "this endpoint is read-only; start it with --allow-update --token to accept writes"
+            )
+        self.check_bearer(authorization)
+
+    def check_bearer(self, authorization: str | None) -> None:
+        """Raises
+        ------
+        ProtocolError
+            401 unless ``authorization`` is ``Bearer <the endpoint's token>``.
+        """
+        token = self.settings.token or ""
+        scheme, _, given = (authorization or "").partition(" ")
+        if (
+            not token
+            or scheme.lower() != "bearer"
+            or not hmac.compare_digest(given.strip().encode(), token.encode())
+        ):
+            raise ProtocolError(
+                401,
+                "this needs the endpoint's token: Authorization: Bearer <token>",
+                {"WWW-Authenticate": 'Bearer realm="cadkg"'},
+            )

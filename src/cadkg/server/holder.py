@@ -1,0 +1,142 @@
+"""The graph being served, and its replacement by a rebuilt one while requests run.
+
+A request takes the :class:`Served` graph current at its arrival and keeps it to the
+end, so an answer never mixes two generations. A reload opens the new graph first
+(:meth:`GraphHolder.open`; requests go on meanwhile), then swaps it in under a lock
+(:meth:`GraphHolder.swap`); the old one is closed when its last request has finished.
+"""
+
+from __future__ import annotations
+
+import itertools
+import threading
+from collections.abc import Callable
+from typing import Any
+
+from cadkg.query.cursors import Session
+
+__all__ = ["GraphHolder", "Served"]
+
+_serial = itertools.count(1)
+
+
+class Served:
+    """One opened graph with its service session, its generation and a count of its users."""
+
+    def __init__(self, graph: Any, owned: bool = True) -> None:
+        self.graph = graph
+        self.owned = owned  # a graph handed in by the caller is the caller's to close
+        self.serial = next(_serial)
+        # The generation this graph was opened at (a store directory's CURRENT may move on).
+        self.generation: str = getattr(graph, "generation", None) or f"memory-{self.serial}"
+        self.edits = 0  # updates applied since opening: part of every cache key
+        self.lock = threading.Lock()  # one writer at a time; one service call at a time
+        self._refs = threading.Lock()
+        self._session: Session | None = None
+        self._triples: int | None = None
+        self._users = 1  # the holder's own reference
+        self._closed = False
+
+    @property
+    def key(self) -> tuple[int, int]:
+        """What answers of this graph are cached under: changes with every update and reload."""
+        return (self.serial, self.edits)
+
+    def session(self) -> Session:
+        """The services' session (cell model and cursors), built on first use. Call under :attr:`lock`."""
+        if self._session is None:
+            self._session = Session(self.graph.cell_model(), kg=self.graph)
+        return self._session
+
+    def triples(self) -> int:
+        """How many triples the graph holds, counted once per change."""
+        if self._triples is None:
+            self._triples = len(self.graph)
+        return self._triples
+
+    def edited(self) -> None:
+        """After an update: new cache keys, and a session built afresh from the changed graph."""
+        self.edits += 1
+        self._session = None
+        self._triples = None
+
+    def retain(self) -> None:
+        with self._refs:
+            self._users += 1
+
+    def release(self) -> None:
+        with self._refs:
+            self._users -= 1
+            last = self._users == 0 and not self._closed
+            if last:
+                self._closed = True
+        if last and self.owned:
+            self.graph.close()
+
+
+class GraphHolder:
+    """The current :class:`Served` graph; ``load`` opens a fresh one for :meth:`reload`."""
+
+    def __init__(self, graph: Any, load: Callable[[], Any] | None = None) -> None:
+        """``graph`` was opened by ``load`` when that is given (and is then closed here), else it
+        belongs to the caller."""
+        self._current = Served(graph, owned=load is not None)
+        self._load = load
+        self._swap = threading.Lock()
+        self.reloads = 0
+
+    @property
+    def current(self) -> Served:
+        return self._current
+
+    def acquire(self) -> Served:
+        """The current graph, kept open until :meth:`Served.release`."""
+        with self._swap:
+            served = self._current
+            served.retain()
+        return served
+
+    def stale(self) -> bool:
+        """Whether the store directory now names another generation than the one served."""
+        graph = self._current.graph
+        if getattr(graph, "directory", None) is None:
+            return False
+        try:
+            return bool(graph.generation) and graph.generation != self._current.generation
+        except OSError:
+            return False
+
+    @property
+    def reopenable(self) -> bool:
+        return self._load is not None
+
+    def open(self) -> Served:
+        """Open the graph again (not served yet: see :meth:`swap`).
+
+        Raises
+        ------
+        CadkgError
+            When the graph cannot be opened.
+        RuntimeError
+            When this holder was given a graph, not a way to open one.
+        """
+        if self._load is None:
+            raise RuntimeError("this endpoint serves a graph it cannot reopen")
+        return Served(self._load())
+
+    def swap(self, fresh: Served) -> tuple[str, str]:
+        """Serve ``fresh`` from now on; returns the previous and the new generation."""
+        with self._swap:
+            old, self._current = self._current, fresh
+            self.reloads += 1
+        old.release()
+        return old.generation, fresh.generation
+
+    def reload(self) -> tuple[str, str]:
+        """:meth:`open` and :meth:`swap` in one."""
+        return self.swap(self.open())
+
+    def close(self) -> None:
+        with self._swap:
+            current = self._current
+        current.release()

@@ -1,0 +1,41 @@
+"""``cadkg serve`` from the command line: what it refuses, and a real client against it."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+
+import pytest
+
+from tests.conftest import IEMA
+from tests.server.serving import cadkg_serve
+from tests.test_cli import run
+
+
+def test_refuses_a_non_loopback_host_unless_allowed() -> None:
+    result = run("serve", IEMA, "--host", "0.0.0.0")
+    assert result.returncode == 2
+    assert "refusing to listen on 0.0.0.0" in result.stderr
+    assert "--allow-non-loopback" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_allow_update_needs_a_token() -> None:
+    result = run("serve", IEMA, "--allow-update")
+    assert result.returncode == 2
+    assert "--allow-update needs --token" in result.stderr
+
+
+@pytest.mark.skipif(shutil.which("curl") is None, reason="curl is not installed")
+def test_serve_answers_curl() -> None:
+    query = "query=SELECT DISTINCT ?n WHERE { ?w ck:wireNumber ?n } ORDER BY ?n"
+    with cadkg_serve(str(IEMA), "--max-rows", "3") as base:
+        command = ["curl", "-sS", "-D", "-", "-H", "Accept: application/sparql-results+json",
+                   "--data-urlencode", query, f"{base}/sparql"]  # fmt: skip
+        result = subprocess.run(command, capture_output=True, text=True, timeout=60, check=False)
+    assert result.returncode == 0, result.stderr
+    head, _, body = result.stdout.partition("\n\n")  # text mode: CRLF read as LF
+    assert "x-cadkg-truncated: 3" in head.lower()
+    numbers = [row["n"]["value"] for row in json.loads(body)["results"]["bindings"]]
+    assert numbers == ["0010.01", "0010.02", "0010.03"]
