@@ -362,6 +362,22 @@ def client_of(request: Any, default: str = "default") -> str:
 _SEQUENCE = re.compile(r"^sequence<([^,>]+)(?:,\s*\d+)?>$")
 
 
+_KINDS: dict[type, dict[str, tuple[str, str | None]]] = {}
+
+
+def _field_kinds(msg: Any) -> dict[str, tuple[str, str | None]]:
+    # Per message class: each field's type and, for a sequence, its element type. A response
+    # fills one message per pin and pose, so this is looked up thousands of times a second.
+    kinds = _KINDS.get(type(msg))
+    if kinds is None:
+        kinds = {}
+        for name, kind in msg.get_fields_and_field_types().items():
+            match = _SEQUENCE.match(kind)
+            kinds[name] = (kind, match.group(1) if match else None)
+        _KINDS[type(msg)] = kinds
+    return kinds
+
+
 def fill(msg: Any, data: Mapping[str, Any], resolve: Callable[[str], Callable[[], Any]]) -> Any:
     """Write plain ``data`` into a ROS message; nested messages are built with ``resolve(type)``.
 
@@ -373,11 +389,9 @@ def fill(msg: Any, data: Mapping[str, Any], resolve: Callable[[str], Callable[[]
     KeyError
         When ``data`` names a field the message does not have.
     """
-    types: dict[str, str] = msg.get_fields_and_field_types()
+    types = _field_kinds(msg)
     for name, value in data.items():
-        kind = types[name]
-        match = _SEQUENCE.match(kind)
-        element = match.group(1) if match else None
+        kind, element = types[name]
         if element is not None and "/" in element:
             setattr(msg, name, [fill(resolve(element)(), v, resolve) for v in value])
         elif element is None and "/" in kind:

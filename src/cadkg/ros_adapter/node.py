@@ -7,6 +7,7 @@ Run it with the Python of ``.venv-ros`` (``scripts/ros-setup.sh``): ``cadkg ros 
 from __future__ import annotations
 
 import argparse
+import functools
 import importlib
 import json
 import math
@@ -57,6 +58,7 @@ def _fields_of(type_name: str) -> dict[str, str]:
     return dict(_resolve(type_name)().get_fields_and_field_types())
 
 
+@functools.cache
 def _resolve(type_name: str) -> Any:
     package, _, name = type_name.partition("/")
     if "/" in name:  # "pkg/msg/Name"
