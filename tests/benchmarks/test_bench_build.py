@@ -1,0 +1,26 @@
+"""benchmarks/bench_build.py --quick runs end to end and reports every runnable named query."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+
+from tests.conftest import ROOT
+
+
+def test_bench_build_quick_prints_its_tables() -> None:
+    result = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "bench_build.py"), "--quick"],
+        capture_output=True, text=True, timeout=300, check=False, cwd=ROOT,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr[-3000:]
+    out = result.stdout
+    assert re.search(r"^\| 1,000 \| 37,599 \|", out, re.M)  # the triples of the 1k-wire cell
+    rows = dict(re.findall(r"^\| 1,000 \| ([\w-]+) \| [^|]* \| (\d+) \|", out, re.M))
+    # The cabinet queries with their row counts on the seeded cell; the other profiles'
+    # queries without parameters run and find nothing in a cabinet.
+    assert rows["connections-in-order"] == "1000"
+    assert rows["components"] == "270"
+    assert rows["elvez-plan"] == "0"
+    assert "harness-wires-of-connector" not in rows  # needs a connector this cell has none of
