@@ -319,6 +319,14 @@ def _arguments(argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]:
     return parser.parse_args(ours), ros_args
 
 
+def _source(text: str) -> str:
+    # A store's endpoint URL stays as given; a file or directory is made absolute, since
+    # the node may be started from anywhere.
+    if text.lower().startswith(("http://", "https://")):
+        return text
+    return str(Path(text).resolve())
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the node until interrupted; arguments as ``cadkg ros`` (plus ``--ros-args ...``)."""
     import sys
@@ -329,7 +337,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     overrides = [
         Parameter(name, value=value)
         for name, value in (
-            ("source", str(Path(args.source).resolve()) if args.source else None),
+            ("source", _source(args.source) if args.source else None),
             ("profile", args.profile),
             ("namespace", args.namespace),
             ("approach_distance", args.approach_distance),

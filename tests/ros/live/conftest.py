@@ -12,7 +12,7 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -29,12 +29,20 @@ NAMESPACE = "/gearbox_handler"
 
 
 class Server:
-    def __init__(self, manifest: Path, log: Path, node_name: str = "cadkg") -> None:
+    def __init__(
+        self,
+        manifest: Path | str,
+        log: Path,
+        node_name: str = "cadkg",
+        extra: Sequence[str] = (),
+        env: Mapping[str, str] | None = None,
+    ) -> None:
         self.manifest = manifest
         self.log = log
         self._out = log.open("w")
         self.process = subprocess.Popen(
-            [sys.executable, "-m", "cadkg.ros_adapter", str(manifest), "--node-name", node_name],
+            [sys.executable, "-m", "cadkg.ros_adapter", str(manifest), "--node-name", node_name, *extra],
+            env=None if env is None else {**os.environ, **env},
             stdout=self._out,
             stderr=subprocess.STDOUT,
             cwd=ROOT,
