@@ -1,0 +1,74 @@
+"""The node started the way ros2/launch/cadkg.launch.py starts it: only ``--ros-args -p`` parameters.
+
+ros2launch has no wheel, so the launch file itself is not run; this runs the command line its
+ExecuteProcess builds, with the launch arguments' defaults, and checks the parameters it
+passes are the ones the node declares.
+"""
+
+from __future__ import annotations
+
+import ast
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+from cadkg_interfaces import srv
+
+from tests.ros.live.conftest import MINI, ROOT, wait_for
+
+LAUNCH = ROOT / "ros2" / "launch" / "cadkg.launch.py"
+
+
+def _launch_parameters() -> list[str]:
+    """The parameter names the launch file passes after ``-p``."""
+    tree = ast.parse(LAUNCH.read_text())
+    names = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.List) and node.elts and isinstance(node.elts[0], ast.Constant):
+            first = node.elts[0].value
+            if isinstance(first, str) and ":=" in first:
+                names.append(first.split(":=", 1)[0])
+    return names
+
+
+class _Process:
+    def __init__(self, process: subprocess.Popen[bytes], log: Path) -> None:
+        self.process, self.log = process, log
+
+    def check_alive(self) -> None:
+        assert self.process.poll() is None, self.log.read_text()
+
+    def output(self) -> str:
+        return self.log.read_text()
+
+
+def test_the_launch_command_line_serves_the_cell(ros: Any, tmp_path: Path) -> None:
+    # The parameters CadkgNode declares, in the launch file's order.
+    assert _launch_parameters() == ["source", "profile", "namespace", "approach_distance"]
+    cell = tmp_path / "mini"
+    shutil.copytree(MINI, cell)
+    log = tmp_path / "node.log"
+    with log.open("w") as out:
+        process = subprocess.Popen(
+            [sys.executable, "-m", "cadkg.ros_adapter", "--ros-args", "-r", "__node:=cadkg_launched",
+             "-p", f"source:='{cell / 'manifest.toml'}'", "-p", "profile:=''",
+             "-p", "namespace:='/launched'", "-p", "approach_distance:=-1.0"],
+            stdout=out, stderr=subprocess.STDOUT, cwd=ROOT,
+        )  # fmt: skip
+    server = _Process(process, log)
+    client = ros.create_client(srv.CadReference, "/launched/cad_reference")
+    try:
+        wait_for(ros, client.service_is_ready, 60.0, server)
+        future = client.call_async(srv.CadReference.Request(label="K1"))
+        wait_for(ros, future.done, 30.0, server)
+        answer = future.result()
+        assert answer.success
+        # tests/query/test_iema_services.py: K1's corner in the mini cabinet.
+        corner = answer.corner_pose.position
+        assert (round(corner.x, 9), round(corner.y, 9), round(corner.z, 9)) == (0.15, 0.5, 0.0675)
+    finally:
+        ros.destroy_client(client)
+        process.terminate()
+        process.wait(timeout=20)
