@@ -11,7 +11,7 @@ import pytest
 import cadkg
 from cadkg.errors import IngestError, QueryError, StoreError
 from cadkg.ingest.mapping import graph_iri
-from tests.conftest import IEMA
+from tests.conftest import IEMA, ROOT
 
 BASE = "https://example.org/cell/iema-qe01/"
 
@@ -208,3 +208,19 @@ def test_graphml_export_reads_back(iema: cadkg.KnowledgeGraph, tmp_path: Path) -
     assert graph.number_of_nodes() == view.number_of_nodes()
     assert graph.number_of_edges() == view.number_of_edges()
     assert graph.nodes[BASE + "component/X1600"]["label"] == "X1600"
+
+
+def test_an_update_is_followed_by_the_derivation(tmp_path: Path) -> None:
+    mini = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"
+    target_z = 'SELECT DISTINCT ?z WHERE { ?c ck:label "K1" ; ck:targetPose/ck:tz ?z }'
+    with cadkg.KnowledgeGraph.build(mini, tmp_path / "store") as kg:
+        # tests/query/test_iema_services.py: K1's target is 0.15 m (the approach) over its top.
+        assert [round(r["z"], 9) for r in kg.query(target_z)] == [0.1875]
+        kg.execute(
+            """DELETE { GRAPH ?g { ?c ck:approachDistance ?d } }
+               INSERT { GRAPH ?g { ?c ck:approachDistance 0.25e0 } }
+               WHERE { GRAPH ?g { ?c a ck:Cell ; ck:approachDistance ?d } }""",
+            update=True,
+        )
+        assert [round(r["z"], 9) for r in kg.query(target_z)] == [0.2875]
+        assert kg.cell_model().components["K1"].target.position[2] == pytest.approx(0.2875)

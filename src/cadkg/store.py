@@ -560,7 +560,8 @@ class KnowledgeGraph:
 
         With ``default_graphs`` the default graph is the merge of those graphs (not the union of
         all), and the named graphs are ``named_graphs`` (none when not given); with neither the
-        dataset is as in :meth:`raw_query`. An update invalidates the cached cell model.
+        dataset is as in :meth:`raw_query`. An update is followed by the derivation, so the
+        ``derived`` graph and the cell model reflect it.
 
         Raises
         ------
@@ -574,7 +575,8 @@ class KnowledgeGraph:
                 if self.read_only:
                     raise StoreError("the store is open read-only")
                 self._store.update(sparql, prefixes=PREFIXES)
-                self._model = None
+                # The derived graph follows what it is derived from, as after a rebuild.
+                self.derive()
                 return None
             if default_graphs is None and named_graphs is None:
                 return self._store.query(sparql, prefixes=PREFIXES, use_default_graph_as_union=True)
