@@ -27,7 +27,7 @@ from cadkg.query.elimco import (
     elimco_model,
     frame_id,
 )
-from cadkg.query.services import Service, register
+from cadkg.query.services import Service, on_model, register
 
 __all__ = [
     "ELIMCO_KINDS",
@@ -345,9 +345,7 @@ register(
         "get_pin_positions",
         "bench pin poses, in the drawing frame or the pins' centroid frame",
         {"use_centroid": bool, "pin_connector_distance": float},
-        lambda s, use_centroid, pin_connector_distance=0.0, client="default": get_pin_positions(
-            model_of(s), use_centroid, pin_connector_distance
-        ),
+        on_model(get_pin_positions, model_of),
         profile="elimco",
         optional=frozenset({"pin_connector_distance"}),
     ),
@@ -355,21 +353,21 @@ register(
         "pin_frames",
         "the centroid frame and one frame per pin (two more per double pin), to publish",
         {},
-        lambda s, client="default": pin_frames(model_of(s)),
+        on_model(pin_frames, model_of),
         profile="elimco",
     ),
     Service(
         "get_cable_list",
         "the cables of the harness: connectors, length, path, cores",
         {},
-        lambda s, client="default": get_cable_list(model_of(s)),
+        on_model(get_cable_list, model_of),
         profile="elimco",
     ),
     Service(
         "get_path_positions",
         "the pin poses along the route of a cable (or path index), in the centroid frame",
         {"cable": str},
-        lambda s, cable, client="default": get_path_positions(model_of(s), cable),
+        on_model(get_path_positions, model_of),
         profile="elimco",
     ),
 )

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from cadkg.query import elvez
 from cadkg.query.cursors import Session
-from cadkg.query.services import Service, register
+from cadkg.query.services import Service, on_model, register
 
 __all__: list[str] = []
 
@@ -24,7 +24,7 @@ register(
         "guide_info",
         "a guide's CAD ID, dimensions, origin, key and key corner frames (robot base or 'frame'), key size",
         {"name": str, "frame": str},
-        lambda s, name, frame="", client="default": elvez.guide_info(model_of(s), name, frame),
+        on_model(elvez.guide_info, model_of),
         profile=PROFILE,
         optional=frozenset({"frame"}),
     ),
@@ -32,56 +32,56 @@ register(
         "cable_info",
         "a cable's colour, length, diameter, harness, connector and cavity indices",
         {"name": str},
-        lambda s, name, client="default": elvez.cable_info(model_of(s), name),
+        on_model(elvez.cable_info, model_of),
         profile=PROFILE,
     ),
     Service(
         "con_info",
         "a connector's colour, dimensions, harness and cables",
         {"name": str},
-        lambda s, name, client="default": elvez.con_info(model_of(s), name),
+        on_model(elvez.con_info, model_of),
         profile=PROFILE,
     ),
     Service(
         "wh_info",
         "a wire harness's main connector and branches (connector and cables of each)",
         {"number": int},
-        lambda s, number, client="default": elvez.wh_info(model_of(s), number),
+        on_model(elvez.wh_info, model_of),
         profile=PROFILE,
     ),
     Service(
         "all_tools",
         "the names of every tool",
         {},
-        lambda s, client="default": elvez.all_tools(model_of(s)),
+        on_model(elvez.all_tools, model_of),
         profile=PROFILE,
     ),
     Service(
         "tool_info",
         "a tool's ATC slot, base-to-wrist and wrist-to-action frames and dimensions",
         {"name": str},
-        lambda s, name, client="default": elvez.tool_info(model_of(s), name),
+        on_model(elvez.tool_info, model_of),
         profile=PROFILE,
     ),
     Service(
         "all_op",
         "every operation of the action plan: type, spots, components, tool",
         {},
-        lambda s, client="default": elvez.all_op(model_of(s)),
+        on_model(elvez.all_op, model_of),
         profile=PROFILE,
     ),
     Service(
         "index_op",
         "one operation of the action plan by its index (1-based)",
         {"index": int},
-        lambda s, index, client="default": elvez.index_op(model_of(s), index),
+        on_model(elvez.index_op, model_of),
         profile=PROFILE,
     ),
     Service(
         "wh_routes",
         "each cable of a harness: from and to connector cavity, guides it is routed through, tape spots",
         {"number": int},
-        lambda s, number, client="default": elvez.wh_routes(model_of(s), number),
+        on_model(elvez.wh_routes, model_of),
         profile=PROFILE,
     ),
 )

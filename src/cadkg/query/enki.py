@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from cadkg.query.cursors import Session
-from cadkg.query.services import Service, register
+from cadkg.query.services import Service, on_model, register
 
 __all__ = ["HoseInfoResult", "HoseRecord", "hose_info", "hose_model"]
 
@@ -98,7 +98,7 @@ register(
         "hose_info",
         "diameter, length, material and bend radius of a hose product",
         {"product": str},
-        lambda s, product, client="default": hose_info(_hoses(s), product),
+        on_model(hose_info, _hoses),
         profile="enki",
     )
 )

@@ -24,7 +24,16 @@ from cadkg.errors import QueryError
 from cadkg.query import iema
 from cadkg.query.cursors import Session
 
-__all__ = ["SERVICES", "Service", "call", "parse_pose", "register", "services_for", "to_jsonable"]
+__all__ = [
+    "SERVICES",
+    "Service",
+    "call",
+    "on_model",
+    "parse_pose",
+    "register",
+    "services_for",
+    "to_jsonable",
+]
 
 
 @dataclass(frozen=True)
@@ -93,8 +102,22 @@ _CONVERT: dict[type, Callable[[str], Any]] = {
 }
 
 
+def on_model(fn: Callable[..., Any], model_of: Callable[[Session], Any]) -> Callable[..., Any]:
+    """The ``run`` of a service answered by ``fn(model, **params)`` without cursors: ``model_of``
+    picks the model from the session (the cabinet's, or a profile's built on first use)."""
+
+    def run(session: Session, client: str = "default", **params: Any) -> Any:
+        return fn(model_of(session), **params)
+
+    return run
+
+
+def _cabinet(session: Session) -> Any:
+    return session.model
+
+
 def _label(fn: Callable[..., Any]) -> Callable[..., Any]:
-    return lambda s, label, client="default": fn(s.model, label)
+    return on_model(fn, _cabinet)
 
 
 SERVICES: dict[str, Service] = {
@@ -116,9 +139,7 @@ SERVICES: dict[str, Service] = {
             "get_item_screw_service",
             "screws and holes re-expressed from a detected component pose",
             {"label": str, "detected_pose": Pose},
-            lambda s, label, detected_pose, client="default": iema.get_item_screw_service(
-                s.model, label, detected_pose
-            ),
+            on_model(iema.get_item_screw_service, _cabinet),
         ),
         Service(
             "get_terminal_data",

@@ -20,7 +20,7 @@ from cadkg.errors import NotFound, QueryError
 from cadkg.query.cursors import Session
 from cadkg.query.graphml import VIEWS, graphml_text
 from cadkg.query.harness import LIST_SEPARATOR, HarnessRef, harnesses, topology_graph, wire_graph
-from cadkg.query.services import Service, register
+from cadkg.query.services import Service, on_model, register
 
 if TYPE_CHECKING:
     from cadkg.store import KnowledgeGraph
@@ -206,7 +206,7 @@ register(
         "harness_topology",
         "a harness's nodes, segments (length, diameter, wires) and wires (cavities, route), and GraphML",
         {"harness": str, "view": str},
-        lambda s, harness="", view="topology", client="default": harness_topology(_model(s), harness, view),
+        on_model(harness_topology, _model),
         profile=PROFILE,
         optional=frozenset({"harness", "view"}),
     ),
