@@ -19,6 +19,7 @@ from pathlib import Path
 from lxml import etree
 
 from cadkg.errors import IngestError
+from cadkg.ingest.component_model import Placement
 from cadkg.ingest.text import read_text
 from cadkg.ingest.xml_input import parse_untrusted_xml
 
@@ -66,15 +67,6 @@ class Units:
 
     length: float
     angle: float
-
-
-@dataclass(frozen=True, slots=True)
-class Placement:
-    """A pose: translation in metres, fixed-axis roll, pitch, yaw in radians (REP 103)."""
-
-    xyz: tuple[float, float, float]
-    rpy: tuple[float, float, float]
-    line: int
 
 
 class XmlReader:

@@ -17,6 +17,8 @@ from functools import cache, lru_cache, singledispatch
 from pathlib import Path
 from urllib.parse import quote
 
+from cadkg.derive.frames import quaternion_from_rpy
+from cadkg.ingest.component_model import Placement
 from cadkg.ingest.connection_list import Connection, ConnectionListInfo
 from cadkg.ingest.eplan import PinRef
 from cadkg.ingest.manifest import FrameSpec, Manifest
@@ -318,6 +320,39 @@ def write_pose(
         w.add(node, _t(name), w.typed(float(value)))
     for name, value in zip(("qx", "qy", "qz", "qw"), quaternion, strict=True):
         w.add(node, _t(name), w.typed(float(value)))
+    return node
+
+
+def placement_pose(w: TripleWriter, node: str, placement: Placement, parent: str) -> str:
+    """A pose read from a file (roll, pitch, yaw) in frame ``parent``, with its line."""
+    pose = write_pose(w, node, placement.xyz, quaternion_from_rpy(*placement.rpy), parent)
+    w.add(pose, _t("sourceLine"), w.typed(placement.line))
+    return pose
+
+
+def model_node(w: TripleWriter, key: str) -> str:
+    """The commercial model ``key`` (a component model, a WRI commercial code, a model number)."""
+    node = w.iri("model", key)
+    if w.once(node):
+        w.add(node, _TYPE, _t("CommercialModel"))
+        w.add(node, _t("commercialCode"), w.text(key))
+    return node
+
+
+def connector_node(w: TripleWriter, label: str) -> str:
+    """The component ``label``, typed a connector."""
+    node = component_node(w, label)
+    if w.once(node + "#connector"):
+        w.add(node, _TYPE, _t("Connector"))
+    return node
+
+
+def cable_node(w: TripleWriter, name: str) -> str:
+    """The cable ``name``, one node whichever file mentions it."""
+    node = w.iri("cable", name)
+    if w.once(node):
+        w.add(node, _TYPE, _t("Cable"))
+        w.add(node, _t("label"), w.text(name))
     return node
 
 

@@ -8,17 +8,18 @@ keyed by the commercial code the WRI uses, and terminal pins are
 
 from __future__ import annotations
 
-from cadkg.derive.frames import quaternion_from_rpy
 from cadkg.ingest.assignments import Assignment
 from cadkg.ingest.component_list import ComponentListEntry
-from cadkg.ingest.component_model import ComponentModel, Placement
+from cadkg.ingest.component_model import ComponentModel
 from cadkg.ingest.eplan import PinRef
 from cadkg.ingest.mapping import (
     TripleWriter,
     component_node,
     frame_node,
     map_record,
+    model_node,
     pin_node,
+    placement_pose,
     term,
     write_pose,
 )
@@ -30,22 +31,8 @@ __all__: list[str] = []
 t = term
 
 
-def _placement(w: TripleWriter, node: str, placement: Placement, frame: str) -> str:
-    pose = write_pose(w, node, placement.xyz, quaternion_from_rpy(*placement.rpy), frame)
-    w.add(pose, t("sourceLine"), w.typed(placement.line))
-    return pose
-
-
-def _model_node(w: TripleWriter, key: str) -> str:
-    node = w.iri("model", key)
-    if w.once(node):
-        w.add(node, t("type"), t("CommercialModel"))
-        w.add(node, t("commercialCode"), w.text(key))
-    return node
-
-
 def _map_model(w: TripleWriter, model: ComponentModel) -> str:
-    node = _model_node(w, model.key)
+    node = model_node(w, model.key)
     if not w.once(node + "#described"):
         return node
     w.add(node, t("label"), w.text(model.code))
@@ -68,14 +55,14 @@ def _map_model(w: TripleWriter, model: ComponentModel) -> str:
         for kind, placement in (("screw", couple.screw), ("hole", couple.hole)):
             if placement is not None:
                 pose = w.iri("model", model.key, "pin", couple.name, kind)
-                w.add(pin, t(f"{kind}Pose"), _placement(w, pose, placement, frame))
+                w.add(pin, t(f"{kind}Pose"), placement_pose(w, pose, placement, frame))
     for child in model.children:
         place = w.iri("model", model.key, "child", child.name)
         w.add(node, t("hasChildPlacement"), place)
         w.add(place, t("type"), t("ModelChild"))
-        w.add(place, t("childModel"), _model_node(w, child.name))
+        w.add(place, t("childModel"), model_node(w, child.name))
         pose = w.iri("model", model.key, "child", child.name, "pose")
-        w.add(place, t("hasPose"), _placement(w, pose, child.relative, frame))
+        w.add(place, t("hasPose"), placement_pose(w, pose, child.relative, frame))
     return node
 
 
@@ -98,7 +85,7 @@ def _(record: ComponentListEntry, w: TripleWriter, source_slug: str) -> None:
     if record.quantity is not None:
         w.add(entry, t("quantity"), w.typed(record.quantity))
     if record.part_number:
-        w.add(entry, t("instanceOf"), _model_node(w, record.part_number))
+        w.add(entry, t("instanceOf"), model_node(w, record.part_number))
     for model in record.models:
         _map_model(w, model)
 
@@ -116,7 +103,7 @@ def _(record: TerminalSlot, w: TripleWriter, source_slug: str) -> None:
     w.add(block, t("hasItem"), item)
     w.add(block, t("hasTerminalItem"), item)
     if record.commercial:
-        w.add(item, t("instanceOf"), _model_node(w, record.commercial))
+        w.add(item, t("instanceOf"), model_node(w, record.commercial))
     if record.terminal is None:
         return
     w.add(item, t("terminalName"), w.text(record.terminal))

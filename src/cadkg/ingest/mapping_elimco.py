@@ -15,7 +15,8 @@ from cadkg.ingest.eplan import PinRef
 from cadkg.ingest.hose import HoseProduct
 from cadkg.ingest.mapping import (
     TripleWriter,
-    component_node,
+    cable_node,
+    connector_node,
     frame_node,
     map_record,
     pin_node,
@@ -32,24 +33,9 @@ DRAWING_FRAME = "drawing"
 t = term
 
 
-def _connector(w: TripleWriter, label: str) -> str:
-    node = component_node(w, label)
-    if w.once(node + "#connector"):
-        w.add(node, t("type"), t("Connector"))
-    return node
-
-
 def _contact(w: TripleWriter, connector: str, contact: str) -> str:
-    _connector(w, connector)
+    connector_node(w, connector)
     return pin_node(w, PinRef(connector, contact, None, f"{connector}:{contact}"))
-
-
-def _cable(w: TripleWriter, name: str) -> str:
-    node = w.iri("cable", name)
-    if w.once(node):
-        w.add(node, t("type"), t("Cable"))
-        w.add(node, t("label"), w.text(name))
-    return node
 
 
 @map_record.register
@@ -68,7 +54,7 @@ def _(record: CableListHarness, w: TripleWriter, source_slug: str) -> None:
 @map_record.register
 def _(record: CableListWire, w: TripleWriter, source_slug: str) -> None:
     wire = w.iri("wire", record.name)
-    cable = _cable(w, record.cable)
+    cable = cable_node(w, record.cable)
     if w.once(cable + "#harness"):
         w.add(cable, t("partOf"), w.iri("harness", record.harness))
     w.add(wire, t("type"), t("Wire"))
@@ -93,7 +79,7 @@ def _(record: CableListWire, w: TripleWriter, source_slug: str) -> None:
 @map_record.register
 def _(record: ShieldTermination, w: TripleWriter, source_slug: str) -> None:
     node = w.iri("shield", record.name)
-    cable = _cable(w, record.cable)
+    cable = cable_node(w, record.cable)
     if w.once(cable + "#harness"):
         w.add(cable, t("partOf"), w.iri("harness", record.harness))
     w.add(node, t("type"), t("ShieldTermination"))
@@ -127,9 +113,9 @@ def _(record: BenchPinSpec, w: TripleWriter, source_slug: str) -> None:
 
 @map_record.register
 def _(record: RouteCable, w: TripleWriter, source_slug: str) -> None:
-    cable = _cable(w, record.name)
-    w.add(cable, t("initialConnector"), _connector(w, record.initial))
-    w.add(cable, t("finalConnector"), _connector(w, record.final))
+    cable = cable_node(w, record.name)
+    w.add(cable, t("initialConnector"), connector_node(w, record.initial))
+    w.add(cable, t("finalConnector"), connector_node(w, record.final))
     if record.length_m is not None:
         w.add(cable, t("lengthM"), w.typed(record.length_m))
     w.add(cable, t("sourceLine"), w.typed(record.line))
@@ -139,7 +125,7 @@ def _(record: RouteCable, w: TripleWriter, source_slug: str) -> None:
 def _(record: RoutePathSpec, w: TripleWriter, source_slug: str) -> None:
     index = str(record.index)
     path = w.iri("route", index)
-    cable = _cable(w, record.cable)
+    cable = cable_node(w, record.cable)
     w.add(path, t("type"), t("RoutePath"))
     w.add(path, t("label"), w.text(index))
     w.add(path, t("routeOf"), cable)

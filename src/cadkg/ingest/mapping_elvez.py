@@ -16,22 +16,23 @@ from __future__ import annotations
 from collections.abc import Sequence
 from decimal import Decimal
 
-from cadkg.derive.frames import quaternion_from_rpy
 from cadkg.ingest.action_plan import PlannedOperation
 from cadkg.ingest.elvez_models import ElementModel
 from cadkg.ingest.elvez_tools import ToolSpec
-from cadkg.ingest.elvez_xml import Placement
 from cadkg.ingest.eplan import PinRef
 from cadkg.ingest.harness_components import HarnessComponent
 from cadkg.ingest.harness_structure import HarnessSpec
 from cadkg.ingest.mapping import (
     TripleWriter,
+    cable_node,
     component_node,
+    connector_node,
     frame_node,
     map_record,
+    model_node,
     pin_node,
+    placement_pose,
     term,
-    write_pose,
 )
 
 __all__ = ["OPERATION_CLASSES"]
@@ -44,20 +45,6 @@ OPERATION_CLASSES = {"insert": "InsertOperation", "route": "RouteOperation", "ta
 _ANY_URI = "http://www.w3.org/2001/XMLSchema#anyURI"
 
 
-def _pose(w: TripleWriter, node: str, placement: Placement, parent: str) -> str:
-    pose = write_pose(w, node, placement.xyz, quaternion_from_rpy(*placement.rpy), parent)
-    w.add(pose, t("sourceLine"), w.typed(placement.line))
-    return pose
-
-
-def _model(w: TripleWriter, number: str) -> str:
-    node = w.iri("model", number)
-    if w.once(node):
-        w.add(node, t("type"), t("CommercialModel"))
-        w.add(node, t("commercialCode"), w.text(number))
-    return node
-
-
 def _dimensions(w: TripleWriter, node: str, sizes: Sequence[float | Decimal]) -> None:
     for name, value in zip(("xDim", "yDim", "zDim"), sizes, strict=True):
         w.add(node, t(name), w.typed(float(value)))
@@ -65,7 +52,7 @@ def _dimensions(w: TripleWriter, node: str, sizes: Sequence[float | Decimal]) ->
 
 @map_record.register
 def _(record: ElementModel, w: TripleWriter, source_slug: str) -> None:
-    node = _model(w, record.number)
+    node = model_node(w, record.number)
     w.add(node, t("sourceLine"), w.typed(record.line))
     if record.description:
         w.add(node, t("description"), w.text(record.description))
@@ -81,7 +68,7 @@ def _(record: ElementModel, w: TripleWriter, source_slug: str) -> None:
         w.add(keypoint, t("label"), w.text(poi.name))
         w.add(keypoint, t("sourceLine"), w.typed(poi.placement.line))
         pose = w.iri("model", record.number, "keypoint", poi.name, "pose")
-        w.add(keypoint, t("hasPose"), _pose(w, pose, poi.placement, frame))
+        w.add(keypoint, t("hasPose"), placement_pose(w, pose, poi.placement, frame))
     if record.key is not None:
         w.add(node, t("keyLength"), w.typed(record.key.length))
         w.add(node, t("keyGap"), w.typed(record.key.gap))
@@ -97,31 +84,18 @@ def _(record: ElementModel, w: TripleWriter, source_slug: str) -> None:
             w.add(mesh, t("description"), w.text(f"from {record.mesh_file}"))
 
 
-def _connector(w: TripleWriter, name: str) -> str:
-    node = component_node(w, name)
-    if w.once(node + "#connector"):
-        w.add(node, t("type"), t("Connector"))
-    return node
-
-
-def _cable(w: TripleWriter, name: str) -> str:
-    node = w.iri("cable", name)
-    if w.once(node):
-        w.add(node, t("type"), t("Cable"))
-        w.add(node, t("label"), w.text(name))
-    return node
-
-
 @map_record.register
 def _(record: HarnessComponent, w: TripleWriter, source_slug: str) -> None:
     if record.kind == "cable":
-        node = _cable(w, record.name)
+        node = cable_node(w, record.name)
         if record.diameter_m is not None:
             w.add(node, t("diameterM"), w.typed(float(record.diameter_m)))
         if record.length_m is not None:
             w.add(node, t("lengthM"), w.typed(record.length_m))
     else:
-        node = _connector(w, record.name) if record.kind == "connector" else component_node(w, record.name)
+        node = (
+            connector_node(w, record.name) if record.kind == "connector" else component_node(w, record.name)
+        )
         if record.kind == "capacitor":
             w.add(node, t("type"), t("Capacitor"))
         if record.dimensions_m is not None:
@@ -141,7 +115,7 @@ def _end(w: TripleWriter, connector: str, pin: int) -> str:
         w.add(node, t("inCavity"), cavity)
         w.add(cavity, t("type"), t("Cavity"))
         w.add(cavity, t("pinIndex"), w.typed(pin))
-        w.add(_connector(w, connector), t("hasCavity"), cavity)
+        w.add(connector_node(w, connector), t("hasCavity"), cavity)
     return node
 
 
@@ -149,7 +123,7 @@ def _end(w: TripleWriter, connector: str, pin: int) -> str:
 def _(record: HarnessSpec, w: TripleWriter, source_slug: str) -> None:
     number = str(record.number)
     harness = w.iri("harness", number)
-    main = _connector(w, record.main_connector)
+    main = connector_node(w, record.main_connector)
     w.add(harness, t("type"), t("Harness"))
     w.add(harness, t("label"), w.text(f"WH{number}"))
     w.add(harness, t("harnessNumber"), w.typed(record.number))
@@ -162,9 +136,9 @@ def _(record: HarnessSpec, w: TripleWriter, source_slug: str) -> None:
         w.add(branch, t("type"), t("Branch"))
         w.add(branch, t("label"), w.text(f"WH{number}/{spec.connector}"))
         w.add(branch, t("sourceLine"), w.typed(spec.line))
-        w.add(branch, t("hasConnector"), _connector(w, spec.connector))
+        w.add(branch, t("hasConnector"), connector_node(w, spec.connector))
         for cable_spec in spec.cables:
-            cable = _cable(w, cable_spec.name)
+            cable = cable_node(w, cable_spec.name)
             w.add(branch, t("containsCable"), cable)
             w.add(cable, t("partOf"), harness)
             w.add(cable, t("sourceLine"), w.typed(cable_spec.line))
@@ -195,7 +169,9 @@ def _(record: ToolSpec, w: TripleWriter, source_slug: str) -> None:
         (wrist, "wrist", record.base_to_wrist, base),
         (action, "action", record.wrist_to_action, wrist),
     ):
-        w.add(frame, t("hasPose"), _pose(w, w.iri("pose", f"{record.name}_{name}"), placement, parent))
+        w.add(
+            frame, t("hasPose"), placement_pose(w, w.iri("pose", f"{record.name}_{name}"), placement, parent)
+        )
 
 
 @map_record.register
