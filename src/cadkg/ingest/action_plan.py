@@ -13,7 +13,15 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cadkg.errors import IngestError
-from cadkg.ingest.text import Row, find_header, read_text
+from cadkg.ingest.text import (
+    Row,
+    check_columns,
+    find_header,
+    first_line,
+    named_columns,
+    read_text,
+    split_cells,
+)
 
 __all__ = ["OPERATION_TYPES", "PlannedOperation", "looks_like_action_plan", "read_action_plan"]
 
@@ -38,19 +46,12 @@ class PlannedOperation:
 
 def looks_like_action_plan(head: bytes) -> bool:
     """Whether the first non-empty line names the columns index, operation, components and spots."""
-    text = head.decode("utf-8", errors="replace").removeprefix("\ufeff")
-    first = next((line for line in text.splitlines() if line.strip()), "")
-    cells = {c.strip().strip('"').lower() for c in re.split(r"[\t;,]", first)}
+    cells = {c.lower() for c in split_cells(first_line(head))}
     return {"index", "operation", "components", "spots"} <= cells
 
 
 def _columns(row: Row) -> dict[str, int]:
-    columns: dict[str, int] = {}
-    for index, cell in enumerate(row.cells):
-        name = cell.strip().lower()
-        if name in _COLUMNS:
-            columns.setdefault(name, index)
-    return columns
+    return named_columns(row, _COLUMNS)
 
 
 def read_action_plan(path: str | Path) -> list[PlannedOperation]:
@@ -68,14 +69,7 @@ def read_action_plan(path: str | Path) -> list[PlannedOperation]:
         text, path, _columns, lambda c: {"index", "operation"} <= c.keys(), _EXPECTED, scan_rows=5
     )
     head = rows[header]
-    unknown = [c.strip() for c in head.cells if c.strip() and c.strip().lower() not in _COLUMNS]
-    if unknown:
-        raise IngestError(
-            path, "unknown column", line=head.line, found=unknown[0], expected=", ".join(_COLUMNS)
-        )
-    missing = [c for c in _COLUMNS if c not in columns]
-    if missing:
-        raise IngestError(path, f"missing column {missing[0]!r}", line=head.line, expected=_EXPECTED)
+    check_columns(path, head, columns, _COLUMNS, _COLUMNS, _EXPECTED)
     operations: list[PlannedOperation] = []
     for row in rows[header + 1 :]:
         if row.is_blank:

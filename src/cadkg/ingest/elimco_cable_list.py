@@ -29,7 +29,7 @@ from typing import NoReturn
 
 from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.sheet import SHEET_SUFFIXES, cell_address, cell_text, read_sheet
-from cadkg.ingest.text import iter_rows, parse_decimal, read_text
+from cadkg.ingest.text import first_line, iter_rows, parse_decimal, read_text
 
 __all__ = [
     "CableListEnd",
@@ -193,8 +193,7 @@ def looks_like_cable_list(head: bytes) -> bool:
     """
     if head.startswith(_ZIP_ENTRY):
         return {_key(s) for s in workbook_strings(head)} >= _SNIFF_KEYS
-    text = head.decode("utf-8", errors="replace").removeprefix("\ufeff")
-    first = next((line for line in text.splitlines() if line.strip()), "")
+    first = first_line(head)
     return any({_key(c) for c in first.split(d)} >= _SNIFF_KEYS for d in ("\t", ";", ","))
 
 

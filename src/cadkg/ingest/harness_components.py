@@ -13,7 +13,16 @@ from decimal import Decimal
 from pathlib import Path
 
 from cadkg.errors import IngestError
-from cadkg.ingest.text import Row, find_header, parse_decimal, read_text
+from cadkg.ingest.text import (
+    Row,
+    check_columns,
+    find_header,
+    first_line,
+    named_columns,
+    parse_decimal,
+    read_text,
+    split_cells,
+)
 
 __all__ = ["COMPONENT_KINDS", "HarnessComponent", "looks_like_harness_components", "read_harness_components"]
 
@@ -56,19 +65,11 @@ class HarnessComponent:
 
 def looks_like_harness_components(head: bytes) -> bool:
     """Whether the first non-empty line names the columns name, type, red, green and blue."""
-    text = head.decode("utf-8", errors="replace").removeprefix("\ufeff")
-    first = next((line for line in text.splitlines() if line.strip()), "")
-    cells = {c.strip().strip('"').lower() for c in re.split(r"[\t;,]", first)}
-    return cells >= _SIGNATURE
+    return {c.lower() for c in split_cells(first_line(head))} >= _SIGNATURE
 
 
 def _columns(row: Row) -> dict[str, int]:
-    columns: dict[str, int] = {}
-    for index, cell in enumerate(row.cells):
-        name = cell.strip().lower()
-        if name in _COLUMNS:
-            columns.setdefault(name, index)
-    return columns
+    return named_columns(row, _COLUMNS)
 
 
 def read_harness_components(path: str | Path) -> list[HarnessComponent]:
@@ -84,14 +85,7 @@ def read_harness_components(path: str | Path) -> list[HarnessComponent]:
     text = read_text(path, expected=_EXPECTED)
     rows, header, columns = find_header(text, path, _columns, _SIGNATURE.issubset, _EXPECTED, scan_rows=5)
     head = rows[header]
-    unknown = [c.strip() for c in head.cells if c.strip() and c.strip().lower() not in _COLUMNS]
-    if unknown:
-        raise IngestError(
-            path, "unknown column", line=head.line, found=unknown[0], expected=", ".join(_COLUMNS)
-        )
-    missing = [c for c in _REQUIRED if c not in columns]
-    if missing:
-        raise IngestError(path, f"missing column {missing[0]!r}", line=head.line, expected=_EXPECTED)
+    check_columns(path, head, columns, _COLUMNS, _REQUIRED, _EXPECTED)
     components: list[HarnessComponent] = []
     seen: dict[str, int] = {}
     for row in rows[header + 1 :]:

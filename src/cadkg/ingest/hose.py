@@ -20,7 +20,7 @@ from decimal import Decimal
 from pathlib import Path
 
 from cadkg.errors import IngestError
-from cadkg.ingest.text import Row, iter_rows, parse_decimal, read_text
+from cadkg.ingest.text import Row, first_line, iter_rows, parse_decimal, read_text
 
 __all__ = ["HoseProduct", "looks_like_hose_table", "read_hoses"]
 
@@ -161,8 +161,7 @@ def _hose(path: str | Path, row: Row, columns: dict[str, tuple[int, str | None]]
 
 def looks_like_hose_table(head: bytes) -> bool:
     """Whether the first non-empty line names a product and a diameter with its unit."""
-    text = head.decode("utf-8", errors="replace").removeprefix("\ufeff")
-    first = next((line for line in text.splitlines() if line.strip()), "")
+    first = first_line(head)
     for delimiter in ("\t", ";", ","):
         fields = {known[0] for c in first.split(delimiter) if (known := _column(c)) is not None}
         if {"product", "diameter"} <= fields:

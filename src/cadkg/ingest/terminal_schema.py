@@ -17,7 +17,7 @@ from pathlib import Path
 from cadkg.errors import IngestError
 from cadkg.ingest.eplan import normalize_label
 from cadkg.ingest.sheet import SHEET_SUFFIXES, cell_address, cell_text, read_sheet
-from cadkg.ingest.text import iter_rows, read_text
+from cadkg.ingest.text import first_line, iter_rows, read_text, split_cells
 
 __all__ = ["TerminalSlot", "looks_like_terminal_schema", "read_terminal_schema"]
 
@@ -91,9 +91,7 @@ def looks_like_terminal_schema(head: bytes) -> bool:
     Workbooks are compressed, so their first bytes say nothing: an XLSX or ODS whose
     suffix another kind also claims needs its kind in the manifest.
     """
-    text = head.decode("utf-8", errors="replace").removeprefix("\ufeff")
-    first = next((line for line in text.splitlines() if line.strip()), "")
-    meanings = {_meaning(c.strip().strip('"')) for c in re.split(r"[\t;,]", first)}
+    meanings = {_meaning(c) for c in split_cells(first_line(head))}
     return {"block", "cad_id"} <= meanings
 
 

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import csv
 import io
+import re
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from itertools import islice
@@ -19,7 +20,18 @@ from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
 
-__all__ = ["Row", "decode_text", "find_header", "iter_rows", "parse_decimal", "read_text"]
+__all__ = [
+    "Row",
+    "check_columns",
+    "decode_text",
+    "find_header",
+    "first_line",
+    "iter_rows",
+    "named_columns",
+    "parse_decimal",
+    "read_text",
+    "split_cells",
+]
 
 _BOM = b"\xef\xbb\xbf"
 _CONTROL_OK = {"\t", "\n", "\r", "\f"}
@@ -182,3 +194,50 @@ def find_header(
         raise IngestError(path, "no header row found in the first lines", line=1, expected=expected)
     _, delimiter, position, columns = best
     return list(iter_rows(text, delimiter, path)), position, columns
+
+
+_SNIFF_DELIMITERS = re.compile(r"[\t;,]")
+
+
+def first_line(head: bytes) -> str:
+    """The first non-empty line of a file's first bytes (BOM dropped): what sniffers read."""
+    text = head.decode("utf-8", errors="replace").removeprefix("\ufeff")
+    return next((line for line in text.splitlines() if line.strip()), "")
+
+
+def split_cells(line: str) -> list[str]:
+    """A header line's cells, split on tab, semicolon or comma, stripped and unquoted."""
+    return [c.strip().strip('"') for c in _SNIFF_DELIMITERS.split(line)]
+
+
+def named_columns(row: Row, known: Sequence[str]) -> dict[str, int]:
+    """Column name (lower case, one of ``known``) → its first index in a header row."""
+    columns: dict[str, int] = {}
+    for index, cell in enumerate(row.cells):
+        name = cell.strip().lower()
+        if name in known:
+            columns.setdefault(name, index)
+    return columns
+
+
+def check_columns(
+    path: str | Path,
+    head: Row,
+    columns: Mapping[str, int],
+    known: Sequence[str],
+    required: Sequence[str],
+    expected: str,
+) -> None:
+    """Refuse a header with a column not in ``known`` or without one of ``required``.
+
+    Raises
+    ------
+    IngestError
+        At the header's line, naming the first unknown or missing column.
+    """
+    unknown = [c.strip() for c in head.cells if c.strip() and c.strip().lower() not in known]
+    if unknown:
+        raise IngestError(path, "unknown column", line=head.line, found=unknown[0], expected=", ".join(known))
+    missing = [c for c in required if c not in columns]
+    if missing:
+        raise IngestError(path, f"missing column {missing[0]!r}", line=head.line, expected=expected)
