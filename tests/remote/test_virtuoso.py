@@ -31,9 +31,9 @@ from cadkg.query.services import call, services_for, to_jsonable
 from cadkg.remote import Auth, RemoteGraph
 from cadkg.store import KnowledgeGraph, QueryResult
 from tests.conftest import IEMA, ROOT
+from tests.remote.virtuoso import running_virtuoso
 from tests.test_cli import run
 
-SCRIPT = ROOT / "scripts" / "virtuoso.sh"
 # Sample parameters of the named queries: values of the IEMA cell (others answer nothing there).
 SAMPLES = {
     "label": "F1500.1",
@@ -57,22 +57,8 @@ COUNTS = "SELECT ?g (COUNT(*) AS ?n) WHERE { GRAPH ?g { ?s ?p ?o } } GROUP BY ?g
 
 @pytest.fixture(scope="module")
 def virtuoso(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, str]]:
-    directory = tmp_path_factory.mktemp("virtuoso")
-    started = subprocess.run(
-        ["bash", str(SCRIPT), "start", str(directory)],
-        capture_output=True,
-        text=True,
-        timeout=600,
-        check=False,
-    )
-    if started.returncode == 3:
-        pytest.skip(f"Virtuoso cannot be installed here: {started.stderr.strip()}")
-    assert started.returncode == 0, started.stderr
-    env = dict(line.split("=", 1) for line in started.stdout.splitlines() if "=" in line)
-    try:
+    with running_virtuoso(tmp_path_factory.mktemp("virtuoso")) as env:
         yield env
-    finally:
-        subprocess.run(["bash", str(SCRIPT), "stop", str(directory)], capture_output=True, timeout=60)
 
 
 @pytest.fixture(scope="module")

@@ -17,30 +17,26 @@ from typing import Any
 import pytest
 from cadkg_interfaces import srv
 
+from tests.remote.virtuoso import running_virtuoso
 from tests.ros.live.conftest import ROOT, Server, wait_for
 
-SCRIPT = ROOT / "scripts" / "virtuoso.sh"
 NAMESPACE = "/remote_iema"
 
 
 @pytest.fixture(scope="module")
 def remote_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Server, Any]]:
+    directory = tmp_path_factory.mktemp("virtuoso")
+    with running_virtuoso(directory) as env:
+        yield from _serve_pushed_store(tmp_path_factory, directory, env)
+
+
+def _serve_pushed_store(
+    tmp_path_factory: pytest.TempPathFactory, directory: Path, env: dict[str, str]
+) -> Iterator[tuple[Server, Any]]:
     from cadkg.query.cursors import Session
     from cadkg.query.services import call
     from cadkg.store import KnowledgeGraph
 
-    directory = tmp_path_factory.mktemp("virtuoso")
-    started = subprocess.run(
-        ["bash", str(SCRIPT), "start", str(directory)],
-        capture_output=True,
-        text=True,
-        timeout=600,
-        check=False,
-    )
-    if started.returncode == 3:
-        pytest.skip(f"Virtuoso cannot be installed here: {started.stderr.strip()}")
-    assert started.returncode == 0, started.stderr
-    env = dict(line.split("=", 1) for line in started.stdout.splitlines() if "=" in line)
     credentials = f"{env['VIRTUOSO_USER']}:{env['VIRTUOSO_PASSWORD']}"
     store = tmp_path_factory.mktemp("iema") / "store"
     manifest = ROOT / "examples" / "iema-switchgear" / "manifest.toml"
@@ -64,7 +60,6 @@ def remote_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Se
         yield server, expected
     finally:
         server.stop()
-        subprocess.run(["bash", str(SCRIPT), "stop", str(directory)], capture_output=True, timeout=60)
 
 
 def test_cad_service_from_the_remote_store_equals_the_embedded_answer(
