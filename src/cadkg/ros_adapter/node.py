@@ -54,7 +54,9 @@ def srv_type(name: str) -> Any:
     return getattr(module, convert.srv_type_name(name))
 
 
+@functools.cache
 def _fields_of(type_name: str) -> dict[str, str]:
+    # Asked for every nested message of every response: built once per message type.
     return dict(_resolve(type_name)().get_fields_and_field_types())
 
 
