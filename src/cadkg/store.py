@@ -192,7 +192,6 @@ class KnowledgeGraph:
         if directory is None:
             kg = cls.memory()
             kg._load_sources(manifest, on_source, bulk=False)
-            kg.derive()
             return kg
         return cls._build_into(manifest, Path(directory), on_source)
 
@@ -211,9 +210,8 @@ class KnowledgeGraph:
             kg = cls(store, directory)
             kg._files_dir = generation / _FILES
             kg._load_ontology()
-            reports = kg._load_sources(manifest, on_source, bulk=True)
-            kg._keep_edits(directory, manifest.cell.base_iri)
-            kg.derive()
+            edits = kg._keep_edits(directory, manifest.cell.base_iri)
+            reports = kg._load_sources(manifest, on_source, bulk=True, edits=edits)
             store.flush()
             store.optimize()
             del kg, store
@@ -231,8 +229,21 @@ class KnowledgeGraph:
         return opened
 
     def _load_sources(
-        self, manifest: Manifest, on_source: Callable[[SourceSpec], None] | None, *, bulk: bool
+        self,
+        manifest: Manifest,
+        on_source: Callable[[SourceSpec], None] | None,
+        *,
+        bulk: bool,
+        edits: Iterable[tuple[str, str]] = (),
     ) -> list[SourceReport]:
+        """Load every source, derive the geometry and load it; the store ends complete."""
+        from cadkg.derive.cabinet import derive_cell
+        from cadkg.derive.collect import InputCollector
+        from cadkg.derive.emit import derived_ntriples
+
+        collector = InputCollector(manifest)
+        collector.add_edits(edits)
+        model = None
         # A failure anywhere discards the whole store being built, so chunks of a file may be
         # loaded while the rest of it is still being mapped. On disk, one bulk load per file:
         # bulk-loading many chunks writes many small tables that cost more to merge.
@@ -242,6 +253,15 @@ class KnowledgeGraph:
                 loader.put(data.graph, data.ntriples)
                 self._write_files(data.files)
                 self.reports.append(data.report)
+                collector.add(data.report.rel_path, data.records)
+            if collector.complete:
+                # Derived while the loader thread is still indexing the sources.
+                model = derive_cell(collector.inputs())
+                loader.put(model.base + "derived", derived_ntriples(model, model.base))
+        if model is None:
+            self.derive()
+        else:
+            self._model = model
         return list(self.reports)
 
     def _load_ontology(self) -> None:
@@ -249,19 +269,30 @@ class KnowledgeGraph:
             path=ontology_path(), format=ox.RdfFormat.TURTLE, to_graph=ox.NamedNode(ONTOLOGY_IRI)
         )
 
-    def _keep_edits(self, directory: Path, base_iri: str) -> None:
+    def _keep_edits(self, directory: Path, base_iri: str) -> list[tuple[str, str]]:
+        """Carry the live generation's hand-edited assignments over; give (target, performer) pairs."""
         # Assignments edited by hand live in their own graph; a rebuild from the
         # source files carries them over from the live generation.
         previous = _read_pointer(directory)
         if previous is None or not (directory / previous).is_dir():
-            return
+            return []
         graph = ox.NamedNode(base_iri + "assignments")
         try:
             old = ox.Store.read_only(str(directory / previous))
         except OSError:
-            return
-        self._store.extend(list(old.quads_for_pattern(None, None, None, graph)))
+            return []
+        quads = list(old.quads_for_pattern(None, None, None, graph))
         del old
+        self._store.extend(quads)
+        by_node: dict[str, dict[str, str]] = {}
+        for q in quads:
+            if isinstance(q.object, ox.NamedNode):
+                by_node.setdefault(str(q.subject), {})[q.predicate.value] = q.object.value
+        return [
+            (props[CK_NS + "assignmentOf"], props[CK_NS + "assignedTo"].rsplit("#", 1)[-1])
+            for props in by_node.values()
+            if CK_NS + "assignmentOf" in props and CK_NS + "assignedTo" in props
+        ]
 
     @property
     def generation(self) -> str | None:

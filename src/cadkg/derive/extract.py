@@ -153,7 +153,7 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
         meshes=meshes,
         models=_models(kg),
         blocks=_blocks(kg),
-        pins=_pins(kg) if wiring else {},
+        pins=_pins(kg, base) if wiring else {},
         wires=_wires(kg) if wiring else [],
         assignments=[
             (row["g"], row["target"], row["who"].rsplit("#", 1)[-1])
@@ -208,7 +208,9 @@ def _blocks(kg: KnowledgeGraph) -> dict[str, list[tuple[int, str, str | None]]]:
     return dict(blocks)
 
 
-def _pins(kg: KnowledgeGraph) -> dict[str, PinInfo]:
+def _pins(kg: KnowledgeGraph, base: str) -> dict[str, PinInfo]:
+    # Pins the derivation itself added (a model's pins no wire names) are its output, not input.
+    derived = base + "derived/"
     return {
         row["pin"]: PinInfo(row["pin"], row["label"], row["name"], row["level"], row["item"])
         for row in kg.query(
@@ -216,6 +218,7 @@ def _pins(kg: KnowledgeGraph) -> dict[str, PinInfo]:
                  ?pin a ck:Pin ; ck:pinOf/ck:label ?label ; ck:pinName ?name .
                  OPTIONAL { ?pin ck:level ?level } OPTIONAL { ?pin ck:onItem/ck:cadId ?item } }"""
         )
+        if not row["pin"].startswith(derived)
     }
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -41,12 +41,13 @@ class SourceReport:
 
 @dataclass(frozen=True)
 class GraphData:
-    """The N-Triples of one named graph and the report of the file it came from."""
+    """The N-Triples of one named graph, the records they map and the report of the file."""
 
     graph: str
     ntriples: bytes
     report: SourceReport
     files: dict[str, bytes] = field(default_factory=dict)
+    records: Sequence[object] = ()
 
 
 def read_source(
@@ -97,7 +98,7 @@ def read_source(
     if sink is not None:
         sink(graph, ntriples)
         ntriples = b""
-    return GraphData(graph=graph, ntriples=ntriples, report=report, files=writer.files)
+    return GraphData(graph=graph, ntriples=ntriples, report=report, files=writer.files, records=records)
 
 
 def manifest_graph(manifest: Manifest) -> GraphData:
