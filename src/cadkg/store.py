@@ -249,11 +249,13 @@ class KnowledgeGraph:
         # bulk-loading many chunks writes many small tables that cost more to merge.
         with BackgroundLoader(self._store, bulk=bulk) as loader:
             sink = None if bulk else loader.put
-            for data in read_manifest_graphs(manifest, on_source, sink=sink):
+            graphs = read_manifest_graphs(
+                manifest, on_source, sink=sink, on_record=lambda source: collector.source(source.rel)
+            )
+            for data in graphs:
                 loader.put(data.graph, data.ntriples)
                 self._write_files(data.files)
                 self.reports.append(data.report)
-                collector.add(data.report.rel_path, data.records)
             if collector.complete:
                 # Derived while the loader thread is still indexing the sources.
                 model = derive_cell(collector.inputs())

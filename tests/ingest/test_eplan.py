@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import random
+import re
 from decimal import Decimal
 
 import pytest
@@ -120,3 +122,32 @@ def test_iter_rows_reports_the_start_line_of_multi_line_records() -> None:
     assert Row(4, ()).is_blank
     assert Row(5, (" q ",)).cell(0) == "q"
     assert Row(5, ("q",)).cell(3) == ""
+
+
+def _checked_parse(raw: str) -> PinRef | str:
+    """The reference as the step-by-step checks read it, without the one-match shortcut."""
+    from cadkg.ingest import eplan
+
+    saved = eplan._PLAIN_REF
+    eplan._PLAIN_REF = re.compile(r"(?!)")  # never matches
+    try:
+        return parse_pin_ref(raw)
+    except PinSyntaxError as err:
+        return str(err)
+    finally:
+        eplan._PLAIN_REF = saved
+
+
+def test_one_match_shortcut_reads_every_reference_as_the_checks_do() -> None:
+    # Random references over the characters that matter to the syntax: the shortcut must
+    # give the same parts, or leave the reference to the checks, never differ.
+    rng = random.Random(7)
+    alphabet = "=+-:; \t" + "FX1.a" * 4
+    for _ in range(20000):
+        raw = "".join(rng.choice(alphabet) for _ in range(rng.randint(1, 12)))
+        try:
+            fast: PinRef | str = parse_pin_ref(raw)
+        except PinSyntaxError as err:
+            fast = str(err)
+        assert fast == _checked_parse(raw), raw
+    assert parse_pin_ref("=-X0030.1:1L+.2:a2") == _checked_parse("=-X0030.1:1L+.2:a2")

@@ -11,8 +11,8 @@ example cell and compare. A record type not listed makes the collector give up
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-from functools import singledispatchmethod
+from collections.abc import Callable, Iterable
+from typing import Any
 
 from cadkg.derive.extract import CellInputs, ModelInfo, PinInfo, WireInfo
 from cadkg.derive.frames import quaternion_from_rpy
@@ -70,6 +70,7 @@ class InputCollector:
         self._models: dict[str, ModelInfo] = {}
         self._blocks: dict[str, dict[tuple[int, str, str | None], None]] = {}
         self._pins: dict[str, PinInfo] = {}
+        self._pin_iris: dict[tuple[str, str, str | None], str] = {}
         self._wires: list[WireInfo] = []
         self._assignments: list[tuple[str, int | None, str, str]] = []
         self._ducts: set[str] = set()
@@ -78,13 +79,25 @@ class InputCollector:
 
     def add(self, rel: str, records: Iterable[object]) -> None:
         """The records read from source ``rel`` (its path in the manifest), in file order."""
-        if not self.complete:
-            return
-        source = _Source(rel, self._root_frames.get(rel))
+        take = self.source(rel)
         for record in records:
-            if not self._add(record, source):
-                self.complete = False
+            take(record)
+
+    def source(self, rel: str) -> Callable[[object], None]:
+        """The function that takes the records of source ``rel`` one by one, in file order."""
+        source = _Source(rel, self._root_frames.get(rel))
+        handlers = _HANDLERS
+
+        def take(record: object) -> None:
+            if not self.complete:
                 return
+            handler = handlers.get(type(record))
+            if handler is None:
+                self.complete = False
+            else:
+                handler(self, record, source)
+
+        return take
 
     def add_edits(self, edits: Iterable[tuple[str, str]]) -> None:
         """Assignments (target IRI, performer) kept in the store's edits graph."""
@@ -122,26 +135,18 @@ class InputCollector:
         )
 
     # -- one method per record type, mirroring its mapping ----------------------------
-    @singledispatchmethod
-    def _add(self, record: object, source: _Source) -> bool:
-        return False
-
-    @_add.register
-    def _(self, record: IdEntry, source: _Source) -> bool:
+    def _id_entry(self, record: IdEntry, source: _Source) -> None:
         self._item(record.label, record.cad_id)
         line = self._item_lines.get(record.cad_id)
         self._item_lines[record.cad_id] = record.line if line is None else min(line, record.line)
         if record.commercial is not None:
             self._model(record.commercial)
             self._item_model[record.cad_id] = record.commercial
-        return True
 
-    @_add.register
-    def _(self, record: ConnectionListInfo, source: _Source) -> bool:
-        return True
+    def _list_info(self, record: ConnectionListInfo, source: _Source) -> None:
+        pass
 
-    @_add.register
-    def _(self, record: Connection, source: _Source) -> bool:
+    def _connection(self, record: Connection, source: _Source) -> None:
         key = record.wire_number
         wire = node_iri(self.base, "wire", key)
         occurrence = 1
@@ -166,23 +171,17 @@ class InputCollector:
             )
         )
         self._ducts.update(record.duct_path)
-        return True
 
-    @_add.register
-    def _(self, record: ComponentModel, source: _Source) -> bool:
+    def _component_model(self, record: ComponentModel, source: _Source) -> None:
         self._describe(record, source)
-        return True
 
-    @_add.register
-    def _(self, record: ComponentListEntry, source: _Source) -> bool:
+    def _component_list_entry(self, record: ComponentListEntry, source: _Source) -> None:
         if record.part_number:
             self._model(record.part_number)
         for model in record.models:
             self._describe(model, source)
-        return True
 
-    @_add.register
-    def _(self, record: TerminalSlot, source: _Source) -> bool:
+    def _terminal_slot(self, record: TerminalSlot, source: _Source) -> None:
         self._item(record.block, record.cad_id)
         self._blocks.setdefault(record.block, {})[(record.position, record.cad_id, record.terminal)] = None
         if record.commercial:
@@ -193,10 +192,8 @@ class InputCollector:
                 iri = self._pin(PinRef(record.block, record.terminal, level, ""))
                 pin = self._pins[iri]
                 self._pins[iri] = PinInfo(pin.iri, pin.label, pin.name, pin.level, record.cad_id)
-        return True
 
-    @_add.register
-    def _(self, record: SceneItem, source: _Source) -> bool:
+    def _scene_item(self, record: SceneItem, source: _Source) -> None:
         parent = record.parent_id or source.root_frame
         self._frames[record.item_id] = (parent, _pose(record.translation, record.rotation))
         if record.bbox_min is not None and record.bbox_max is not None:
@@ -205,13 +202,10 @@ class InputCollector:
             self._bboxes[record.item_id] = (low, high)  # type: ignore[assignment]
         if record.mesh is not None:
             self._meshes[record.item_id] = f"meshes/{record.item_id}.stl"
-        return True
 
-    @_add.register
-    def _(self, record: Assignment, source: _Source) -> bool:
+    def _assignment(self, record: Assignment, source: _Source) -> None:
         target = node_iri(self.base, record.kind, record.ident)
         self._assignments.append((graph_iri(self.base, source.rel), record.line, target, record.performer))
-        return True
 
     # -- shared nodes ----------------------------------------------------------------
     def _item(self, label: str, cad_id: str) -> None:
@@ -224,10 +218,12 @@ class InputCollector:
         return model
 
     def _pin(self, ref: PinRef) -> str:
-        parts = (ref.component, ref.pin) if ref.level is None else (ref.component, ref.pin, ref.level)
-        iri = node_iri(self.base, "pin", *parts)
-        if iri not in self._pins:
-            self._pins[iri] = PinInfo(iri, ref.component, ref.pin, ref.level, None)
+        key = (ref.component, ref.pin, ref.level)
+        iri = self._pin_iris.get(key)
+        if iri is None:
+            parts = key[:2] if ref.level is None else key
+            iri = self._pin_iris[key] = node_iri(self.base, "pin", *parts)
+            self._pins.setdefault(iri, PinInfo(iri, ref.component, ref.pin, ref.level, None))
         return iri
 
     def _describe(self, record: ComponentModel, source: _Source) -> None:
@@ -248,3 +244,15 @@ class InputCollector:
         for child in record.children:
             self._model(child.name)
             model.children[child.name] = _placement(child.relative)
+
+
+_HANDLERS: dict[type, Callable[[InputCollector, Any, _Source], None]] = {
+    IdEntry: InputCollector._id_entry,
+    ConnectionListInfo: InputCollector._list_info,
+    Connection: InputCollector._connection,
+    ComponentModel: InputCollector._component_model,
+    ComponentListEntry: InputCollector._component_list_entry,
+    TerminalSlot: InputCollector._terminal_slot,
+    SceneItem: InputCollector._scene_item,
+    Assignment: InputCollector._assignment,
+}

@@ -7,7 +7,7 @@ from importlib import import_module
 from cadkg.ingest.assignments import read_assignments
 from cadkg.ingest.component_list import looks_like_component_list, read_component_list
 from cadkg.ingest.component_model import looks_like_component_models, read_component_models
-from cadkg.ingest.connection_list import read_connection_list
+from cadkg.ingest.connection_list import iter_connection_list, read_connection_list
 from cadkg.ingest.elimco_cable_list import workbook_strings
 from cadkg.ingest.registry import Reader, register
 from cadkg.ingest.terminal_schema import looks_like_terminal_schema, read_terminal_schema
@@ -36,6 +36,7 @@ register(
         kind="connection-list",
         suffixes=(".csv", ".tsv", ".txt"),
         read=read_connection_list,
+        stream=iter_connection_list,
         description="EPLAN connection list (Figure 3 form, Lista cablaggio, machine exports)",
         sniff=_looks_like_connection_list,
     )

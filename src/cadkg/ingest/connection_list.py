@@ -16,7 +16,7 @@ The row order is the operation sequence.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
+from collections.abc import Iterator
 from dataclasses import dataclass
 from decimal import Decimal
 from pathlib import Path
@@ -25,7 +25,7 @@ from cadkg.errors import IngestError
 from cadkg.ingest.eplan import PinRef, PinSyntaxError, normalize_label, parse_pin_ref
 from cadkg.ingest.text import Row, find_header, parse_decimal, read_text
 
-__all__ = ["Connection", "ConnectionListInfo", "read_connection_list"]
+__all__ = ["Connection", "ConnectionListInfo", "iter_connection_list", "read_connection_list"]
 
 _EXPECTED = (
     "a header row naming 'Componente:pin' (origin and destination), 'Numero filo', "
@@ -217,6 +217,14 @@ def read_connection_list(path: str | Path) -> list[ConnectionListInfo | Connecti
         When no header is found, a required column is missing, a number or pin
         reference is malformed, or there are no data rows; located at file:line.
     """
+    return list(iter_connection_list(path))
+
+
+def iter_connection_list(path: str | Path) -> Iterator[ConnectionListInfo | Connection]:
+    """The records of :func:`read_connection_list` one by one, as the rows are converted.
+
+    The header is checked before the first record; a malformed row raises when it is reached.
+    """
     text = read_text(path, expected=_EXPECTED)
     rows, header_at, columns = _find_header(text, path)
     header = rows[header_at]
@@ -232,38 +240,106 @@ def read_connection_list(path: str | Path) -> list[ConnectionListInfo | Connecti
         )
     header_names = {key: re.sub(r"\s+", " ", header.cells[i].strip()) for key, i in columns.items()}
     preamble = rows[:header_at]
-    records: list[ConnectionListInfo | Connection] = [
-        ConnectionListInfo(
-            project=_preamble_value(preamble, "nome progetto:") or _preamble_value(preamble, "programma"),
-            job=_preamble_value(preamble, "commessa:"),
-            header_line=header.line,
-        )
-    ]
+    yield ConnectionListInfo(
+        project=_preamble_value(preamble, "nome progetto:") or _preamble_value(preamble, "programma"),
+        job=_preamble_value(preamble, "commessa:"),
+        header_line=header.line,
+    )
+    convert = _RowConverter(path, columns, header_names)
+    index = 0
     for row in rows[header_at + 1 :]:
         if row.is_blank:
             continue
-        records.append(_connection(path, row, columns, header_names, len(records)))
-    if len(records) == 1:
+        index += 1
+        yield convert(row, index)
+    if index == 0:
         raise IngestError(
             path, "no connections after the header", line=header.line, expected="at least one data row"
         )
-    return records
 
 
-def _connection(
-    path: str | Path, row: Row, columns: dict[str, int], names: dict[str, str], index: int
-) -> Connection:
-    def text(key: str) -> str | None:
-        at = columns.get(key)
-        value = row.cell(at) if at is not None else ""
-        return value or None
+# Record fields taken as they stand in their column (stripped; empty → None).
+_TEXT_FIELDS = (
+    "colour",
+    "potential_type",
+    "potential_name",
+    "origin_termination",
+    "destination_termination",
+    "origin_page",
+    "origin_zone",
+    "destination_page",
+    "destination_zone",
+    "cable_name",
+    "job_key",
+    "origin_direction",
+    "destination_direction",
+    "bundling_side",
+)
 
-    def pin(key: str) -> PinRef:
-        raw = text(key)
+
+class _RowConverter:
+    """Turns data rows into :class:`Connection` records.
+
+    Built once per file: column positions are looked up once, and the values that
+    repeat down a list (sections, lengths, duct paths) are parsed once each.
+    """
+
+    def __init__(self, path: str | Path, columns: dict[str, int], names: dict[str, str]) -> None:
+        self.path = path
+        self.columns = columns
+        self.names = names
+        # A column the file lacks sits past every row's end, so its field reads as None.
+        self.text_columns = [(name, columns.get(name, 1 << 30)) for name in _TEXT_FIELDS]
+        self.length_key = "length_m" if "length_m" in columns else "length_mm"
+        self.numbers: dict[tuple[str, str], Decimal] = {}
+        self.ducts: dict[str, tuple[str, ...]] = {}
+
+    def cell(self, row: Row, key: str) -> str | None:
+        at = self.columns.get(key)
+        if at is None or at >= len(row.cells):
+            return None
+        return row.cells[at].strip() or None
+
+    def __call__(self, row: Row, index: int) -> Connection:
+        cells = row.cells
+        width = len(cells)
+        fields: dict[str, str | None] = {
+            name: (cells[at].strip() or None) if at < width else None for name, at in self.text_columns
+        }
+        wire_number = self.cell(row, "wire_number")
+        if wire_number is None:
+            raise IngestError(
+                self.path,
+                f"empty cell in column {self.names['wire_number']!r}",
+                line=row.line,
+                expected="a wire number such as 1500.51 or 0V",
+            )
+        ducts = self.cell(row, "duct_path")
+        duct_path = self.duct_path(ducts) if ducts else ()
+        return Connection(
+            index=index,
+            line=row.line,
+            origin=self.pin(row, "origin_pin"),
+            destination=self.pin(row, "destination_pin"),
+            wire_number=wire_number,
+            section_mm2=self.number(row, "section"),
+            length_m=self.number(row, self.length_key),
+            duct_path=duct_path,
+            **fields,
+        )
+
+    def duct_path(self, text: str) -> tuple[str, ...]:
+        path = self.ducts.get(text)
+        if path is None:
+            path = self.ducts[text] = tuple(normalize_label(d) for d in text.split(";") if d.strip())
+        return path
+
+    def pin(self, row: Row, key: str) -> PinRef:
+        raw = self.cell(row, key)
         if raw is None or raw == "-":
             raise IngestError(
-                path,
-                f"empty cell in column {names[key]!r}",
+                self.path,
+                f"empty cell in column {self.names[key]!r}",
                 line=row.line,
                 expected="a pin reference such as -F1500.1:14",
             )
@@ -271,91 +347,50 @@ def _connection(
             return parse_pin_ref(raw)
         except PinSyntaxError as err:
             raise IngestError(
-                path,
-                f"unknown pin reference in column {names[key]!r}: {err}",
+                self.path,
+                f"unknown pin reference in column {self.names[key]!r}: {err}",
                 line=row.line,
                 found=raw,
                 expected="DEVICE:PIN or DEVICE:TERMINAL:LEVEL, e.g. -F1500.1:14 or =-X1600:2:a",
             ) from None
 
-    def number(
-        key: str, unit: str, to_unit: Callable[[Decimal, str], Decimal], units: frozenset[str]
-    ) -> Decimal | None:
-        raw = text(key)
+    def number(self, row: Row, key: str) -> Decimal | None:
+        raw = self.cell(row, key)
         if raw is None:
             return None
+        value = self.numbers.get((key, raw))
+        if value is None:
+            value = self.numbers[(key, raw)] = self._parse_number(row, key, raw)
+        return value
+
+    def _parse_number(self, row: Row, key: str, raw: str) -> Decimal:
+        unit, units = ("mm²", _SECTION_UNITS) if key == "section" else (key[len("length_") :], _LENGTH_UNITS)
         try:
             value, found_unit = parse_decimal(raw)
         except ValueError:
             raise IngestError(
-                path,
-                f"not a number in column {names[key]!r}",
+                self.path,
+                f"not a number in column {self.names[key]!r}",
                 line=row.line,
                 found=raw,
                 expected=f"a number in {unit}, e.g. 1,5 or 1.5 {unit}",
             ) from None
         if found_unit and found_unit.lower() not in units:
             raise IngestError(
-                path,
-                f"wrong unit in column {names[key]!r}",
+                self.path,
+                f"wrong unit in column {self.names[key]!r}",
                 line=row.line,
                 found=raw,
                 expected=f"a number in {unit}",
             )
         if value <= 0:
             raise IngestError(
-                path,
-                f"non-positive value in column {names[key]!r}",
+                self.path,
+                f"non-positive value in column {self.names[key]!r}",
                 line=row.line,
                 found=raw,
                 expected=f"a positive number in {unit}",
             )
-        return to_unit(value, found_unit)
-
-    def section(value: Decimal, unit: str) -> Decimal:
+        if key != "section" and (found_unit or unit) == "mm":
+            return value / 1000
         return value
-
-    def metres(default: str) -> Callable[[Decimal, str], Decimal]:
-        def convert(value: Decimal, unit: str) -> Decimal:
-            return value / 1000 if (unit or default) == "mm" else value
-
-        return convert
-
-    length = (
-        number("length_m", "m", metres("m"), _LENGTH_UNITS)
-        if "length_m" in columns
-        else number("length_mm", "mm", metres("mm"), _LENGTH_UNITS)
-    )
-    ducts = text("duct_path")
-    wire_number = text("wire_number")
-    if wire_number is None:
-        raise IngestError(
-            path,
-            f"empty cell in column {names['wire_number']!r}",
-            line=row.line,
-            expected="a wire number such as 1500.51 or 0V",
-        )
-    return Connection(
-        index=index,
-        line=row.line,
-        origin=pin("origin_pin"),
-        destination=pin("destination_pin"),
-        wire_number=wire_number,
-        section_mm2=number("section", "mm²", section, _SECTION_UNITS),
-        colour=text("colour"),
-        potential_type=text("potential_type"),
-        potential_name=text("potential_name"),
-        length_m=length,
-        duct_path=tuple(normalize_label(d) for d in ducts.split(";") if d.strip()) if ducts else (),
-        origin_termination=text("origin_termination"),
-        destination_termination=text("destination_termination"),
-        origin_page=text("origin_page"),
-        origin_zone=text("origin_zone"),
-        destination_page=text("destination_page"),
-        destination_zone=text("destination_zone"),
-        cable_name=text("cable_name"),
-        job_key=text("job_key"),
-        origin_direction=text("origin_direction"),
-        destination_direction=text("destination_direction"),
-        bundling_side=text("bundling_side"),
-    )

@@ -50,9 +50,20 @@ class PinRef:
         return f"{self.component}:{self.pin}{tail}"
 
 
+# The common case in one match: ``=-``, ``-`` or nothing before a device tag that holds
+# no ``=`` or ``+``, then pin and level without white space (``=-F1500.1:14``,
+# ``-X1600:2:a``). Whatever it does not take goes through the checks below, which give
+# the same parts for everything it takes and say what is wrong otherwise.
+_PLAIN_REF = re.compile(r"(?:=?-)?([^=+\-:;\s][^=+:;\s]*):([^:;\s]+)(?::([^:;\s]+))?")
+
+
 def parse_pin_ref(raw: str) -> PinRef:
     """Parse an EPLAN pin reference; raises :class:`PinSyntaxError` when malformed."""
     text = raw.strip()
+    plain = _PLAIN_REF.fullmatch(text)
+    if plain is not None:
+        component, pin, level = plain.groups()
+        return PinRef(component=component, pin=pin, level=level, raw=text)
     device_part, sep, rest = text.partition(":")
     if not sep:
         raise PinSyntaxError("no ':' between device and pin")

@@ -10,6 +10,7 @@ value read from a file can never break out of its term.
 from __future__ import annotations
 
 import hashlib
+import re
 from collections.abc import Callable, Iterable, Sequence
 from datetime import UTC, datetime
 from decimal import Decimal
@@ -71,16 +72,30 @@ def term(name: str) -> str:
     return _TYPE if name == "type" else _t(name)
 
 
+_UNRESERVED = re.compile(r"[A-Za-z0-9_.~-]+")
+
+
 @lru_cache(maxsize=1 << 17)
-def _segment(part: str) -> str:
+def _quoted(part: str) -> str:
     # Labels and pin names repeat across wires; quoting each once pays at 100k wires.
     return quote(part, safe="")
+
+
+def _segment(part: str) -> str:
+    # Most parts (wire numbers, pin names, labels) need no quoting at all.
+    return part if _UNRESERVED.fullmatch(part) else _quoted(part)
 
 
 @lru_cache(maxsize=1 << 16)
 def _literal(value: str) -> str:
     # Colours, terminations, pages and zones repeat across thousands of wires.
     return '"' + value.translate(_ESCAPES) + '"'
+
+
+@lru_cache(maxsize=1 << 14)
+def _decimal(value: Decimal) -> str:
+    # Sections and lengths repeat down a connection list.
+    return f'"{format(value.normalize(), "f")}"^^<{_XSD}decimal>'
 
 
 def node_iri(base_iri: str, kind: str, *parts: str) -> str:
@@ -97,6 +112,9 @@ class TripleWriter:
         self.files: dict[str, bytes] = {}
         self.root_frame = "cabinet"
         self._seen: set[str] = set()
+        # Nodes every row of a big file points at, minted once per writer.
+        self.pins: dict[tuple[str, str, str | None], str] = {}
+        self.plans: dict[str, str] = {}
         self._flushed = 0
         self._sink: Callable[[bytes], None] | None = None
 
@@ -122,6 +140,10 @@ class TripleWriter:
     def add(self, s: str, p: str, o: str) -> None:
         self.lines.append(f"{s} {p} {o} .\n")
 
+    def add_all(self, s: str, pairs: Iterable[tuple[str, str]]) -> None:
+        """Several triples of one subject: (predicate, object) pairs."""
+        self.lines.extend([f"{s} {p} {o} .\n" for p, o in pairs])
+
     def once(self, key: str) -> bool:
         """True the first time ``key`` is seen, so shared nodes are described once per graph."""
         if key in self._seen:
@@ -135,6 +157,8 @@ class TripleWriter:
 
     @staticmethod
     def typed(value: int | float | Decimal | bool | datetime) -> str:
+        if type(value) is Decimal:
+            return _decimal(value)
         if isinstance(value, bool):
             return f'"{str(value).lower()}"^^<{_XSD}boolean>'
         if isinstance(value, int):
@@ -221,8 +245,15 @@ def _(record: ConnectionListInfo, w: TripleWriter, source_slug: str) -> None:
 
 
 def _pin(w: TripleWriter, ref: PinRef) -> str:
-    parts = (ref.component, ref.pin) if ref.level is None else (ref.component, ref.pin, ref.level)
-    node = w.iri("pin", *parts)
+    key = (ref.component, ref.pin, ref.level)
+    node = w.pins.get(key)
+    if node is not None:
+        return node
+    if ref.level is None:
+        node = w.iri("pin", ref.component, ref.pin)
+    else:
+        node = w.iri("pin", ref.component, ref.pin, ref.level)
+    w.pins[key] = node
     if w.once(node):
         component = _component(w, ref.component)
         w.add(node, _TYPE, _t("Pin"))
@@ -234,6 +265,28 @@ def _pin(w: TripleWriter, ref: PinRef) -> str:
     return node
 
 
+# Connection fields written as plain literals, with the ontology term of each.
+_WIRE_FIELDS = tuple(
+    (field_name, _t(name))
+    for field_name, name in (
+        ("colour", "colour"),
+        ("potential_type", "potentialType"),
+        ("potential_name", "potentialName"),
+        ("origin_termination", "originTermination"),
+        ("destination_termination", "destinationTermination"),
+        ("origin_page", "originPage"),
+        ("origin_zone", "originZone"),
+        ("destination_page", "destinationPage"),
+        ("destination_zone", "destinationZone"),
+        ("cable_name", "cableName"),
+        ("job_key", "jobKey"),
+        ("origin_direction", "originDirection"),
+        ("destination_direction", "destinationDirection"),
+        ("bundling_side", "bundlingSide"),
+    )
+)
+
+
 @map_record.register
 def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
     key = record.wire_number
@@ -242,44 +295,40 @@ def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
     while not w.once(wire):
         occurrence += 1
         wire = w.iri("wire", f"{key}~{occurrence}")
-    add, text = w.add, w.text
-    add(wire, _TYPE, _t("Wire"))
-    add(wire, _t("wireNumber"), text(record.wire_number))
-    add(wire, _t("fromPin"), _pin(w, record.origin))
-    add(wire, _t("toPin"), _pin(w, record.destination))
-    add(wire, _t("inPlan"), w.iri("plan", source_slug))
-    add(wire, _t("sequenceIndex"), w.typed(record.index))
-    add(wire, _t("sourceLine"), w.typed(record.line))
+    text, typed = w.text, w.typed
+    plan = w.plans.get(source_slug)
+    if plan is None:
+        plan = w.plans[source_slug] = w.iri("plan", source_slug)
+    pairs = [
+        (_TYPE, _t("Wire")),
+        (_t("wireNumber"), text(record.wire_number)),
+        (_t("fromPin"), _pin(w, record.origin)),
+        (_t("toPin"), _pin(w, record.destination)),
+        (_t("inPlan"), plan),
+        (_t("sequenceIndex"), typed(record.index)),
+        (_t("sourceLine"), typed(record.line)),
+    ]
     if record.section_mm2 is not None:
-        add(wire, _t("crossSectionMm2"), w.typed(record.section_mm2))
+        pairs.append((_t("crossSectionMm2"), typed(record.section_mm2)))
     if record.length_m is not None:
-        add(wire, _t("lengthM"), w.typed(record.length_m))
-    for name, value in (
-        ("colour", record.colour),
-        ("potentialType", record.potential_type),
-        ("potentialName", record.potential_name),
-        ("originTermination", record.origin_termination),
-        ("destinationTermination", record.destination_termination),
-        ("originPage", record.origin_page),
-        ("originZone", record.origin_zone),
-        ("destinationPage", record.destination_page),
-        ("destinationZone", record.destination_zone),
-        ("cableName", record.cable_name),
-        ("jobKey", record.job_key),
-        ("originDirection", record.origin_direction),
-        ("destinationDirection", record.destination_direction),
-        ("bundlingSide", record.bundling_side),
-    ):
+        pairs.append((_t("lengthM"), typed(record.length_m)))
+    for field_name, predicate in _WIRE_FIELDS:
+        value = getattr(record, field_name)
         if value is not None:
-            add(wire, _t(name), text(value))
+            pairs.append((predicate, text(value)))
     if record.duct_path:
-        add(wire, _t("ductPath"), text(";".join(record.duct_path)))
+        pairs.append((_t("ductPath"), text(";".join(record.duct_path))))
         for duct_label in dict.fromkeys(record.duct_path):
-            duct = w.iri("component", duct_label)
-            if w.once(duct):
-                add(duct, _TYPE, _t("Duct"))
-                add(duct, _t("label"), text(duct_label))
-            add(wire, _t("passesThrough"), duct)
+            pairs.append((_t("passesThrough"), _duct(w, duct_label)))
+    w.add_all(wire, pairs)
+
+
+def _duct(w: TripleWriter, label: str) -> str:
+    node = w.iri("component", label)
+    if w.once(node):
+        w.add(node, _TYPE, _t("Duct"))
+        w.add(node, _t("label"), w.text(label))
+    return node
 
 
 def map_manifest(w: TripleWriter, manifest: Manifest) -> None:

@@ -19,6 +19,7 @@ from cadkg.ingest.mapping import (
     graph_iri,
     map_manifest,
     map_provenance,
+    map_record,
     map_records,
     sha256_of,
 )
@@ -57,13 +58,15 @@ def read_source(
     base_iri: str,
     frame: str | None = None,
     sink: Callable[[str, bytes], None] | None = None,
+    on_record: Callable[[object], None] | None = None,
 ) -> GraphData:
     """Read one file with the reader of its kind and map it into its named graph.
 
     ``frame`` names the frame a scene file's root is placed in (default ``cabinet``).
-    With ``sink``, the N-Triples go to ``sink(graph, chunk)`` as they are mapped (after the
-    whole file has been read, so a reader error still leaves nothing behind) and the
-    returned ``ntriples`` is empty.
+    With ``sink``, the N-Triples go to ``sink(graph, chunk)`` as they are mapped and the
+    returned ``ntriples`` is empty; a reader that streams its records is then mapped row by
+    row, so ``sink`` may have had part of a file when a later row raises (builds use it for a
+    store that a failure discards). ``on_record`` sees every record once it is mapped.
 
     Raises
     ------
@@ -76,16 +79,31 @@ def read_source(
         reader = reader_for(kind)
     except KeyError as err:
         raise IngestError(path, str(err.args[0])) from None
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", IngestWarning)
-        records = reader.read(path)
     graph = graph_iri(base_iri, rel_path)
     writer = TripleWriter(base_iri)
     writer.root_frame = frame or "cabinet"
-    if sink is not None:
-        writer.stream_to(lambda chunk: sink(graph, chunk))
-    map_provenance(writer, graph, rel_path, sha256_of(path), kind)
-    map_records(writer, records, Path(rel_path).stem)
+    slug = Path(rel_path).stem
+    records: list[object] = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", IngestWarning)
+        if sink is not None and reader.stream is not None:
+            writer.stream_to(lambda chunk: sink(graph, chunk))
+            map_provenance(writer, graph, rel_path, sha256_of(path), kind)
+            for record in reader.stream(path):
+                records.append(record)
+                map_record(record, writer, slug)
+                writer.maybe_flush()
+                if on_record is not None:
+                    on_record(record)
+        else:
+            records = list(reader.read(path))
+            if sink is not None:
+                writer.stream_to(lambda chunk: sink(graph, chunk))
+            map_provenance(writer, graph, rel_path, sha256_of(path), kind)
+            map_records(writer, records, slug)
+            if on_record is not None:
+                for record in records:
+                    on_record(record)
     report = SourceReport(
         rel_path=rel_path,
         kind=kind,
@@ -119,15 +137,23 @@ def read_manifest_graphs(
     manifest: Manifest,
     on_source: Callable[[SourceSpec], None] | None = None,
     sink: Callable[[str, bytes], None] | None = None,
+    on_record: Callable[[SourceSpec], Callable[[object], None]] | None = None,
 ) -> Iterator[GraphData]:
     """The manifest's own graph, then one graph per source, in manifest order.
 
-    ``sink`` receives the sources' N-Triples in chunks (see :func:`read_source`).
+    ``sink`` receives the sources' N-Triples in chunks (see :func:`read_source`);
+    ``on_record(source)`` gives the function that sees each record of ``source``.
     """
     yield manifest_graph(manifest)
     for source in manifest.sources:
         if on_source is not None:
             on_source(source)
         yield read_source(
-            source.path, source.rel, source.kind, manifest.cell.base_iri, source.frame, sink=sink
+            source.path,
+            source.rel,
+            source.kind,
+            manifest.cell.base_iri,
+            source.frame,
+            sink=sink,
+            on_record=on_record(source) if on_record is not None else None,
         )

@@ -6,7 +6,7 @@ Adding a format means writing ``read_<kind>(path) -> records`` and one
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -26,6 +26,9 @@ class Reader:
     read: Callable[[str | Path], Sequence[object]]
     description: str
     sniff: Sniffer | None = None
+    # Records one by one, for formats big enough that a build should map and load the
+    # first rows while the last are still being converted.
+    stream: Callable[[str | Path], Iterator[object]] | None = None
 
 
 _READERS: dict[str, Reader] = {}
