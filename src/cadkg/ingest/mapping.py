@@ -203,10 +203,11 @@ def pin_node(w: TripleWriter, ref: PinRef) -> str:
     return _pin(w, ref)
 
 
-def _component(w: TripleWriter, label: str) -> str:
+def _component(w: TripleWriter, label: str, kind: str = "Component") -> str:
+    """The component ``label``; typed ``kind`` when this graph describes it first."""
     node = w.iri("component", label)
     if w.once(node):
-        w.add(node, _TYPE, _t("Component"))
+        w.add(node, _TYPE, _t(kind))
         w.add(node, _t("label"), w.text(label))
     return node
 
@@ -319,16 +320,8 @@ def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
     if record.duct_path:
         pairs.append((_t("ductPath"), text(";".join(record.duct_path))))
         for duct_label in dict.fromkeys(record.duct_path):
-            pairs.append((_t("passesThrough"), _duct(w, duct_label)))
+            pairs.append((_t("passesThrough"), _component(w, duct_label, "Duct")))
     w.add_all(wire, pairs)
-
-
-def _duct(w: TripleWriter, label: str) -> str:
-    node = w.iri("component", label)
-    if w.once(node):
-        w.add(node, _TYPE, _t("Duct"))
-        w.add(node, _t("label"), w.text(label))
-    return node
 
 
 def map_manifest(w: TripleWriter, manifest: Manifest) -> None:
