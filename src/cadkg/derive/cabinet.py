@@ -244,7 +244,7 @@ class _Deriver:
             if key in geometry.pins:
                 geometry.pins[key] = _with_iri(geometry.pins[key], info.iri)
                 continue
-            geometry.pins[key] = _with_iri(self._resolve(geometry, info), info.iri)
+            geometry.pins[key] = self._resolve(geometry, info)
 
     def _terminal_name(self, label: str, item: str) -> str | None:
         for _, slot_item, terminal in self.cell.blocks.get(label, ()):
@@ -252,11 +252,11 @@ class _Deriver:
                 return terminal or f"#{item}"
         return None
 
-    def _pin(self, label: str, name: str, item: str, couple: str) -> CadPin:
+    def _pin(self, label: str, name: str, item: str, couple: str, iri: str | None = None) -> CadPin:
         model = self.cell.models.get(self.cell.item_model.get(item, ""))
         pose = self.item_pose.get(item)
         if model is None or pose is None:
-            return CadPin(label, name, None, None, item)
+            return CadPin(label, name, None, None, item, iri)
         screw = model.screws.get(couple)
         hole = model.holes.get(couple)
         return CadPin(
@@ -265,10 +265,12 @@ class _Deriver:
             pose * screw if screw is not None else None,
             pose * hole if hole is not None else None,
             item,
+            iri,
         )
 
     def _resolve(self, geometry: ComponentGeometry, info: PinInfo) -> CadPin:
-        key = pin_key(info)
+        """The frames of a pin a wire names, from its item's model; with the pin's IRI."""
+        key, iri = pin_key(info), info.iri
         if geometry.terminal_block:
             for _, item, terminal in self.cell.blocks.get(geometry.label, ()):
                 if terminal == info.name:
@@ -277,14 +279,14 @@ class _Deriver:
                     couple = (
                         info.level if info.level is not None else (couples[0] if len(couples) == 1 else "")
                     )
-                    return self._pin(geometry.label, key, item, couple)
+                    return self._pin(geometry.label, key, item, couple, iri)
         if info.item is not None:
-            return self._pin(geometry.label, key, info.item, info.level or info.name)
+            return self._pin(geometry.label, key, info.item, info.level or info.name, iri)
         for item in geometry.items:
             model = self.cell.models.get(self.cell.item_model.get(item, ""))
             if model is not None and (key in model.screws or key in model.holes):
-                return self._pin(geometry.label, key, item, key)
-        return CadPin(geometry.label, key, None, None, None)
+                return self._pin(geometry.label, key, item, key, iri)
+        return CadPin(geometry.label, key, None, None, None, iri)
 
 
 def _with_iri(pin: CadPin, iri: str) -> CadPin:
