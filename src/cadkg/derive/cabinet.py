@@ -15,7 +15,7 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
-from cadkg.derive.extract import CellInputs, PinInfo, WireInfo
+from cadkg.derive.extract import CellInputs, ModelInfo, PinInfo, WireInfo
 from cadkg.derive.geometry import IDENTITY, Pose, Vec3, bounds, box_corners, closest_point_on_segment
 from cadkg.ingest.mapping import node_iri
 
@@ -239,12 +239,19 @@ class _Deriver:
                 name = couple if terminal is None else f"{terminal}:{couple}"
                 if name not in geometry.pins:
                     geometry.pins[name] = self._pin(geometry.label, name, item, couple)
+        # The items whose model places pins by name; most components have none at all.
+        modelled = [
+            (item, model)
+            for item in geometry.items
+            if (model := self.cell.models.get(self.cell.item_model.get(item, ""))) is not None
+            and (model.screws or model.holes)
+        ]
         for info in wired:
             key = pin_key(info)
             if key in geometry.pins:
                 geometry.pins[key] = _with_iri(geometry.pins[key], info.iri)
                 continue
-            geometry.pins[key] = self._resolve(geometry, info)
+            geometry.pins[key] = self._resolve(geometry, info, modelled)
 
     def _terminal_name(self, label: str, item: str) -> str | None:
         for _, slot_item, terminal in self.cell.blocks.get(label, ()):
@@ -268,7 +275,9 @@ class _Deriver:
             iri,
         )
 
-    def _resolve(self, geometry: ComponentGeometry, info: PinInfo) -> CadPin:
+    def _resolve(
+        self, geometry: ComponentGeometry, info: PinInfo, modelled: list[tuple[str, ModelInfo]]
+    ) -> CadPin:
         """The frames of a pin a wire names, from its item's model; with the pin's IRI."""
         key, iri = pin_key(info), info.iri
         if geometry.terminal_block:
@@ -282,9 +291,8 @@ class _Deriver:
                     return self._pin(geometry.label, key, item, couple, iri)
         if info.item is not None:
             return self._pin(geometry.label, key, info.item, info.level or info.name, iri)
-        for item in geometry.items:
-            model = self.cell.models.get(self.cell.item_model.get(item, ""))
-            if model is not None and (key in model.screws or key in model.holes):
+        for item, model in modelled:
+            if key in model.screws or key in model.holes:
                 return self._pin(geometry.label, key, item, key, iri)
         return CadPin(geometry.label, key, None, None, None, iri)
 

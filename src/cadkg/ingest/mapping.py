@@ -34,6 +34,7 @@ __all__ = [
     "map_manifest",
     "map_record",
     "map_records",
+    "mapper",
     "node_iri",
     "pin_node",
     "sha256_of",
@@ -65,6 +66,8 @@ def _t(name: str) -> str:
 
 
 _TYPE = f"<{RDF_TYPE.value}>"
+_INTEGER = f"<{_XSD}integer>"
+_DOUBLE = f"<{_XSD}double>"
 
 
 def term(name: str) -> str:
@@ -98,8 +101,10 @@ def _decimal(value: Decimal) -> str:
     return f'"{format(value.normalize(), "f")}"^^<{_XSD}decimal>'
 
 
+@lru_cache(maxsize=1 << 12)
 def node_iri(base_iri: str, kind: str, *parts: str) -> str:
     """The IRI cadkg mints for a thing: ``{base}{kind}/{part}/...``, each part percent-encoded."""
+    # Cached for the derivation's inputs, which a build collects right after mapping a record.
     return base_iri + kind + "/" + "/".join([_segment(p) for p in parts])
 
 
@@ -115,6 +120,7 @@ class TripleWriter:
         # Nodes every row of a big file points at, minted once per writer.
         self.pins: dict[tuple[str, str, str | None], str] = {}
         self.plans: dict[str, str] = {}
+        self.components: dict[str, str] = {}
         self._flushed = 0
         self._sink: Callable[[bytes], None] | None = None
 
@@ -185,8 +191,21 @@ def map_provenance(w: TripleWriter, graph: str, rel_path: str, sha256: str, kind
 def map_records(w: TripleWriter, records: Iterable[object], source_slug: str) -> None:
     """Append the triples of every record; ``source_slug`` names per-file things (the plan)."""
     for record in records:
-        map_record(record, w, source_slug)
+        mapper(type(record))(record, w, source_slug)
         w.maybe_flush()
+
+
+def mapper(record_type: type) -> Callable[[object, TripleWriter, str], None]:
+    """The mapping of one record type (what :func:`map_record` dispatches to), looked up once."""
+    found = _MAPPERS.get(record_type)
+    if found is None:
+        found = map_record.dispatch(record_type)
+        if found is not map_record.dispatch(object):  # a mapping registered later still counts
+            _MAPPERS[record_type] = found
+    return found
+
+
+_MAPPERS: dict[type, Callable[[object, TripleWriter, str], None]] = {}
 
 
 @singledispatch
@@ -205,7 +224,9 @@ def pin_node(w: TripleWriter, ref: PinRef) -> str:
 
 def _component(w: TripleWriter, label: str, kind: str = "Component") -> str:
     """The component ``label``; typed ``kind`` when this graph describes it first."""
-    node = w.iri("component", label)
+    node = w.components.get(label)
+    if node is None:
+        node = w.components[label] = w.iri("component", label)
     if w.once(node):
         w.add(node, _TYPE, _t(kind))
         w.add(node, _t("label"), w.text(label))
@@ -296,7 +317,7 @@ def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
     while not w.once(wire):
         occurrence += 1
         wire = w.iri("wire", f"{key}~{occurrence}")
-    text, typed = w.text, w.typed
+    text, typed = _literal, w.typed
     plan = w.plans.get(source_slug)
     if plan is None:
         plan = w.plans[source_slug] = w.iri("plan", source_slug)
@@ -306,8 +327,8 @@ def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
         (_t("fromPin"), _pin(w, record.origin)),
         (_t("toPin"), _pin(w, record.destination)),
         (_t("inPlan"), plan),
-        (_t("sequenceIndex"), typed(record.index)),
-        (_t("sourceLine"), typed(record.line)),
+        (_t("sequenceIndex"), f'"{record.index}"^^{_INTEGER}'),
+        (_t("sourceLine"), f'"{record.line}"^^{_INTEGER}'),
     ]
     if record.section_mm2 is not None:
         pairs.append((_t("crossSectionMm2"), typed(record.section_mm2)))
@@ -352,16 +373,24 @@ def frame_node(w: TripleWriter, name: str) -> str:
     return _frame(w, name)
 
 
+_POSE_TERMS = tuple(_t(name) for name in ("tx", "ty", "tz", "qx", "qy", "qz", "qw"))
+_POSE = _t("Pose")
+_PARENT_FRAME = _t("parentFrame")
+
+
 def write_pose(
     w: TripleWriter, node: str, xyz: Sequence[float], quaternion: Sequence[float], parent: str
 ) -> str:
     """A ck:Pose ``node`` in frame ``parent``: translation in metres, quaternion (x, y, z, w)."""
-    w.add(node, _TYPE, _t("Pose"))
-    w.add(node, _t("parentFrame"), parent)
-    for name, value in zip(("tx", "ty", "tz"), xyz, strict=True):
-        w.add(node, _t(name), w.typed(float(value)))
-    for name, value in zip(("qx", "qy", "qz", "qw"), quaternion, strict=True):
-        w.add(node, _t(name), w.typed(float(value)))
+    if len(xyz) != 3 or len(quaternion) != 4:
+        raise ValueError(
+            f"a pose needs 3 coordinates and 4 quaternion terms, not {len(xyz)} and {len(quaternion)}"
+        )
+    values = [float(v) for v in xyz] + [float(v) for v in quaternion]
+    # Derived graphs hold millions of these: the nine lines in one go.
+    w.lines.append(f"{node} {_TYPE} {_POSE} .\n")
+    w.lines.append(f"{node} {_PARENT_FRAME} {parent} .\n")
+    w.lines.extend([f'{node} {p} "{v!r}"^^{_DOUBLE} .\n' for p, v in zip(_POSE_TERMS, values, strict=True)])
     return node
 
 

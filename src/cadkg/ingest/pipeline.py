@@ -19,8 +19,8 @@ from cadkg.ingest.mapping import (
     graph_iri,
     map_manifest,
     map_provenance,
-    map_record,
     map_records,
+    mapper,
     sha256_of,
 )
 from cadkg.ingest.registry import reader_for, sniff_kind
@@ -91,7 +91,7 @@ def read_source(
             map_provenance(writer, graph, rel_path, sha256_of(path), kind)
             for record in reader.stream(path):
                 records.append(record)
-                map_record(record, writer, slug)
+                mapper(type(record))(record, writer, slug)
                 writer.maybe_flush()
                 if on_record is not None:
                     on_record(record)
