@@ -17,6 +17,7 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from datetime import date, datetime
 from decimal import Decimal
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -259,7 +260,9 @@ class KnowledgeGraph:
             if collector.complete:
                 # Derived while the loader thread is still indexing the sources.
                 model = derive_cell(collector.inputs())
-                loader.put(model.base + "derived", derived_ntriples(model, model.base))
+                graph = model.base + "derived"
+                chunks = None if bulk else partial(loader.put, graph)
+                loader.put(graph, derived_ntriples(model, model.base, chunks))
         if model is None:
             self.derive()
         else:

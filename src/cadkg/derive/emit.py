@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from cadkg.derive.cabinet import CellModel
 from cadkg.derive.geometry import Pose
 from cadkg.ingest.mapping import TripleWriter, term, write_pose
@@ -13,12 +15,19 @@ def _pose(w: TripleWriter, node: str, pose: Pose, frame: str) -> str:
     return write_pose(w, node, pose.position, pose.orientation, w.iri("frame", frame))
 
 
-def derived_ntriples(model: CellModel, base: str) -> bytes:
-    """Poses, dimensions, pin frames, rails, clusters, keypoints and missing-data flags."""
+def derived_ntriples(model: CellModel, base: str, sink: Callable[[bytes], None] | None = None) -> bytes:
+    """Poses, dimensions, pin frames, rails, clusters, keypoints and missing-data flags.
+
+    With ``sink``, the N-Triples go to it in chunks as they are written (so a store can load
+    one while the next is written) and what is returned is the rest.
+    """
     w = TripleWriter(base)
+    if sink is not None:
+        w.stream_to(sink)
     t = term
     frame = model.frame
     for label, g in model.components.items():
+        w.maybe_flush()
         node = w.iri("component", label)
         for kind, pose in (("original", g.original), ("corner", g.corner), ("target", g.target)):
             if pose is not None:
@@ -56,6 +65,7 @@ def derived_ntriples(model: CellModel, base: str) -> bytes:
                 member = f"<{pin.iri}>" if pin.iri else w.iri("derived", label, "pin", name)
                 w.add(node, t("hasMember"), member)
     for number, step in enumerate(model.steps, start=1):
+        w.maybe_flush()
         wire = f"<{step.iri}>"
         if step.missing:
             w.add(wire, t("missingPinData"), w.typed(True))
