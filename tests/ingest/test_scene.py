@@ -24,8 +24,14 @@ from cadkg.ingest.scene import (
     rigid_matrix,
     sphere_mesh,
     split_affine,
+    stl_files,
     transform_matrix,
 )
+from cadkg.ingest.vrml import read_vrml
+from cadkg.ingest.x3d import read_x3d
+from tests.conftest import EXAMPLES
+
+EXAMPLE = EXAMPLES / "iema-switchgear"
 
 HALF_PI = math.pi / 2
 S = math.sqrt(0.5)
@@ -250,3 +256,30 @@ def test_merge_offsets_the_faces_of_later_parts() -> None:
     assert mesh.faces.max() == 15
     assert not mesh.vertices.flags.writeable
     assert merge_meshes([]) is None
+
+
+def _one_export(mesh: TriangleMesh) -> bytes:
+    data = trimesh.Trimesh(vertices=mesh.vertices, faces=mesh.faces, process=False).export(file_type="stl")
+    assert isinstance(data, bytes)
+    return data
+
+
+def test_stl_files_are_each_mesh_exported_alone() -> None:
+    meshes = [
+        r.mesh
+        for r in [*read_x3d(EXAMPLE / "scene.x3d"), *read_vrml(EXAMPLE / "scene.wrl")]
+        if r.mesh is not None
+    ]
+    # A degenerate triangle (zero normal) and a mesh of a single triangle too.
+    meshes.append(
+        TriangleMesh(
+            np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0.5]], dtype=float),
+            np.array([[0, 1, 2], [0, 1, 3]]),
+        )
+    )
+    meshes.append(TriangleMesh(np.eye(3), np.array([[0, 1, 2]])))
+    assert len(meshes) > 40
+    together = stl_files(meshes)
+    assert together == [_one_export(m) for m in meshes]
+    assert meshes[-1].to_stl() == together[-1]
+    assert len(together[0]) == 84 + 50 * len(meshes[0].faces)

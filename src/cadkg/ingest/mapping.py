@@ -23,6 +23,7 @@ from cadkg.ingest.component_model import Placement
 from cadkg.ingest.connection_list import Connection, ConnectionListInfo
 from cadkg.ingest.eplan import PinRef
 from cadkg.ingest.manifest import FrameSpec, Manifest
+from cadkg.ingest.scene import TriangleMesh, stl_files
 from cadkg.ingest.wri import IdEntry
 from cadkg.ontology.terms import CK, RDF_TYPE
 
@@ -115,6 +116,8 @@ class TripleWriter:
         self.base = base_iri
         self.lines: list[str] = []
         self.files: dict[str, bytes] = {}
+        # Meshes to write as STL files beside the graph, exported together (see stl_files).
+        self.meshes: dict[str, TriangleMesh] = {}
         self.root_frame = "cabinet"
         self._seen: set[str] = set()
         # Nodes every row of a big file points at, minted once per writer.
@@ -177,6 +180,10 @@ class TripleWriter:
 
     def data(self) -> bytes:
         return "".join(self.lines).encode("utf-8")
+
+    def all_files(self) -> dict[str, bytes]:
+        """The files that come with this graph, the meshes as binary STL."""
+        return self.files | dict(zip(self.meshes, stl_files(list(self.meshes.values())), strict=True))
 
 
 def map_provenance(w: TripleWriter, graph: str, rel_path: str, sha256: str, kind: str) -> None:

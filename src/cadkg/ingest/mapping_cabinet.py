@@ -134,7 +134,7 @@ def _(record: SceneItem, w: TripleWriter, source_slug: str) -> None:
             w.add(item, t(name), w.typed(float(value)))
     if record.mesh is not None:
         rel = f"meshes/{record.item_id}.stl"
-        w.files[rel] = record.mesh.to_stl()
+        w.meshes[rel] = record.mesh
         mesh = w.iri("mesh", record.item_id)
         w.add(item, t("hasMesh"), mesh)
         w.add(mesh, t("type"), t("Mesh"))

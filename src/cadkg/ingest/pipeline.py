@@ -116,7 +116,7 @@ def read_source(
     if sink is not None:
         sink(graph, ntriples)
         ntriples = b""
-    return GraphData(graph=graph, ntriples=ntriples, report=report, files=writer.files, records=records)
+    return GraphData(graph=graph, ntriples=ntriples, report=report, files=writer.all_files(), records=records)
 
 
 def manifest_graph(manifest: Manifest) -> GraphData:

@@ -41,6 +41,7 @@ __all__ = [
     "rigid_matrix",
     "sphere_mesh",
     "split_affine",
+    "stl_files",
     "transform_matrix",
 ]
 
@@ -68,11 +69,41 @@ class TriangleMesh:
 
     def to_stl(self) -> bytes:
         """The mesh as binary STL (84 header bytes + 50 bytes per triangle)."""
-        mesh = trimesh.Trimesh(vertices=self.vertices, faces=self.faces, process=False)
-        data = mesh.export(file_type="stl")
-        if not isinstance(data, bytes):  # trimesh returns bytes for binary formats
-            raise TypeError(f"STL export gave {type(data).__name__}")
-        return data
+        return stl_files([self])[0]
+
+
+_STL_HEADER = 84
+_STL_RECORD = 50
+
+
+def stl_files(meshes: Sequence[TriangleMesh]) -> list[bytes]:
+    """Each mesh as binary STL, from one trimesh export of all of them.
+
+    A scene has tens of thousands of small meshes, and a trimesh export costs about the same
+    for 12 triangles as for 12,000. Binary STL is an 80-byte header, a triangle count and
+    one 50-byte record per triangle (its normal, three vertices, an attribute), each record
+    computed from its own triangle only; so the records of one export of all the meshes,
+    cut where each mesh's triangles end, are that mesh's records.
+    """
+    if not meshes:
+        return []
+    offsets = np.cumsum([0] + [len(m.vertices) for m in meshes[:-1]])
+    vertices = np.concatenate([m.vertices for m in meshes]).reshape(-1, 3)
+    faces = np.concatenate([m.faces + offset for m, offset in zip(meshes, offsets, strict=True)])
+    data = trimesh.Trimesh(vertices=vertices, faces=faces.reshape(-1, 3), process=False).export(
+        file_type="stl"
+    )
+    if not isinstance(data, bytes):  # trimesh returns bytes for binary formats
+        raise TypeError(f"STL export gave {type(data).__name__}")
+    header = data[: _STL_HEADER - 4]
+    files = []
+    start = _STL_HEADER
+    for mesh in meshes:
+        count = len(mesh.faces)
+        end = start + count * _STL_RECORD
+        files.append(header + count.to_bytes(4, "little") + data[start:end])
+        start = end
+    return files
 
 
 @dataclass(frozen=True, slots=True)
