@@ -224,3 +224,35 @@ def test_an_update_is_followed_by_the_derivation(tmp_path: Path) -> None:
         )
         assert [round(r["z"], 9) for r in kg.query(target_z)] == [0.2875]
         assert kg.cell_model().components["K1"].target.position[2] == pytest.approx(0.2875)
+
+
+def test_a_bad_row_late_in_a_streamed_list_fails_the_memory_build_located(tmp_path: Path) -> None:
+    # In memory the connection list is mapped and loaded row by row: rows before the bad
+    # one are in the store being built when it raises, and that store is dropped.
+    manifest = copy_example(tmp_path)
+    csv = manifest.parent / "lista-cablaggio.csv"
+    lines = csv.read_text(encoding="utf-8").splitlines(keepends=True)
+    last = len(lines) - 1
+    cells = lines[last].split("\t")
+    cells[2] = "=-X0031"  # the origin pin cell without ':PIN'
+    lines[last] = "\t".join(cells)
+    csv.write_text("".join(lines), encoding="utf-8")
+    with pytest.raises(IngestError) as err:
+        cadkg.build(manifest)
+    assert err.value.line == last + 1
+    assert "lista-cablaggio.csv" in str(err.value)
+
+
+@pytest.mark.parametrize("enabled", [True, False])
+def test_a_build_leaves_the_garbage_collector_as_it_found_it(tmp_path: Path, enabled: bool) -> None:
+    import gc
+
+    (gc.enable if enabled else gc.disable)()
+    try:
+        cadkg.build(IEMA)
+        assert gc.isenabled() is enabled
+        with pytest.raises(IngestError):
+            cadkg.build(ROOT / "examples" / "bad-cell" / "does-not-exist.toml")
+        assert gc.isenabled() is enabled
+    finally:
+        gc.enable()

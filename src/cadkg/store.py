@@ -26,7 +26,7 @@ import pyoxigraph as ox
 from cadkg.errors import QueryError, StoreError
 from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
 from cadkg.ingest.pipeline import GraphData, SourceReport, read_manifest_graphs, read_source
-from cadkg.loading import BackgroundLoader
+from cadkg.loading import BackgroundLoader, paused_gc
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
 
 if TYPE_CHECKING:
@@ -190,11 +190,12 @@ class KnowledgeGraph:
         """
         if not isinstance(manifest, Manifest):
             manifest = load_manifest(manifest)
-        if directory is None:
-            kg = cls.memory()
-            kg._load_sources(manifest, on_source, bulk=False)
-            return kg
-        return cls._build_into(manifest, Path(directory), on_source)
+        with paused_gc():
+            if directory is None:
+                kg = cls.memory()
+                kg._load_sources(manifest, on_source, bulk=False)
+                return kg
+            return cls._build_into(manifest, Path(directory), on_source)
 
     @classmethod
     def _build_into(
@@ -325,7 +326,8 @@ class KnowledgeGraph:
             from cadkg.derive.cabinet import derive_cell
             from cadkg.derive.extract import extract
 
-            self._model = derive_cell(extract(self))
+            with paused_gc():
+                self._model = derive_cell(extract(self))
         return self._model
 
     def derive(self) -> CellModel:
@@ -338,9 +340,9 @@ class KnowledgeGraph:
             graph = ox.NamedNode(model.base + "derived")
             if graph in set(self._store.named_graphs()):
                 self._store.remove_graph(graph)
-            self._store.load(
-                derived_ntriples(model, model.base), ox.RdfFormat.N_TRIPLES, to_graph=graph, lenient=True
-            )
+            with paused_gc():
+                data = derived_ntriples(model, model.base)
+            self._store.load(data, ox.RdfFormat.N_TRIPLES, to_graph=graph, lenient=True)
         return model
 
     def assign(self, kind: str, ident: str, performer: str) -> str:
@@ -417,7 +419,8 @@ class KnowledgeGraph:
         """
         if self.read_only:
             raise StoreError("the store is open read-only")
-        data = read_source(Path(path), rel_path, kind, base_iri, frame)
+        with paused_gc():
+            data = read_source(Path(path), rel_path, kind, base_iri, frame)
         self._write_files(data.files)
         # One update request is one transaction: the old graph goes only if the new one lands.
         # The graph IRI is minted by us and every term of the data is escaped by the mapping.
