@@ -12,7 +12,7 @@ from cadkg.ingest.elimco_cable_list import workbook_strings
 from cadkg.ingest.registry import Reader, register
 from cadkg.ingest.terminal_schema import looks_like_terminal_schema, read_terminal_schema
 from cadkg.ingest.vrml import read_vrml
-from cadkg.ingest.wri import read_wri
+from cadkg.ingest.wri import iter_wri, read_wri
 from cadkg.ingest.x3d import read_x3d
 
 __all__: list[str] = []
@@ -28,6 +28,7 @@ register(
         kind="wri",
         suffixes=(".wri",),
         read=read_wri,
+        stream=iter_wri,
         description="WRI ID table: CAD item ID, label, commercial code (tab separated)",
     )
 )

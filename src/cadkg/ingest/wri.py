@@ -9,6 +9,7 @@ terminal block made of terminal items.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -16,7 +17,7 @@ from cadkg.errors import IngestError
 from cadkg.ingest.eplan import normalize_label
 from cadkg.ingest.text import iter_rows, read_text
 
-__all__ = ["IdEntry", "read_wri"]
+__all__ = ["IdEntry", "iter_wri", "read_wri"]
 
 _CAD_ID = re.compile(r"^ID\d+$", re.IGNORECASE)
 _HEADER = ("cad id", "label", "commercial")
@@ -43,14 +44,19 @@ def read_wri(path: str | Path) -> list[IdEntry]:
         On an empty or binary file, a row without a label, a malformed CAD ID or a
         CAD ID given twice; the message names the file and line.
     """
+    return list(iter_wri(path))
+
+
+def iter_wri(path: str | Path) -> Iterator[IdEntry]:
+    """The entries of :func:`read_wri` one by one; a malformed row raises when it is reached."""
     text = read_text(path, expected=_EXPECTED)
-    entries: list[IdEntry] = []
+    count = 0
     seen: dict[str, int] = {}
     for row in iter_rows(text, "\t", path):
         if row.is_blank:
             continue
         cells = [c.strip() for c in row.cells]
-        if not entries and tuple(c.lower() for c in cells[:3]) == _HEADER:
+        if not count and tuple(c.lower() for c in cells[:3]) == _HEADER:
             continue
         while len(cells) > 3 and not cells[-1]:
             cells.pop()
@@ -83,7 +89,7 @@ def read_wri(path: str | Path) -> list[IdEntry]:
                 expected="each CAD item ID once",
             )
         seen[cad_id.upper()] = row.line
-        entries.append(IdEntry(cad_id, label, raw_label, commercial, row.line))
-    if not entries:
+        count += 1
+        yield IdEntry(cad_id, label, raw_label, commercial, row.line)
+    if not count:
         raise IngestError(path, "no ID rows", expected=_EXPECTED)
-    return entries
