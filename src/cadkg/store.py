@@ -314,9 +314,12 @@ class KnowledgeGraph:
         return self._files_dir
 
     def _write_files(self, files: Mapping[str, bytes]) -> None:
+        made: set[Path] = set()  # a scene's tens of thousands of meshes share one folder
         for rel, content in files.items():
             target = self.files_dir / rel
-            target.parent.mkdir(parents=True, exist_ok=True)
+            if target.parent not in made:
+                target.parent.mkdir(parents=True, exist_ok=True)
+                made.add(target.parent)
             target.write_bytes(content)
 
     # -- derived geometry and assignments -----------------------------------------
