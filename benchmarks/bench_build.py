@@ -452,8 +452,8 @@ def mem_total_mib() -> float | None:
 def reference_loop_seconds(count: int = 20_000_000) -> float:
     """Seconds this interpreter takes for ``count`` integer additions in a loop.
 
-    The same machine has run this loop in 1.3 s and in 2.6 s on different days; printed with
-    every run so that build times of different runs can be compared."""
+    Printed with every report: a shared machine's speed differs from day to day, and build
+    times of two runs compare only together with it."""
     started = time.perf_counter()
     total = 0
     for i in range(count):
