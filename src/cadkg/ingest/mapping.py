@@ -34,7 +34,6 @@ __all__ = [
     "graph_iri",
     "map_manifest",
     "map_record",
-    "map_records",
     "mapper",
     "node_iri",
     "pin_node",
@@ -193,13 +192,6 @@ def map_provenance(w: TripleWriter, graph: str, rel_path: str, sha256: str, kind
     w.add(g, _t("sha256"), w.text(sha256))
     w.add(g, _t("readerKind"), w.text(kind))
     w.add(g, _t("ingestedAt"), w.typed(datetime.now(UTC).replace(microsecond=0)))
-
-
-def map_records(w: TripleWriter, records: Iterable[object], source_slug: str) -> None:
-    """Append the triples of every record; ``source_slug`` names per-file things (the plan)."""
-    for record in records:
-        mapper(type(record))(record, w, source_slug)
-        w.maybe_flush()
 
 
 def mapper(record_type: type) -> Callable[[object, TripleWriter, str], None]:

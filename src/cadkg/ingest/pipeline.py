@@ -19,7 +19,6 @@ from cadkg.ingest.mapping import (
     graph_iri,
     map_manifest,
     map_provenance,
-    map_records,
     mapper,
     sha256_of,
 )
@@ -86,24 +85,18 @@ def read_source(
     records: list[object] = []
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", IngestWarning)
-        if sink is not None and reader.stream is not None:
+        # Without a stream the whole file is read before anything of it is written.
+        stream = reader.stream if sink is not None else None
+        incoming = stream(path) if stream is not None else reader.read(path)
+        if sink is not None:
             writer.stream_to(lambda chunk: sink(graph, chunk))
-            map_provenance(writer, graph, rel_path, sha256_of(path), kind)
-            for record in reader.stream(path):
-                records.append(record)
-                mapper(type(record))(record, writer, slug)
-                writer.maybe_flush()
-                if on_record is not None:
-                    on_record(record)
-        else:
-            records = list(reader.read(path))
-            if sink is not None:
-                writer.stream_to(lambda chunk: sink(graph, chunk))
-            map_provenance(writer, graph, rel_path, sha256_of(path), kind)
-            map_records(writer, records, slug)
+        map_provenance(writer, graph, rel_path, sha256_of(path), kind)
+        for record in incoming:
+            records.append(record)
+            mapper(type(record))(record, writer, slug)
+            writer.maybe_flush()
             if on_record is not None:
-                for record in records:
-                    on_record(record)
+                on_record(record)
     report = SourceReport(
         rel_path=rel_path,
         kind=kind,
