@@ -27,7 +27,7 @@ from cadkg.query.elimco import (
     elimco_model,
     frame_id,
 )
-from cadkg.query.services import Service, on_model, register
+from cadkg.query.services import Service, model_services, register
 
 __all__ = [
     "ELIMCO_KINDS",
@@ -333,6 +333,8 @@ def model_of(session: Session) -> ElimcoModel:
     return session.profile_model(_MODEL, elimco_model)
 
 
+_service = model_services("elimco", model_of)
+
 register(
     Service(
         "load_files",
@@ -341,33 +343,29 @@ register(
         lambda s, paths, client="default": load_files(s, paths),
         profile="elimco",
     ),
-    Service(
+    _service(
         "get_pin_positions",
         "bench pin poses, in the drawing frame or the pins' centroid frame",
         {"use_centroid": bool, "pin_connector_distance": float},
-        on_model(get_pin_positions, model_of),
-        profile="elimco",
-        optional=frozenset({"pin_connector_distance"}),
+        get_pin_positions,
+        optional={"pin_connector_distance"},
     ),
-    Service(
+    _service(
         "pin_frames",
         "the centroid frame and one frame per pin (two more per double pin), to publish",
         {},
-        on_model(pin_frames, model_of),
-        profile="elimco",
+        pin_frames,
     ),
-    Service(
+    _service(
         "get_cable_list",
         "the cables of the harness: connectors, length, path, cores",
         {},
-        on_model(get_cable_list, model_of),
-        profile="elimco",
+        get_cable_list,
     ),
-    Service(
+    _service(
         "get_path_positions",
         "the pin poses along the route of a cable (or path index), in the centroid frame",
         {"cable": str},
-        on_model(get_path_positions, model_of),
-        profile="elimco",
+        get_path_positions,
     ),
 )

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from importlib import import_module
 from typing import Any
@@ -110,6 +110,29 @@ def on_model(fn: Callable[..., Any], model_of: Callable[[Session], Any]) -> Call
         return fn(model_of(session), **params)
 
     return run
+
+
+def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable[..., Service]:
+    """The maker of ``profile``'s services answered from its model:
+    ``make(name, description, params, answer, optional=())`` (see :func:`on_model`)."""
+
+    def make(
+        name: str,
+        description: str,
+        params: Mapping[str, type],
+        answer: Callable[..., Any],
+        optional: Iterable[str] = (),
+    ) -> Service:
+        return Service(
+            name,
+            description,
+            params,
+            on_model(answer, model_of),
+            profile=profile,
+            optional=frozenset(optional),
+        )
+
+    return make
 
 
 def _cabinet(session: Session) -> Any:
