@@ -10,6 +10,8 @@ which is how the harness queries find it whatever file it came from.
 
 from __future__ import annotations
 
+from decimal import Decimal
+
 from cadkg.ingest.harness_records import (
     Harness,
     HarnessCable,
@@ -51,22 +53,39 @@ def _(record: Harness, w: TripleWriter, source_slug: str) -> None:
     w.add(node, t("label"), w.text(record.ident))
     w.add(node, t("fileFormat"), w.text(record.file_format))
     w.add(node, t("sourceLine"), w.typed(record.line))
-    if record.description:
-        w.add(node, t("description"), w.text(record.description))
+    _description(w, node, record.description)
+
+
+def _part(w: TripleWriter, kind: str, cls: str, harness: str, ident: str, label: str, line: int) -> str:
+    """A thing harness ``harness`` holds: typed, labelled, with its line, and part of it."""
+    node = w.iri(kind, harness, ident)
+    w.add(node, t("type"), t(cls))
+    w.add(node, t("label"), w.text(label))
+    w.add(node, t("sourceLine"), w.typed(line))
+    _part_of(w, node, harness)
+    return node
+
+
+def _numbers(w: TripleWriter, node: str, **values: float | Decimal | None) -> None:
+    """The given numeric properties (ontology term → value) that are not None."""
+    for name, value in values.items():
+        if value is not None:
+            w.add(node, t(name), w.typed(value))
+
+
+def _description(w: TripleWriter, node: str, text: str | None) -> None:
+    if text:
+        w.add(node, t("description"), w.text(text))
 
 
 @map_record.register
 def _(record: HarnessConnector, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("connector", record.harness, record.ident)
-    w.add(node, t("type"), t("Connector"))
-    w.add(node, t("label"), w.text(record.ident))
-    w.add(node, t("sourceLine"), w.typed(record.line))
-    w.add(w.iri("harness", record.harness), t("hasConnector"), node)
-    _part_of(w, node, record.harness)
-    if record.description:
-        w.add(node, t("description"), w.text(record.description))
+    h = record.harness
+    node = _part(w, "connector", "Connector", h, record.ident, record.ident, record.line)
+    w.add(w.iri("harness", h), t("hasConnector"), node)
+    _description(w, node, record.description)
     for name in record.cavities:
-        cavity = w.iri("cavity", record.harness, record.ident, name)
+        cavity = w.iri("cavity", h, record.ident, name)
         w.add(cavity, t("type"), t("Cavity"))
         w.add(cavity, t("label"), w.text(name))
         w.add(node, t("hasCavity"), cavity)
@@ -74,58 +93,42 @@ def _(record: HarnessConnector, w: TripleWriter, source_slug: str) -> None:
 
 @map_record.register
 def _(record: HarnessNode, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("node", record.harness, record.ident)
-    w.add(node, t("type"), t("HarnessNode"))
-    w.add(node, t("label"), w.text(record.label))
-    w.add(node, t("sourceLine"), w.typed(record.line))
-    _part_of(w, node, record.harness)
+    node = _part(w, "node", "HarnessNode", record.harness, record.ident, record.label, record.line)
     for connector in record.connectors:
         w.add(w.iri("connector", record.harness, connector), t("atNode"), node)
 
 
 @map_record.register
 def _(record: HarnessSegment, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("segment", record.harness, record.ident)
-    w.add(node, t("type"), t("Segment"))
-    w.add(node, t("label"), w.text(record.label))
-    w.add(node, t("sourceLine"), w.typed(record.line))
-    _part_of(w, node, record.harness)
-    w.add(node, t("segmentFrom"), w.iri("node", record.harness, record.start))
-    w.add(node, t("segmentTo"), w.iri("node", record.harness, record.end))
-    if record.length_m is not None:
-        w.add(node, t("lengthM"), w.typed(record.length_m))
-    if record.diameter_m is not None:
-        w.add(node, t("diameterM"), w.typed(record.diameter_m))
-    if record.section_mm2 is not None:
-        w.add(node, t("bundleSectionMm2"), w.typed(record.section_mm2))
+    h = record.harness
+    node = _part(w, "segment", "Segment", h, record.ident, record.label, record.line)
+    w.add(node, t("segmentFrom"), w.iri("node", h, record.start))
+    w.add(node, t("segmentTo"), w.iri("node", h, record.end))
+    _numbers(
+        w, node, lengthM=record.length_m, diameterM=record.diameter_m, bundleSectionMm2=record.section_mm2
+    )
 
 
 @map_record.register
 def _(record: HarnessWire, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("wire", record.harness, record.ident)
+    h = record.harness
+    node = _part(w, "wire", "Wire", h, record.ident, record.ident, record.line)
     add = w.add
-    add(node, t("type"), t("Wire"))
-    add(node, t("label"), w.text(record.ident))
     add(node, t("wireNumber"), w.text(record.label))
-    add(node, t("sourceLine"), w.typed(record.line))
-    _part_of(w, node, record.harness)
     if record.ends:
-        add(node, t("fromPin"), _contact(w, record.harness, record.ends[0]))
+        add(node, t("fromPin"), _contact(w, h, record.ends[0]))
     if len(record.ends) > 1:
-        add(node, t("toPin"), _contact(w, record.harness, record.ends[-1]))
+        add(node, t("toPin"), _contact(w, h, record.ends[-1]))
     for end in record.ends[1:-1]:
-        add(node, t("intermediatePin"), _contact(w, record.harness, end))
+        add(node, t("intermediatePin"), _contact(w, h, end))
     for segment in dict.fromkeys(record.route):
-        add(node, t("routedThrough"), w.iri("segment", record.harness, segment))
+        add(node, t("routedThrough"), w.iri("segment", h, segment))
     if record.cable is not None:
-        add(node, t("partOf"), w.iri("cable", record.harness, record.cable))
+        add(node, t("partOf"), w.iri("cable", h, record.cable))
         add(node, t("cableName"), w.text(record.cable))
-    if record.section_mm2 is not None:
-        add(node, t("crossSectionMm2"), w.typed(record.section_mm2))
-    if record.length_m is not None:
-        add(node, t("lengthM"), w.typed(record.length_m))
-    if record.diameter_m is not None:
-        add(node, t("diameterM"), w.typed(record.diameter_m))
+    _numbers(
+        w, node, crossSectionMm2=record.section_mm2, lengthM=record.length_m, diameterM=record.diameter_m
+    )
     if record.colour is not None:
         add(node, t("colour"), w.text(record.colour))
     if record.signal is not None:
@@ -134,42 +137,26 @@ def _(record: HarnessWire, w: TripleWriter, source_slug: str) -> None:
 
 @map_record.register
 def _(record: HarnessCable, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("cable", record.harness, record.ident)
-    w.add(node, t("type"), t("Cable"))
-    w.add(node, t("label"), w.text(record.ident))
-    w.add(node, t("sourceLine"), w.typed(record.line))
-    _part_of(w, node, record.harness)
-    if record.length_m is not None:
-        w.add(node, t("lengthM"), w.typed(record.length_m))
-    if record.diameter_m is not None:
-        w.add(node, t("diameterM"), w.typed(record.diameter_m))
+    node = _part(w, "cable", "Cable", record.harness, record.ident, record.ident, record.line)
+    _numbers(w, node, lengthM=record.length_m, diameterM=record.diameter_m)
 
 
 @map_record.register
 def _(record: HarnessFixing, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("fixing", record.harness, record.ident)
-    w.add(node, t("type"), t("Fixing"))
-    w.add(node, t("label"), w.text(record.ident))
-    w.add(node, t("sourceLine"), w.typed(record.line))
-    _part_of(w, node, record.harness)
-    if record.description:
-        w.add(node, t("description"), w.text(record.description))
+    h = record.harness
+    node = _part(w, "fixing", "Fixing", h, record.ident, record.ident, record.line)
+    _description(w, node, record.description)
     for name in record.nodes:
-        w.add(node, t("placedOn"), w.iri("node", record.harness, name))
+        w.add(node, t("placedOn"), w.iri("node", h, name))
     for name in record.segments:
-        w.add(node, t("placedOn"), w.iri("segment", record.harness, name))
+        w.add(node, t("placedOn"), w.iri("segment", h, name))
 
 
 @map_record.register
 def _(record: HarnessProtection, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("protection", record.harness, record.ident)
-    w.add(node, t("type"), t("Protection"))
-    w.add(node, t("label"), w.text(record.ident))
-    w.add(node, t("sourceLine"), w.typed(record.line))
-    _part_of(w, node, record.harness)
-    if record.description:
-        w.add(node, t("description"), w.text(record.description))
-    if record.length_m is not None:
-        w.add(node, t("lengthM"), w.typed(record.length_m))
+    h = record.harness
+    node = _part(w, "protection", "Protection", h, record.ident, record.ident, record.line)
+    _description(w, node, record.description)
+    _numbers(w, node, lengthM=record.length_m)
     for name in record.segments:
-        w.add(node, t("placedOn"), w.iri("segment", record.harness, name))
+        w.add(node, t("placedOn"), w.iri("segment", h, name))
