@@ -6,7 +6,7 @@ from collections.abc import Callable
 
 from cadkg.derive.cabinet import CellModel
 from cadkg.derive.geometry import Pose
-from cadkg.ingest.mapping import TripleWriter, term, write_pose
+from cadkg.ingest.mapping import TripleWriter, dimensions, term, write_pose
 
 __all__ = ["derived_ntriples"]
 
@@ -33,8 +33,7 @@ def derived_ntriples(model: CellModel, base: str, sink: Callable[[bytes], None] 
             if pose is not None:
                 w.add(node, t(f"{kind}Pose"), _pose(w, w.iri("derived", label, kind), pose, g.frame))
         if g.dimensions is not None:
-            for name, value in zip(("xDim", "yDim", "zDim"), g.dimensions, strict=True):
-                w.add(node, t(name), w.typed(float(value)))
+            dimensions(w, node, g.dimensions)
         if g.rail is not None and g.rail_position is not None:
             w.add(node, t("onRail"), w.iri("component", g.rail))
             w.add(node, t("railPosition"), w.typed(float(g.rail_position)))

@@ -409,6 +409,28 @@ def model_node(w: TripleWriter, key: str) -> str:
     return node
 
 
+def model_frame(w: TripleWriter, model: str, key: str) -> str:
+    """The frame of the commercial model ``key`` (node ``model``), in which its poses are given."""
+    frame = w.iri("model", key, "frame")
+    w.add(frame, _TYPE, _t("Frame"))
+    w.add(frame, _t("label"), w.text(f"model {key}"))
+    w.add(model, _t("hasFrame"), frame)
+    return frame
+
+
+def dimensions(w: TripleWriter, node: str, sizes: Sequence[float | Decimal]) -> None:
+    """Size along x, y, z in metres."""
+    for name, value in zip(("xDim", "yDim", "zDim"), sizes, strict=True):
+        w.add(node, _t(name), w.typed(float(value)))
+
+
+def mesh_node(w: TripleWriter, owner: str, mesh: str, rel: str) -> None:
+    """``owner`` has the mesh node ``mesh`` whose STL file is ``rel`` in the store's files."""
+    w.add(owner, _t("hasMesh"), mesh)
+    w.add(mesh, _TYPE, _t("Mesh"))
+    w.add(mesh, _t("meshUri"), f'"{rel}"^^<{_XSD}anyURI>')
+
+
 def connector_node(w: TripleWriter, label: str) -> str:
     """The component ``label``, typed a connector."""
     node = component_node(w, label)

@@ -15,8 +15,11 @@ from cadkg.ingest.eplan import PinRef
 from cadkg.ingest.mapping import (
     TripleWriter,
     component_node,
+    dimensions,
     frame_node,
     map_record,
+    mesh_node,
+    model_frame,
     model_node,
     pin_node,
     placement_pose,
@@ -40,12 +43,8 @@ def _map_model(w: TripleWriter, model: ComponentModel) -> str:
     if model.role:
         w.add(node, t("modelRole"), w.text(model.role))
     if model.dimensions:
-        for name, value in zip(("xDim", "yDim", "zDim"), model.dimensions, strict=True):
-            w.add(node, t(name), w.typed(float(value)))
-    frame = w.iri("model", model.key, "frame")
-    w.add(frame, t("type"), t("Frame"))
-    w.add(frame, t("label"), w.text(f"model {model.key}"))
-    w.add(node, t("hasFrame"), frame)
+        dimensions(w, node, model.dimensions)
+    frame = model_frame(w, node, model.key)
     for couple in model.couples:
         pin = w.iri("model", model.key, "pin", couple.name)
         w.add(node, t("definesPin"), pin)
@@ -135,10 +134,7 @@ def _(record: SceneItem, w: TripleWriter, source_slug: str) -> None:
     if record.mesh is not None:
         rel = f"meshes/{record.item_id}.stl"
         w.meshes[rel] = record.mesh
-        mesh = w.iri("mesh", record.item_id)
-        w.add(item, t("hasMesh"), mesh)
-        w.add(mesh, t("type"), t("Mesh"))
-        w.add(mesh, t("meshUri"), f'"{rel}"^^<http://www.w3.org/2001/XMLSchema#anyURI>')
+        mesh_node(w, item, w.iri("mesh", record.item_id), rel)
 
 
 @map_record.register

@@ -13,9 +13,6 @@ ck:Branch``, ``ck:containsCable ck:Cable``, a cable's ends ``ck:fromPin`` (main 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from decimal import Decimal
-
 from cadkg.ingest.action_plan import PlannedOperation
 from cadkg.ingest.elvez_models import ElementModel
 from cadkg.ingest.elvez_tools import ToolSpec
@@ -27,8 +24,11 @@ from cadkg.ingest.mapping import (
     cable_node,
     component_node,
     connector_node,
+    dimensions,
     frame_node,
     map_record,
+    mesh_node,
+    model_frame,
     model_node,
     pin_node,
     placement_pose,
@@ -42,12 +42,6 @@ t = term
 OPERATION_CLASSES = {"insert": "InsertOperation", "route": "RouteOperation", "tape": "TapeOperation"}
 """The ontology class of each operation type of the action plan."""
 
-_ANY_URI = "http://www.w3.org/2001/XMLSchema#anyURI"
-
-
-def _dimensions(w: TripleWriter, node: str, sizes: Sequence[float | Decimal]) -> None:
-    for name, value in zip(("xDim", "yDim", "zDim"), sizes, strict=True):
-        w.add(node, t(name), w.typed(float(value)))
 
 
 @map_record.register
@@ -56,11 +50,8 @@ def _(record: ElementModel, w: TripleWriter, source_slug: str) -> None:
     w.add(node, t("sourceLine"), w.typed(record.line))
     if record.description:
         w.add(node, t("description"), w.text(record.description))
-    _dimensions(w, node, record.dimensions)
-    frame = w.iri("model", record.number, "frame")
-    w.add(frame, t("type"), t("Frame"))
-    w.add(frame, t("label"), w.text(f"model {record.number}"))
-    w.add(node, t("hasFrame"), frame)
+    dimensions(w, node, record.dimensions)
+    frame = model_frame(w, node, record.number)
     for poi in record.frames:
         keypoint = w.iri("model", record.number, "keypoint", poi.name)
         w.add(node, t("definesKeypoint"), keypoint)
@@ -77,9 +68,7 @@ def _(record: ElementModel, w: TripleWriter, source_slug: str) -> None:
         rel = f"meshes/models/{record.number}.stl"
         w.files[rel] = record.mesh
         mesh = w.iri("mesh", "model", record.number)
-        w.add(node, t("hasMesh"), mesh)
-        w.add(mesh, t("type"), t("Mesh"))
-        w.add(mesh, t("meshUri"), f'"{rel}"^^<{_ANY_URI}>')
+        mesh_node(w, node, mesh, rel)
         if record.mesh_file:
             w.add(mesh, t("description"), w.text(f"from {record.mesh_file}"))
 
@@ -99,7 +88,7 @@ def _(record: HarnessComponent, w: TripleWriter, source_slug: str) -> None:
         if record.kind == "capacitor":
             w.add(node, t("type"), t("Capacitor"))
         if record.dimensions_m is not None:
-            _dimensions(w, node, record.dimensions_m)
+            dimensions(w, node, record.dimensions_m)
     w.add(node, t("sourceLine"), w.typed(record.line))
     if record.rgb is not None:
         w.add(node, t("colourRgb"), w.text(" ".join(str(c) for c in record.rgb)))
@@ -158,7 +147,7 @@ def _(record: ToolSpec, w: TripleWriter, source_slug: str) -> None:
     w.add(tool, t("toolType"), w.text(record.kind))
     w.add(tool, t("sourceLine"), w.typed(record.line))
     w.add(tool, t("toolSlot"), component_node(w, record.atc_slot))
-    _dimensions(w, tool, record.dimensions)
+    dimensions(w, tool, record.dimensions)
     base = frame_node(w, f"{record.name}_base")
     wrist = frame_node(w, f"{record.name}_wrist")
     action = frame_node(w, f"{record.name}_action")
