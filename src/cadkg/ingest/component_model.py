@@ -17,7 +17,7 @@ from lxml import etree
 
 from cadkg.errors import IngestError
 from cadkg.ingest.text import read_text
-from cadkg.ingest.xml_input import parse_untrusted_xml
+from cadkg.ingest.xml_input import element_children, parse_untrusted_xml
 
 __all__ = [
     "ChildPlacement",
@@ -156,18 +156,11 @@ class _Parser:
         return models
 
     def children(self, parent: etree._Element, allowed: tuple[str, ...]) -> list[etree._Element]:
-        found = []
-        for child in parent:
-            if not isinstance(child.tag, str):
-                continue  # comments and processing instructions
-            if child.tag not in allowed:
-                raise self.error(
-                    f"unexpected element <{child.tag}> inside <{parent.tag}>",
-                    self.at(child),
-                    expected=" or ".join(f"<{a}>" for a in allowed),
-                )
-            found.append(child)
-        return found
+        return element_children(
+            parent,
+            allowed,
+            lambda reason, child, expected: self.error(reason, self.at(child), expected=expected),
+        )
 
     def name(self, element: etree._Element) -> str:
         name = (element.get("name") or "").strip()

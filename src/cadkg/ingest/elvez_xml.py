@@ -21,7 +21,7 @@ from lxml import etree
 from cadkg.errors import IngestError
 from cadkg.ingest.component_model import Placement
 from cadkg.ingest.text import read_text
-from cadkg.ingest.xml_input import parse_untrusted_xml
+from cadkg.ingest.xml_input import element_children, parse_untrusted_xml
 
 __all__ = [
     "Placement",
@@ -100,19 +100,13 @@ class XmlReader:
 
     def children(self, parent: etree._Element, allowed: tuple[str, ...]) -> list[etree._Element]:
         """The element children of ``parent``; any other element name is an error."""
-        found = []
-        for child in parent:
-            if not isinstance(child.tag, str):
-                continue
-            if child.tag not in allowed:
-                raise self.error(
-                    f"unexpected element <{child.tag}> inside <{parent.tag}>",
-                    child,
-                    found=f"<{child.tag}>",
-                    expected=" or ".join(f"<{a}>" for a in allowed),
-                )
-            found.append(child)
-        return found
+        return element_children(
+            parent,
+            allowed,
+            lambda reason, child, expected: self.error(
+                reason, child, found=f"<{child.tag}>", expected=expected
+            ),
+        )
 
     def one(self, parent: etree._Element, name: str, *, required: bool) -> etree._Element | None:
         """The single ``<name>`` child of ``parent`` (None when absent and not required)."""

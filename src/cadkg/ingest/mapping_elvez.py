@@ -43,7 +43,6 @@ OPERATION_CLASSES = {"insert": "InsertOperation", "route": "RouteOperation", "ta
 """The ontology class of each operation type of the action plan."""
 
 
-
 @map_record.register
 def _(record: ElementModel, w: TripleWriter, source_slug: str) -> None:
     node = model_node(w, record.number)

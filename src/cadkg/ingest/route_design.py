@@ -24,7 +24,7 @@ from lxml import etree
 
 from cadkg.errors import IngestError
 from cadkg.ingest.text import read_text
-from cadkg.ingest.xml_input import parse_untrusted_xml
+from cadkg.ingest.xml_input import element_children, parse_untrusted_xml
 
 __all__ = [
     "ROLES",
@@ -398,19 +398,11 @@ class _Document:
         return found
 
     def children(self, parent: etree._Element, allowed: Iterable[str]) -> list[etree._Element]:
-        allowed = tuple(allowed)
-        found = []
-        for child in parent:
-            if not isinstance(child.tag, str):
-                continue  # comments and processing instructions
-            if child.tag not in allowed:
-                raise self.error(
-                    f"unexpected element <{child.tag}> inside <{parent.tag}>",
-                    self.line(child),
-                    expected=" or ".join(f"<{a}>" for a in allowed),
-                )
-            found.append(child)
-        return found
+        return element_children(
+            parent,
+            allowed,
+            lambda reason, child, expected: self.error(reason, self.line(child), expected=expected),
+        )
 
     def attributes(
         self, element: etree._Element, required: tuple[str, ...], optional: tuple[str, ...]

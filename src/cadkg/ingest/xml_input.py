@@ -8,13 +8,14 @@ are on, before lxml sees them, and the parser itself resolves nothing.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable, Iterable
 from pathlib import Path
 
 from lxml import etree
 
 from cadkg.errors import IngestError
 
-__all__ = ["parse_untrusted_xml"]
+__all__ = ["element_children", "parse_untrusted_xml"]
 
 _DECLARATIONS = re.compile(rb"<!(DOCTYPE|ENTITY)", re.IGNORECASE)
 _ENTITY = re.compile(rb"<!(ENTITY)", re.IGNORECASE)
@@ -69,3 +70,28 @@ def parse_untrusted_xml(
         raise IngestError(
             path, f"malformed XML: {err.msg}", line=line_offset + line, expected=expected
         ) from None
+
+
+def element_children(
+    parent: etree._Element,
+    allowed: Iterable[str],
+    error: Callable[[str, etree._Element, str], IngestError],
+) -> list[etree._Element]:
+    """The element children of ``parent`` (comments and processing instructions skipped).
+
+    Any other element name raises ``error(reason, child, expected)``, which locates it the way
+    the calling reader counts lines.
+    """
+    allowed = tuple(allowed)
+    found = []
+    for child in parent:
+        if not isinstance(child.tag, str):
+            continue
+        if child.tag not in allowed:
+            raise error(
+                f"unexpected element <{child.tag}> inside <{parent.tag}>",
+                child,
+                " or ".join(f"<{a}>" for a in allowed),
+            )
+        found.append(child)
+    return found
