@@ -18,7 +18,7 @@ import math
 import re
 import warnings
 from collections import defaultdict
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from decimal import Decimal, InvalidOperation
 from pathlib import Path
@@ -654,46 +654,43 @@ class _Kbl:
 
     def length(self, element: Any | None) -> Decimal | None:
         """A length in metres from a numerical value with a length unit."""
-        if element is None:
-            return None
-        value, unit = self._value(element)
-        name, prefix, dimension = (
-            _text(unit, "Si_unit_name"),
-            _text(unit, "Si_prefix"),
-            _text(unit, "Si_dimension"),
-        )
-        if name == "metre" and dimension is None and prefix in _PREFIX:
-            return value * _PREFIX[prefix]
-        named = (_text(unit, "Unit_name") or "").lower()
-        if name is None and named in _NAMED_LENGTH:
-            return value * _NAMED_LENGTH[named]
-        self.error(
-            f"<{_local(element)}> is not given in a unit of length",
-            element,
-            found=_describe(unit),
-            expected="a <Unit> of metres (with an optional prefix)",
-        )
+        return self._measure(element, None, lambda prefix: prefix, _NAMED_LENGTH, "length", "metres")
 
     def area(self, element: Any | None) -> Decimal | None:
         """An area in mm² from a numerical value with an area unit."""
+        return self._measure(
+            element, "square", lambda prefix: (prefix * 1000) ** 2, _NAMED_AREA_MM2, "area", "square metres"
+        )
+
+    def _measure(
+        self,
+        element: Any | None,
+        dimension: str | None,
+        si_factor: Callable[[Decimal], Decimal],
+        named_factors: Mapping[str, Decimal],
+        quantity: str,
+        si_unit: str,
+    ) -> Decimal | None:
+        """A value in cadkg's unit: an SI unit (metre with ``dimension`` and a prefix whose factor
+        ``si_factor`` turns into cadkg's unit) or one of the ``named_factors``."""
         if element is None:
             return None
         value, unit = self._value(element)
-        name, prefix, dimension = (
+        name, prefix, found_dimension = (
             _text(unit, "Si_unit_name"),
             _text(unit, "Si_prefix"),
             _text(unit, "Si_dimension"),
         )
-        if name == "metre" and dimension == "square" and prefix in _PREFIX:
-            return value * (_PREFIX[prefix] * 1000) ** 2
+        if name == "metre" and found_dimension == dimension and prefix in _PREFIX:
+            return value * si_factor(_PREFIX[prefix])
         named = (_text(unit, "Unit_name") or "").lower()
-        if name is None and named in _NAMED_AREA_MM2:
-            return value * _NAMED_AREA_MM2[named]
+        if name is None and named in named_factors:
+            return value * named_factors[named]
         self.error(
-            f"<{_local(element)}> is not given in a unit of area",
+            f"<{_local(element)}> is not given in a unit of {quantity}",
             element,
             found=_describe(unit),
-            expected="a <Unit> of square metres (with an optional prefix)",
+            expected=f"a <Unit> of {si_unit} (with an optional prefix)",
         )
 
 
