@@ -26,7 +26,7 @@ import pyoxigraph as ox
 from cadkg.errors import QueryError, StoreError
 from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
 from cadkg.ingest.pipeline import GraphData, SourceReport, read_manifest_graphs, read_source
-from cadkg.loading import BackgroundLoader, PipedBulkLoader, paused_gc
+from cadkg.loading import BackgroundLoader, paused_gc
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
 
 if TYPE_CHECKING:
@@ -247,11 +247,12 @@ class KnowledgeGraph:
         collector.add_edits(edits)
         model = None
         # A failure anywhere discards the whole store being built, so chunks of a file may be
-        # loaded while the rest of it is still being mapped.
-        loader = PipedBulkLoader(self._store) if bulk else BackgroundLoader(self._store)
-        with loader:
+        # loaded while the rest of it is still being mapped. On disk, one bulk load per file:
+        # bulk-loading many chunks writes many small tables that cost more to merge.
+        with BackgroundLoader(self._store, bulk=bulk) as loader:
+            sink = None if bulk else loader.put
             graphs = read_manifest_graphs(
-                manifest, on_source, sink=loader.put, on_record=lambda source: collector.source(source.rel)
+                manifest, on_source, sink=sink, on_record=lambda source: collector.source(source.rel)
             )
             for data in graphs:
                 loader.put(data.graph, data.ntriples)
@@ -261,7 +262,8 @@ class KnowledgeGraph:
                 # Derived while the loader thread is still indexing the sources.
                 model = derive_cell(collector.inputs())
                 graph = model.base + "derived"
-                loader.put(graph, derived_ntriples(model, model.base, partial(loader.put, graph)))
+                chunks = None if bulk else partial(loader.put, graph)
+                loader.put(graph, derived_ntriples(model, model.base, chunks))
         if model is None:
             self.derive()
         else:
