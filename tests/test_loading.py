@@ -1,0 +1,51 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import pyoxigraph as ox
+import pytest
+
+from cadkg.loading import BackgroundLoader
+
+G1 = "https://example.org/g/one"
+G2 = "https://example.org/g/two"
+
+
+def lines(graph: str, first: int, count: int) -> bytes:
+    return "".join(
+        f'<https://example.org/s/{i}> <https://example.org/p> "{graph[-3:]} {i}" .\n'
+        for i in range(first, first + count)
+    ).encode()
+
+
+def triples_of(store: ox.Store, graph: str) -> set[tuple[str, str]]:
+    return {
+        (q.subject.value, q.object.value)
+        for q in store.quads_for_pattern(None, None, None, ox.NamedNode(graph))
+    }
+
+
+@pytest.mark.parametrize("bulk", [False, True])
+def test_background_loader_loads_each_chunk_into_its_graph(tmp_path: Path, bulk: bool) -> None:
+    store = ox.Store(str(tmp_path / "store")) if bulk else ox.Store()
+    with BackgroundLoader(store, bulk=bulk) as loader:
+        loader.put(G1, lines(G1, 0, 5))
+        loader.put(G1, b"")
+        loader.put(G2, lines(G2, 5, 5))
+        loader.put(G1, lines(G1, 5, 2))
+    assert triples_of(store, G1) == {(f"https://example.org/s/{i}", f"one {i}") for i in range(7)}
+    assert triples_of(store, G2) == {(f"https://example.org/s/{i}", f"two {i}") for i in range(5, 10)}
+
+
+def test_a_load_error_is_raised_in_the_producer() -> None:
+    loader = BackgroundLoader(ox.Store(), bulk=False)
+    loader.put(G1, b"<broken\n")
+    with pytest.raises(SyntaxError):
+        loader.close()
+
+
+def test_a_producer_failure_stops_the_loading_thread() -> None:
+    with pytest.raises(RuntimeError, match="row 7"), BackgroundLoader(ox.Store(), bulk=False) as loader:
+        loader.put(G1, lines(G1, 0, 10))
+        raise RuntimeError("row 7 is bad")
+    assert not loader._thread.is_alive()
