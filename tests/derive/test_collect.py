@@ -39,8 +39,9 @@ def _synthetic(tmp_path: Path, cabinet: bool) -> Path:
 def _collected(manifest_path: Path) -> InputCollector:
     manifest = load_manifest(manifest_path)
     collector = InputCollector(manifest)
-    for data in read_manifest_graphs(manifest):
-        collector.add(data.report.rel_path, data.records)
+    # As a build feeds it: each source's records as they are mapped.
+    for _ in read_manifest_graphs(manifest, on_record=lambda source: collector.source(source.rel)):
+        pass
     return collector
 
 

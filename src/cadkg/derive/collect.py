@@ -54,7 +54,7 @@ class _Source:
 
 
 class InputCollector:
-    """Feed it the manifest's sources in order (:meth:`add`), then take :meth:`inputs`."""
+    """Feed it the manifest's sources in order (:meth:`source`), then take :meth:`inputs`."""
 
     def __init__(self, manifest: Manifest) -> None:
         cell = manifest.cell
@@ -76,12 +76,6 @@ class InputCollector:
         self._ducts: set[str] = set()
         self._settings = manifest.derive
         self._root_frames = {source.rel: source.frame for source in manifest.sources}
-
-    def add(self, rel: str, records: Iterable[object]) -> None:
-        """The records read from source ``rel`` (its path in the manifest), in file order."""
-        take = self.source(rel)
-        for record in records:
-            take(record)
 
     def source(self, rel: str) -> Callable[[object], None]:
         """The function that takes the records of source ``rel`` one by one, in file order."""

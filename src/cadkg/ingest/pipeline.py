@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -41,13 +41,12 @@ class SourceReport:
 
 @dataclass(frozen=True)
 class GraphData:
-    """The N-Triples of one named graph, the records they map and the report of the file."""
+    """The N-Triples of one named graph and the report of the file it came from."""
 
     graph: str
     ntriples: bytes
     report: SourceReport
     files: dict[str, bytes] = field(default_factory=dict)
-    records: Sequence[object] = ()
 
 
 def read_source(
@@ -82,7 +81,7 @@ def read_source(
     writer = TripleWriter(base_iri)
     writer.root_frame = frame or "cabinet"
     slug = Path(rel_path).stem
-    records: list[object] = []
+    count = 0
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", IngestWarning)
         # Without a stream the whole file is read before anything of it is written.
@@ -92,7 +91,7 @@ def read_source(
             writer.stream_to(lambda chunk: sink(graph, chunk))
         map_provenance(writer, graph, rel_path, sha256_of(path), kind)
         for record in incoming:
-            records.append(record)
+            count += 1
             mapper(type(record))(record, writer, slug)
             writer.maybe_flush()
             if on_record is not None:
@@ -100,7 +99,7 @@ def read_source(
     report = SourceReport(
         rel_path=rel_path,
         kind=kind,
-        records=len(records),
+        records=count,
         triples=writer.triples,
         seconds=time.perf_counter() - started,
         warnings=tuple(str(w.message) for w in caught if issubclass(w.category, IngestWarning)),
@@ -109,7 +108,7 @@ def read_source(
     if sink is not None:
         sink(graph, ntriples)
         ntriples = b""
-    return GraphData(graph=graph, ntriples=ntriples, report=report, files=writer.all_files(), records=records)
+    return GraphData(graph=graph, ntriples=ntriples, report=report, files=writer.all_files())
 
 
 def manifest_graph(manifest: Manifest) -> GraphData:
