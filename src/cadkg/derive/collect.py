@@ -23,7 +23,7 @@ from cadkg.ingest.component_model import ComponentModel, Placement
 from cadkg.ingest.connection_list import Connection, ConnectionListInfo
 from cadkg.ingest.eplan import PinRef
 from cadkg.ingest.manifest import Manifest
-from cadkg.ingest.mapping import graph_iri, node_iri
+from cadkg.ingest.mapping import graph_iri, item_mesh_file, node_iri, pin_iri, wire_iri
 from cadkg.ingest.scene import SceneItem
 from cadkg.ingest.terminal_schema import TerminalSlot
 from cadkg.ingest.wri import IdEntry
@@ -141,13 +141,7 @@ class InputCollector:
         pass
 
     def _connection(self, record: Connection, source: _Source) -> None:
-        key = record.wire_number
-        wire = node_iri(self.base, "wire", key)
-        occurrence = 1
-        while wire in source.wires:
-            occurrence += 1
-            wire = node_iri(self.base, "wire", f"{key}~{occurrence}")
-        source.wires.add(wire)
+        wire = wire_iri(self.base, record.wire_number, source.wires)
         section, length = record.section_mm2, record.length_m
         self._wires.append(
             WireInfo(
@@ -195,7 +189,7 @@ class InputCollector:
             high = tuple(float(v) for v in record.bbox_max)
             self._bboxes[record.item_id] = (low, high)  # type: ignore[assignment]
         if record.mesh is not None:
-            self._meshes[record.item_id] = f"meshes/{record.item_id}.stl"
+            self._meshes[record.item_id] = item_mesh_file(record.item_id)
 
     def _assignment(self, record: Assignment, source: _Source) -> None:
         target = node_iri(self.base, record.kind, record.ident)
@@ -215,8 +209,7 @@ class InputCollector:
         key = (ref.component, ref.pin, ref.level)
         iri = self._pin_iris.get(key)
         if iri is None:
-            parts = key[:2] if ref.level is None else key
-            iri = self._pin_iris[key] = node_iri(self.base, "pin", *parts)
+            iri = self._pin_iris[key] = pin_iri(self.base, ref)
             self._pins.setdefault(iri, PinInfo(iri, ref.component, ref.pin, ref.level, None))
         return iri
 

@@ -32,13 +32,16 @@ __all__ = [
     "component_node",
     "frame_node",
     "graph_iri",
+    "item_mesh_file",
     "map_manifest",
     "map_record",
     "mapper",
     "node_iri",
+    "pin_iri",
     "pin_node",
     "sha256_of",
     "term",
+    "wire_iri",
     "write_pose",
 ]
 
@@ -122,6 +125,7 @@ class TripleWriter:
         # Nodes every row of a big file points at, minted once per writer.
         self.pins: dict[tuple[str, str, str | None], str] = {}
         self.plans: dict[str, str] = {}
+        self.wires: set[str] = set()
         self.components: dict[str, str] = {}
         self._flushed = 0
         self._sink: Callable[[bytes], None] | None = None
@@ -265,16 +269,38 @@ def _(record: ConnectionListInfo, w: TripleWriter, source_slug: str) -> None:
         w.add(plan, _t("description"), w.text(f"job {record.job}"))
 
 
+def pin_iri(base_iri: str, ref: PinRef) -> str:
+    """The IRI of the pin ``ref`` names: component, pin and, on a terminal, its level."""
+    if ref.level is None:
+        return node_iri(base_iri, "pin", ref.component, ref.pin)
+    return node_iri(base_iri, "pin", ref.component, ref.pin, ref.level)
+
+
+def wire_iri(base_iri: str, number: str, taken: set[str]) -> str:
+    """The IRI of the wire ``number`` not in ``taken`` (the wires of its file so far), added to it.
+
+    A number a list repeats gets ``~2``, ``~3`` ... so that no row is lost.
+    """
+    iri = node_iri(base_iri, "wire", number)
+    occurrence = 1
+    while iri in taken:
+        occurrence += 1
+        iri = node_iri(base_iri, "wire", f"{number}~{occurrence}")
+    taken.add(iri)
+    return iri
+
+
+def item_mesh_file(item_id: str) -> str:
+    """Where the STL mesh of scene item ``item_id`` is kept, relative to the store's files."""
+    return f"meshes/{item_id}.stl"
+
+
 def _pin(w: TripleWriter, ref: PinRef) -> str:
     key = (ref.component, ref.pin, ref.level)
     node = w.pins.get(key)
     if node is not None:
         return node
-    if ref.level is None:
-        node = w.iri("pin", ref.component, ref.pin)
-    else:
-        node = w.iri("pin", ref.component, ref.pin, ref.level)
-    w.pins[key] = node
+    node = w.pins[key] = f"<{pin_iri(w.base, ref)}>"
     if w.once(node):
         component = _component(w, ref.component)
         w.add(node, _TYPE, _t("Pin"))
@@ -310,12 +336,7 @@ _WIRE_FIELDS = tuple(
 
 @map_record.register
 def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
-    key = record.wire_number
-    wire = w.iri("wire", key)
-    occurrence = 1
-    while not w.once(wire):
-        occurrence += 1
-        wire = w.iri("wire", f"{key}~{occurrence}")
+    wire = f"<{wire_iri(w.base, record.wire_number, w.wires)}>"
     text, typed = _literal, w.typed
     plan = w.plans.get(source_slug)
     if plan is None:

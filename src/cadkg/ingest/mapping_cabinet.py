@@ -17,6 +17,7 @@ from cadkg.ingest.mapping import (
     component_node,
     dimensions,
     frame_node,
+    item_mesh_file,
     map_record,
     mesh_node,
     model_frame,
@@ -132,7 +133,7 @@ def _(record: SceneItem, w: TripleWriter, source_slug: str) -> None:
         ):
             w.add(item, t(name), w.typed(float(value)))
     if record.mesh is not None:
-        rel = f"meshes/{record.item_id}.stl"
+        rel = item_mesh_file(record.item_id)
         w.meshes[rel] = record.mesh
         mesh_node(w, item, w.iri("mesh", record.item_id), rel)
 
