@@ -287,18 +287,13 @@ class KnowledgeGraph:
             old = ox.Store.read_only(str(directory / previous))
         except OSError:
             return []
-        quads = list(old.quads_for_pattern(None, None, None, graph))
+        self._store.extend(list(old.quads_for_pattern(None, None, None, graph)))
         del old
-        self._store.extend(quads)
-        by_node: dict[str, dict[str, str]] = {}
-        for q in quads:
-            if isinstance(q.object, ox.NamedNode):
-                by_node.setdefault(str(q.subject), {})[q.predicate.value] = q.object.value
-        return [
-            (props[CK_NS + "assignmentOf"], props[CK_NS + "assignedTo"].rsplit("#", 1)[-1])
-            for props in by_node.values()
-            if CK_NS + "assignmentOf" in props and CK_NS + "assignedTo" in props
-        ]
+        rows = self.query(
+            "SELECT ?g ?target ?who WHERE { GRAPH ?g { ?a ck:assignmentOf ?target ; ck:assignedTo ?who } }",
+            g=graph,
+        )
+        return [(row["target"], row["who"].rsplit("#", 1)[-1]) for row in rows]
 
     @property
     def generation(self) -> str | None:
