@@ -61,6 +61,17 @@ def test_query_errors_are_query_errors(iema: cadkg.KnowledgeGraph) -> None:
         iema.query("SELECT ?x WHERE { ?x ck:label ?y }", y=object())
 
 
+def test_a_bound_query_reports_syntax_errors_where_they_are_written(iema: cadkg.KnowledgeGraph) -> None:
+    text = "SELECT ?c WHERE {\n  ?c ck:label ?label .\n  ?c ck:hasPin ?p ?? .\n}"
+    messages = []
+    for bindings in ({}, {"label": "F1500.1"}):
+        with pytest.raises(QueryError) as caught:
+            iema.query(text, **bindings)
+        messages.append(str(caught.value))
+    assert messages[0] == messages[1]
+    assert "at 4:" in messages[0]
+
+
 def test_ask_and_construct(iema: cadkg.KnowledgeGraph) -> None:
     assert iema.ask("ASK { ?w ck:wireNumber ?n }", n="0V")
     assert not iema.ask("ASK { ?w ck:wireNumber ?n }", n="no-such-wire")

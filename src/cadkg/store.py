@@ -28,6 +28,7 @@ from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
 from cadkg.ingest.pipeline import GraphData, SourceReport, read_manifest_graphs, read_source
 from cadkg.loading import BackgroundLoader, paused_gc
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
+from cadkg.sparql_text import bind_values
 
 if TYPE_CHECKING:
     import networkx as nx
@@ -94,23 +95,6 @@ def _to_python(term: Any) -> Any:
     if kind is ox.BlankNode:
         return f"_:{term.value}"
     return str(term)
-
-
-def _to_term(value: Any) -> ox.NamedNode | ox.Literal:
-    """A Python value as an RDF term for binding: strings are literals, IRIs must be NamedNode."""
-    if isinstance(value, ox.NamedNode | ox.Literal):
-        return value
-    if isinstance(value, bool):
-        return ox.Literal(str(value).lower(), datatype=ox.NamedNode(_XSD + "boolean"))
-    if isinstance(value, int):
-        return ox.Literal(str(value), datatype=ox.NamedNode(_XSD + "integer"))
-    if isinstance(value, Decimal):
-        return ox.Literal(format(value, "f"), datatype=ox.NamedNode(_XSD + "decimal"))
-    if isinstance(value, float):
-        return ox.Literal(repr(value), datatype=ox.NamedNode(_XSD + "double"))
-    if isinstance(value, str):
-        return ox.Literal(value)
-    raise QueryError(f"cannot bind a value of type {type(value).__name__}")
 
 
 @dataclass(frozen=True)
@@ -465,36 +449,19 @@ class KnowledgeGraph:
     def raw_query(self, sparql: str, bindings: Mapping[str, Any] | None = None) -> Any:
         """Run SPARQL on the union graph with bound parameters; returns pyoxigraph results.
 
-        Parameters are bound with SPARQL substitution, never pasted into the text.
+        Parameters are bound by a ``VALUES`` block opening the query's WHERE group
+        (:func:`cadkg.sparql_text.bind_values`), never pasted into the text; pyoxigraph
+        then starts its joins from them.
 
         Raises
         ------
         QueryError
-            On a syntax error or a binding the query does not project.
+            On a syntax error, a parameter name that is not a SPARQL variable name or a
+            value that cannot be bound.
         """
-        terms = {name: _to_term(value) for name, value in (bindings or {}).items()}
-        substitutions: dict[ox.Variable, ox.NamedNode | ox.BlankNode | ox.Literal | ox.Triple] = {
-            ox.Variable(name): term for name, term in terms.items()
-        }
         try:
-            try:
-                return self._store.query(
-                    sparql,
-                    prefixes=PREFIXES,
-                    use_default_graph_as_union=True,
-                    substitutions=substitutions or None,
-                )
-            except RuntimeError as err:
-                if not terms or "projection" not in str(err):
-                    raise
-            # Substitution needs the variable projected; otherwise bind through a trailing
-            # VALUES block whose terms pyoxigraph serializes (escaped), never raw user text.
-            names = " ".join(f"?{name}" for name in terms)
-            row = " ".join(str(term) for term in terms.values())
             return self._store.query(
-                f"{sparql}\nVALUES ({names}) {{ ({row}) }}",
-                prefixes=PREFIXES,
-                use_default_graph_as_union=True,
+                bind_values(sparql, bindings or {}), prefixes=PREFIXES, use_default_graph_as_union=True
             )
         except SyntaxError as err:
             # oxigraph lists every token it would accept; the position is what helps.

@@ -7,7 +7,9 @@ Each file starts with a comment header::
 
 The first line names and describes the query; ``param`` lines declare its
 parameters (``string``, ``integer``, ``decimal`` or ``iri``). Parameters are bound
-by substitution, so every parameter must be projected by the query.
+by a ``VALUES`` block opening the query's WHERE group (:func:`cadkg.sparql_text.bind_values`),
+where pyoxigraph's planner starts its joins; so that it can go on from there, a query
+states its required patterns before its ``OPTIONAL`` ones.
 """
 
 from __future__ import annotations
