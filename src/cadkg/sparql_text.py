@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 from decimal import Decimal
+from functools import lru_cache
 from typing import Any
 
 import pyoxigraph as ox
@@ -87,8 +88,12 @@ def values_clause(bindings: Mapping[str, Any]) -> str:
     return f"VALUES ({' '.join(names)}) {{ ({row}) }}"
 
 
+@lru_cache(maxsize=256)
 def _where_group(sparql: str, form: str) -> int | None:
     """Where the query's WHERE group opens (the index of its ``{``), or None when it has none.
+
+    Cached: services and named queries run the same few texts over and over, and scanning
+    one costs as much as answering it.
 
     A small scanner: comments, strings and IRIs are skipped, so a ``{`` inside them does
     not count; braces and parentheses are counted to find the outermost groups.
