@@ -7,16 +7,19 @@ and the script prints Markdown tables of:
 1. **cadkg build from the source files**: ``cadkg.build(manifest)`` in memory and
    ``cadkg.build(manifest, store_dir)`` on disk (flush, optimize and reopen
    included), wall-clock seconds, triples per second and peak RSS, with the part
-   of the in-memory build spent reading and mapping the files.
-2. **Same triples, pyoxigraph vs rdflib**: cadkg's own readers and mapping
-   (``read_manifest_graphs``) turn the files into N-Triples per named graph once
-   (timed: "read+map"); those bytes are then loaded, each in its own process,
+   of the in-memory build spent reading and mapping the files, and the *overlap
+   floor*: the shortest build that overlapping its Python side with the store's
+   load could give on this machine (see ``overlap_floor``).
+2. **Same triples, pyoxigraph vs rdflib**: the build's Python side alone (cadkg's
+   readers and mapping, ``read_manifest_graphs``, then ``derive_cell`` and the
+   derived graph) turns the files into N-Triples per named graph once (timed:
+   "read+map+derive"); those bytes are then loaded, each in its own process,
    into a pyoxigraph store the way the in-memory build does (``Store.load`` per
    named graph) and into an ``rdflib.Dataset(default_union=True)`` (Memory store,
    ``graph.parse(data=..., format="nt")`` per named graph). Both also load the
-   cadkg ontology into its graph. Build = read+map + load for both; the ratio is
-   rdflib build / cadkg build. The baseline therefore measures only the store:
-   the file reading and mapping cost is the same for both.
+   cadkg ontology into its graph. Build = read+map+derive + load for both; the
+   ratio is rdflib build / cadkg build. The baseline therefore measures only the
+   store: the Python side costs the same for both.
 3. **Named queries**: p50/p95 latency of every named query of cadkg, with
    parameters taken from the generated data, run through ``kg.named_query`` on
    the in-memory build and through ``ds.query(text, initBindings=...)`` on the
@@ -245,24 +248,35 @@ def job_cadkg_disk(spec: Json) -> Json:
 
 
 def job_readmap(spec: Json) -> Json:
-    """cadkg's readers and mapping alone: files → N-Triples per named graph (written out)."""
+    """The build's Python side alone: files → N-Triples per named graph, the derived graph
+    included (written out for the load jobs)."""
+    from cadkg.derive.cabinet import derive_cell
+    from cadkg.derive.collect import InputCollector
+    from cadkg.derive.emit import derived_ntriples
     from cadkg.ingest.manifest import load_manifest
     from cadkg.ingest.pipeline import read_manifest_graphs
+    from cadkg.loading import paused_gc
 
     workdir = Path(spec["workdir"])
+    manifest = load_manifest(spec["manifest"])
+    collector = InputCollector(manifest)
     started = time.perf_counter()
-    graphs = list(read_manifest_graphs(load_manifest(spec["manifest"])))
+    with paused_gc():  # as the build runs
+        sources = read_manifest_graphs(manifest, on_record=lambda source: collector.source(source.rel))
+        graphs = [(data.graph, data.ntriples) for data in sources]
+        model = derive_cell(collector.inputs())
+        graphs.append((model.base + "derived", derived_ntriples(model, model.base)))
     seconds = time.perf_counter() - started
     index = []
-    for number, data in enumerate(graphs):
+    for number, (graph, ntriples) in enumerate(graphs):
         name = f"graph-{number}.nt"
-        (workdir / name).write_bytes(data.ntriples)
-        index.append({"graph": data.graph, "file": name})
+        (workdir / name).write_bytes(ntriples)
+        index.append({"graph": graph, "file": name})
     (workdir / "graphs.json").write_text(json.dumps(index), encoding="utf-8")
     return {
         "seconds": seconds,
-        "triples": sum(g.report.triples for g in graphs),
-        "bytes": sum(len(g.ntriples) for g in graphs),
+        "triples": sum(data.count(b"\n") for _, data in graphs),
+        "bytes": sum(len(data) for _, data in graphs),
         "peak_mib": peak_rss_mib(),
     }
 
@@ -278,7 +292,7 @@ def job_oxigraph_load(spec: Json) -> Json:
     store = ox.Store()
     store.load(path=ontology_path(), format=ox.RdfFormat.TURTLE, to_graph=ox.NamedNode(ONTOLOGY_IRI))
     for graph, data in graphs:
-        store.load(data, ox.RdfFormat.N_TRIPLES, to_graph=ox.NamedNode(graph))
+        store.load(data, ox.RdfFormat.N_TRIPLES, to_graph=ox.NamedNode(graph), lenient=True)
     seconds = time.perf_counter() - started
     return {"seconds": seconds, "triples": len(store), "peak_mib": peak_rss_mib()}
 
@@ -312,7 +326,13 @@ def job_rdflib(spec: Json) -> Json:
     return result
 
 
+def job_reference_loop(spec: Json) -> Json:
+    """The reference loop alone, so that several processes can run it at once."""
+    return {"seconds": reference_loop_seconds()}
+
+
 JOBS: dict[str, Callable[[Json], Json]] = {
+    "reference-loop": job_reference_loop,
     "cadkg-memory": job_cadkg_memory,
     "cadkg-disk": job_cadkg_disk,
     "readmap": job_readmap,
@@ -331,15 +351,41 @@ def child_main(job: str, spec_json: str) -> int:
 # -- orchestrating, in the parent process ------------------------------------------------
 
 
+def run_jobs(job: str, spec: Json, copies: int = 1) -> list[Json]:
+    """Run ``copies`` of ``job`` at once, each in a fresh Python process; their JSON results."""
+    print(f"  {job}{f' ×{copies}' if copies > 1 else ''} ...", file=sys.stderr, flush=True)
+    command = [sys.executable, str(Path(__file__).resolve()), CHILD_FLAG, job, json.dumps(spec)]
+    running = [
+        subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        for _ in range(copies)
+    ]
+    results = []
+    for process in running:
+        out, err = process.communicate()
+        if process.returncode != 0:
+            raise RuntimeError(f"benchmark job {job} failed ({process.returncode}):\n{err[-4000:]}")
+        results.append(json.loads(out.strip().splitlines()[-1]))
+    return results
+
+
 def run_job(job: str, spec: Json) -> Json:
     """Run ``job`` in a fresh Python process and return its JSON result."""
-    print(f"  {job} ...", file=sys.stderr, flush=True)
-    command = [sys.executable, str(Path(__file__).resolve()), CHILD_FLAG, job, json.dumps(spec)]
-    done = subprocess.run(command, capture_output=True, text=True, check=False)
-    if done.returncode != 0:
-        raise RuntimeError(f"benchmark job {job} failed ({done.returncode}):\n{done.stderr[-4000:]}")
-    result: Json = json.loads(done.stdout.strip().splitlines()[-1])
-    return result
+    return run_jobs(job, spec)[0]
+
+
+def parallel_throughput(rounds: int = 3) -> float:
+    """How many times one core's work this machine does with two busy processes.
+
+    A build maps on one core while pyoxigraph loads on another; where the two cores share
+    their execution units, or other tenants share the machine, the pair does less than twice
+    the work of one, and that bounds how much the overlap can save. The median of
+    ``rounds`` alternating measurements, since both vary from minute to minute."""
+    ratios = []
+    for _ in range(rounds):
+        alone = float(run_job("reference-loop", {})["seconds"])
+        together = max(float(r["seconds"]) for r in run_jobs("reference-loop", {}, copies=2))
+        ratios.append(2 * alone / together)
+    return statistics.median(ratios)
 
 
 def query_params(csv_path: Path, wires: int) -> dict[str, Json]:
@@ -404,6 +450,9 @@ def measure_size(wires: int, workdir: Path, options: Options) -> SizeResult:
     result = SizeResult(
         wires, generate_seconds, params, run_job("cadkg-memory", spec), run_job("cadkg-disk", spec)
     )
+    # Read+map and the load alone are what the build overlaps: the targets table needs them.
+    result.readmap = run_job("readmap", spec)
+    result.oxigraph = run_job("oxigraph-load", spec)
     if not options.with_rdflib:
         result.notes.append("rdflib baseline not run (--no-rdflib)")
     elif wires > options.rdflib_max_wires:
@@ -411,8 +460,6 @@ def measure_size(wires: int, workdir: Path, options: Options) -> SizeResult:
             f"rdflib baseline not run above {options.rdflib_max_wires} wires (--rdflib-max-wires)"
         )
     else:
-        result.readmap = run_job("readmap", spec)
-        result.oxigraph = run_job("oxigraph-load", spec)
         result.rdflib = run_job("rdflib", spec)
     shutil.rmtree(celldir, ignore_errors=True)
     return result
@@ -461,7 +508,7 @@ def reference_loop_seconds(count: int = 20_000_000) -> float:
     return time.perf_counter() - started
 
 
-def environment() -> str:
+def environment(throughput: float) -> str:
     """The machine, its speed today and library versions, as a Markdown list."""
     import pyoxigraph
     import rdflib
@@ -476,22 +523,37 @@ def environment() -> str:
             f"- cadkg {cadkg.__version__}, pyoxigraph {pyoxigraph.__version__}, rdflib {rdflib.__version__}",
             f"- reference loop (20 M Python integer additions), timed as this report is written: "
             f"{reference_loop_seconds():.2f} s",
+            f"- two processes running the reference loop at once do {throughput:.2f}× the work of one",
         ]
     )
 
 
-def build_table(results: Sequence[SizeResult]) -> str:
+def overlap_floor(r: SizeResult, throughput: float) -> float | None:
+    """The shortest in-memory build that overlapping the Python side with the load could give here.
+
+    Both halves are measured alone, each on one core; run at once, two cores do
+    ``throughput`` times the work of one, and neither half can finish before its own time."""
+    if r.readmap is None or r.oxigraph is None:
+        return None
+    read_map, load = float(r.readmap["seconds"]), float(r.oxigraph["seconds"])
+    # Above 2× the lone run was the one held up: two cores do at most twice one's work.
+    return max((read_map + load) / min(throughput, 2.0), read_map, load)
+
+
+def build_table(results: Sequence[SizeResult], throughput: float) -> str:
     """Table 1: cadkg.build from the source files, in memory and on disk."""
     rows = []
     for r in results:
         triples = r.memory["triples"]
         mem_s, disk_s = r.memory["seconds"], r.disk["seconds"]
+        floor = overlap_floor(r, throughput)
         rows.append(
             [
                 f"{r.wires:,}",
                 f"{triples:,}",
                 fmt(r.memory["read_map_seconds"]),
                 fmt(mem_s),
+                "—" if floor is None else fmt(floor),
                 f"{triples / mem_s:,.0f}",
                 fmt(r.memory["peak_mib"], 0),
                 fmt(disk_s),
@@ -505,6 +567,7 @@ def build_table(results: Sequence[SizeResult]) -> str:
         "triples",
         "of which read+map s",
         "in-memory s",
+        "overlap floor s",
         "triples/s",
         "peak RSS MiB",
         "on-disk s",
@@ -517,13 +580,11 @@ def build_table(results: Sequence[SizeResult]) -> str:
 
 def baseline_table(results: Sequence[SizeResult]) -> str:
     """Table 2: the same N-Triples loaded into pyoxigraph and into rdflib."""
-    if all(r.rdflib is None for r in results):
-        return "Not run in this run (see the notes)."
     header = [
         "wires",
         "triples",
         "N-Triples MiB",
-        "read+map s",
+        "read+map+derive s",
         "pyoxigraph load s",
         "rdflib load s",
         "cadkg build s",
@@ -535,21 +596,28 @@ def baseline_table(results: Sequence[SizeResult]) -> str:
     ]
     rows = []
     for r in results:
-        if r.readmap is None or r.oxigraph is None or r.rdflib is None:
+        if r.readmap is None or r.oxigraph is None:
             rows.append([f"{r.wires:,}", *["—"] * (len(header) - 1)])
             continue
         read_map = r.readmap["seconds"]
         cadkg_build = read_map + r.oxigraph["seconds"]
+        ours = [
+            f"{r.wires:,}",
+            f"{r.oxigraph['triples']:,}",
+            fmt(r.readmap["bytes"] / 2**20, 0),
+            fmt(read_map),
+            fmt(r.oxigraph["seconds"]),
+        ]
+        if r.rdflib is None:
+            missing = ["—"] * 3
+            rows.append([*ours, "—", fmt(cadkg_build), *missing, fmt(r.oxigraph["peak_mib"], 0), "—"])
+            continue
         rdflib_build = read_map + r.rdflib["seconds"]
-        same = r.oxigraph["triples"] == r.rdflib["triples"]
-        triples = f"{r.oxigraph['triples']:,}" + ("" if same else f" (rdflib {r.rdflib['triples']:,})")
+        if r.oxigraph["triples"] != r.rdflib["triples"]:
+            ours[1] += f" (rdflib {r.rdflib['triples']:,})"
         rows.append(
             [
-                f"{r.wires:,}",
-                triples,
-                fmt(r.readmap["bytes"] / 2**20, 0),
-                fmt(read_map),
-                fmt(r.oxigraph["seconds"]),
+                *ours,
                 fmt(r.rdflib["seconds"]),
                 fmt(cadkg_build),
                 fmt(rdflib_build),
@@ -642,7 +710,7 @@ def _size(results: Sequence[SizeResult], wires: int) -> SizeResult | None:
     return next((r for r in results if r.wires == wires), None)
 
 
-def targets_table(results: Sequence[SizeResult]) -> str:
+def targets_table(results: Sequence[SizeResult], throughput: float) -> str:
     """The targets, with the figures of this run that decide them."""
     r100k, r1m = _size(results, 100_000), _size(results, 1_000_000)
     rows = []
@@ -652,6 +720,13 @@ def targets_table(results: Sequence[SizeResult]) -> str:
     else:
         best = min(r100k.memory["seconds"], r100k.disk["seconds"])
         figure = f"in memory {fmt(r100k.memory['seconds'])} s, on disk {fmt(r100k.disk['seconds'])} s"
+        floor = overlap_floor(r100k, throughput)
+        if floor is not None and r100k.readmap and r100k.oxigraph:
+            figure += (
+                f"; alone, reading, mapping and deriving take {fmt(r100k.readmap['seconds'])} s and the load "
+                f"{fmt(r100k.oxigraph['seconds'])} s, and two busy processes do {throughput:.2f}× "
+                f"one core's work here: no overlap of the two finishes under {fmt(floor)} s"
+            )
         rows.append([TARGETS[0], figure, "met" if best <= TARGET_100K_SECONDS else "**not met**"])
         if r100k.readmap and r100k.oxigraph and r100k.rdflib:
             read_map = r100k.readmap["seconds"]
@@ -678,26 +753,35 @@ def targets_table(results: Sequence[SizeResult]) -> str:
     return table(["target", "this run", "verdict"], rows, left=3)
 
 
-def report(results: Sequence[SizeResult], plan: QueryPlan) -> str:
-    """The whole Markdown report of a run."""
+def report(results: Sequence[SizeResult], plan: QueryPlan, throughput: float) -> str:
+    """The whole Markdown report of a run; ``throughput`` is :func:`parallel_throughput`'s."""
     notes = [f"- {r.wires:,} wires: {n}" for r in results for n in r.notes]
     notes += [f"- {n}" for n in timeout_notes(results)]
     parts = [
         "## Environment",
-        environment(),
+        environment(throughput),
         "## Build from the source files (cadkg.build)",
-        build_table(results),
-        "## Same triples: pyoxigraph vs rdflib (read+map once, then load)",
+        build_method(throughput),
+        build_table(results, throughput),
+        "## Same triples: pyoxigraph vs rdflib (read, map and derive once, then load)",
         baseline_table(results),
         "## Named queries",
         query_method(plan),
         query_table(results),
         "## Targets",
-        targets_table(results),
+        targets_table(results, throughput),
     ]
     if notes:
         parts += ["## Notes", "\n".join(notes)]
     return "\n\n".join(parts) + "\n"
+
+
+def build_method(throughput: float) -> str:
+    return (
+        "*overlap floor*: the in-memory build maps the files on one core while pyoxigraph loads "
+        "on the other, so it cannot finish before either half measured alone (table 2), nor before "
+        f"their sum divided by what two busy cores do here ({throughput:.2f}× one)."
+    )
 
 
 def query_method(plan: QueryPlan) -> str:
@@ -751,10 +835,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     workdir = Path(tempfile.mkdtemp(prefix="cadkg-bench-"))
     started = time.perf_counter()
     try:
+        throughput = parallel_throughput()
         results = [measure_size(wires, workdir, options) for wires in options.sizes]
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
-    print(report(results, options.plan))
+    print(report(results, options.plan, throughput))
     print(f"(run took {time.perf_counter() - started:.0f} s)")
     return 0
 

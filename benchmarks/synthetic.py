@@ -318,8 +318,8 @@ def _pin_rows(width: float, *rows: tuple[float, tuple[str, ...]]) -> tuple[tuple
 def cabinet_models() -> dict[str, PartModel]:
     """The 30 commercial models of the cabinet, by code."""
     models: list[PartModel] = []
-    fuses = ((0.027, 0.08, 0.065), (0.027, 0.085, 0.068), (0.03, 0.08, 0.07))
-    fuses += ((0.032, 0.09, 0.07), (0.036, 0.09, 0.075), (0.036, 0.085, 0.072))
+    fuses = [(0.027, 0.08, 0.065), (0.027, 0.085, 0.068), (0.03, 0.08, 0.07)]
+    fuses += [(0.032, 0.09, 0.07), (0.036, 0.09, 0.075), (0.036, 0.085, 0.072)]
     for n, (w, h, d) in enumerate(fuses, 1):
         pins = _pin_rows(w, (h - 0.01, ("1", "3", "5")), (0.01, ("2", "4", "6")))
         models.append(PartModel(f"FUSE3P-{n:02d}", "root", (w, h, d), pins))
@@ -327,8 +327,8 @@ def cabinet_models() -> dict[str, PartModel]:
         models.append(
             PartModel(f"AUX-{n:02d}", "child", (w, h, d), _pin_rows(w, (h - 0.01, ("13",)), (0.01, ("14",))))
         )
-    contactors = ((0.036, 0.08, 0.06), (0.036, 0.085, 0.065), (0.04, 0.085, 0.065))
-    contactors += ((0.04, 0.09, 0.07), (0.045, 0.09, 0.07), (0.045, 0.095, 0.075))
+    contactors = [(0.036, 0.08, 0.06), (0.036, 0.085, 0.065), (0.04, 0.085, 0.065)]
+    contactors += [(0.04, 0.09, 0.07), (0.045, 0.09, 0.07), (0.045, 0.095, 0.075)]
     for n, (w, h, d) in enumerate(contactors, 1):
         pins = _pin_rows(w, (h - 0.01, ("1", "3", "5", "A1")), (0.01, ("2", "4", "6", "A2")))
         models.append(PartModel(f"CONT-{n:02d}", "root", (w, h, d), pins, f"AUX-{(n - 1) % 2 + 1:02d}"))
