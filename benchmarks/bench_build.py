@@ -252,7 +252,7 @@ def job_readmap(spec: Json) -> Json:
     included (written out for the load jobs)."""
     from cadkg.derive.cabinet import derive_cell
     from cadkg.derive.collect import InputCollector
-    from cadkg.derive.emit import derived_ntriples
+    from cadkg.derive.emit import derived_graph, derived_ntriples
     from cadkg.ingest.manifest import load_manifest
     from cadkg.ingest.pipeline import read_manifest_graphs
     from cadkg.loading import paused_gc
@@ -264,8 +264,9 @@ def job_readmap(spec: Json) -> Json:
     with paused_gc():  # as the build runs
         sources = read_manifest_graphs(manifest, on_record=lambda source: collector.source(source.rel))
         graphs = [(data.graph, data.ntriples) for data in sources]
-        model = derive_cell(collector.inputs())
-        graphs.append((model.base + "derived", derived_ntriples(model, model.base)))
+        if collector.complete:  # as the build decides; otherwise it derives from the store
+            model = derive_cell(collector.inputs())
+            graphs.append((derived_graph(model), derived_ntriples(model, model.base)))
     seconds = time.perf_counter() - started
     index = []
     for number, (graph, ntriples) in enumerate(graphs):

@@ -225,7 +225,7 @@ class KnowledgeGraph:
         """Load every source, derive the geometry and load it; the store ends complete."""
         from cadkg.derive.cabinet import derive_cell
         from cadkg.derive.collect import InputCollector
-        from cadkg.derive.emit import derived_ntriples
+        from cadkg.derive.emit import derived_graph, derived_ntriples
 
         collector = InputCollector(manifest)
         collector.add_edits(edits)
@@ -245,7 +245,7 @@ class KnowledgeGraph:
             if collector.complete:
                 # Derived while the loader thread is still indexing the sources.
                 model = derive_cell(collector.inputs())
-                graph = model.base + "derived"
+                graph = derived_graph(model)
                 chunks = None if bulk else partial(loader.put, graph)
                 loader.put(graph, derived_ntriples(model, model.base, chunks))
         if model is None:
@@ -314,12 +314,12 @@ class KnowledgeGraph:
 
     def derive(self) -> CellModel:
         """Recompute the derived geometry and replace the ``{base}derived`` graph with it."""
-        from cadkg.derive.emit import derived_ntriples
+        from cadkg.derive.emit import derived_graph, derived_ntriples
 
         self._model = None
         model = self.cell_model()
         if model.base and not self.read_only:
-            graph = ox.NamedNode(model.base + "derived")
+            graph = ox.NamedNode(derived_graph(model))
             if graph in set(self._store.named_graphs()):
                 self._store.remove_graph(graph)
             with paused_gc():

@@ -8,7 +8,12 @@ from cadkg.derive.cabinet import CellModel
 from cadkg.derive.geometry import Pose
 from cadkg.ingest.mapping import TripleWriter, dimensions, term, write_pose
 
-__all__ = ["derived_ntriples"]
+__all__ = ["derived_graph", "derived_ntriples"]
+
+
+def derived_graph(model: CellModel) -> str:
+    """The named graph the derived geometry of ``model`` is stored in: ``{base}derived``."""
+    return model.base + "derived"
 
 
 def _pose(w: TripleWriter, node: str, pose: Pose, frame: str) -> str:
