@@ -468,7 +468,7 @@ def _step(
         else (
             performers.get(wire.iri)
             or performers.get(node_iri(base, "wire", wire.number))
-            or performers.get(node_iri(base, "operation", str(wire.index)))
+            or performers.get(node_iri(base, "operation", str(wire.position)))
             or (
                 "human"
                 if "human"
@@ -481,7 +481,7 @@ def _step(
         )
     )
     return WireStep(
-        position=wire.index,
+        position=wire.position,
         source=wire.source,
         wire=wire.number,
         iri=wire.iri,

@@ -117,7 +117,7 @@ class InputCollector:
             models=self._models,
             blocks={label: sorted(rows, key=lambda r: (r[0], r[1])) for label, rows in self._blocks.items()},
             pins=self._pins,
-            wires=sorted(self._wires, key=lambda w: (w.source, w.index)),
+            wires=sorted(self._wires, key=lambda w: (w.source, w.position)),
             # As the graph is read: by graph IRI, then by line (none first).
             assignments=[
                 (g, target, who)
@@ -147,7 +147,7 @@ class InputCollector:
             WireInfo(
                 iri=wire,
                 number=record.wire_number,
-                index=record.index,
+                position=record.index,
                 source=source.rel,
                 origin=self._pin(record.origin),
                 destination=self._pin(record.destination),
@@ -210,7 +210,8 @@ class InputCollector:
         iri = self._pin_iris.get(key)
         if iri is None:
             iri = self._pin_iris[key] = pin_iri(self.base, ref)
-            self._pins.setdefault(iri, PinInfo(iri, ref.component, ref.pin, ref.level, None))
+            if iri not in self._pins:
+                self._pins[iri] = PinInfo(iri, ref.component, ref.pin, ref.level, None)
         return iri
 
     def _describe(self, record: ComponentModel, source: _Source) -> None:

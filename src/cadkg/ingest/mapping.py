@@ -69,6 +69,7 @@ def _t(name: str) -> str:
 
 
 _TYPE = f"<{RDF_TYPE.value}>"
+_SOURCE_LINE = _t("sourceLine")
 _INTEGER = f"<{_XSD}integer>"
 _DOUBLE = f"<{_XSD}double>"
 
@@ -128,6 +129,8 @@ class TripleWriter:
         self.wires: set[str] = set()
         self.components: dict[str, str] = {}
         self._flushed = 0
+        # Lines held in multi-line entries of ``lines`` beyond one each (see add_block).
+        self._extra = 0
         self._sink: Callable[[bytes], None] | None = None
 
     def stream_to(self, sink: Callable[[bytes], None]) -> None:
@@ -136,21 +139,31 @@ class TripleWriter:
         self._sink = sink
 
     def maybe_flush(self) -> None:
-        if self._sink is not None and len(self.lines) >= _CHUNK_LINES:
+        if self._sink is not None and len(self.lines) + self._extra >= _CHUNK_LINES:
             self._sink(self.data())
-            self._flushed += len(self.lines)
+            self._flushed += len(self.lines) + self._extra
             self.lines = []
+            self._extra = 0
 
     @property
     def triples(self) -> int:
         """Triples written so far, streamed or not."""
-        return self._flushed + len(self.lines)
+        return self._flushed + len(self.lines) + self._extra
 
     def iri(self, kind: str, *parts: str) -> str:
         return "<" + node_iri(self.base, kind, *parts) + ">"
 
     def add(self, s: str, p: str, o: str) -> None:
         self.lines.append(f"{s} {p} {o} .\n")
+
+    def add_block(self, text: str, count: int) -> None:
+        """``count`` whole N-Triples lines in one string.
+
+        The rows of a big file write one block each: a single formatted string per row
+        costs a fraction of one call and one string per triple.
+        """
+        self.lines.append(text)
+        self._extra += count - 1
 
     def add_all(self, s: str, pairs: Iterable[tuple[str, str]]) -> None:
         """Several triples of one subject: (predicate, object) pairs."""
@@ -228,36 +241,51 @@ def pin_node(w: TripleWriter, ref: PinRef) -> str:
 def _component(w: TripleWriter, label: str, kind: str = "Component") -> str:
     """The component ``label``; typed ``kind`` when this graph describes it first."""
     node = w.components.get(label)
-    if node is None:
-        node = w.components[label] = w.iri("component", label)
+    if node is not None:
+        return node  # described, or found described, by its first call
+    node = w.components[label] = w.iri("component", label)
     if w.once(node):
         w.add(node, _TYPE, _t(kind))
         w.add(node, _t("label"), w.text(label))
     return node
 
 
+_CAD_ITEM, _CAD_ID, _HAS_ITEM, _NAMES, _INSTANCE_OF = (
+    _t(n) for n in ("CadItem", "cadId", "hasItem", "names", "instanceOf")
+)
+
+
 @map_record.register
 def _(record: IdEntry, w: TripleWriter, source_slug: str) -> None:
     item = w.iri("item", record.cad_id)
     component = _component(w, record.label)
-    w.add(item, _TYPE, _t("CadItem"))
-    w.add(item, _t("cadId"), w.text(record.cad_id))
-    w.add(item, _t("sourceLine"), w.typed(record.line))
-    w.add(component, _t("hasItem"), item)
     label = w.iri("label", record.label)
+    lines = [
+        f"{item} {_TYPE} {_CAD_ITEM} .\n{item} {_CAD_ID} {_literal(record.cad_id)} .\n"
+        f'{item} {_SOURCE_LINE} "{record.line}"^^{_INTEGER} .\n{component} {_HAS_ITEM} {item} .\n'
+        f"{label} {_NAMES} {item} .\n"
+    ]
+    count = 5
     if w.once(label):
-        w.add(label, _TYPE, _t("Label"))
-        w.add(label, _t("label"), w.text(record.label))
-        w.add(label, _t("names"), component)
+        lines.append(
+            f"{label} {_TYPE} {_t('Label')} .\n{label} {_t('label')} {_literal(record.label)} .\n"
+            f"{label} {_NAMES} {component} .\n"
+        )
+        count += 3
     if record.raw_label != record.label and w.once(label + record.raw_label):
-        w.add(label, _t("rawLabel"), w.text(record.raw_label))
-    w.add(label, _t("names"), item)
+        lines.append(f"{label} {_t('rawLabel')} {_literal(record.raw_label)} .\n")
+        count += 1
     if record.commercial is not None:
         model = w.iri("model", record.commercial)
         if w.once(model):
-            w.add(model, _TYPE, _t("CommercialModel"))
-            w.add(model, _t("commercialCode"), w.text(record.commercial))
-        w.add(item, _t("instanceOf"), model)
+            lines.append(
+                f"{model} {_TYPE} {_t('CommercialModel')} .\n"
+                f"{model} {_t('commercialCode')} {_literal(record.commercial)} .\n"
+            )
+            count += 2
+        lines.append(f"{item} {_INSTANCE_OF} {model} .\n")
+        count += 1
+    w.add_block("".join(lines), count)
 
 
 @map_record.register
@@ -303,14 +331,16 @@ def _pin(w: TripleWriter, ref: PinRef) -> str:
     node = w.pins[key] = f"<{pin_iri(w.base, ref)}>"
     if w.once(node):
         component = _component(w, ref.component)
-        w.add(node, _TYPE, _t("Pin"))
-        w.add(node, _t("pinName"), w.text(ref.pin))
-        if ref.level is not None:
-            w.add(node, _t("level"), w.text(ref.level))
-        w.add(node, _t("pinOf"), component)
-        w.add(component, _t("hasPin"), node)
+        level = "" if ref.level is None else f"{node} {_LEVEL} {_literal(ref.level)} .\n"
+        w.add_block(
+            f"{node} {_TYPE} {_PIN} .\n{node} {_PIN_NAME} {_literal(ref.pin)} .\n{level}"
+            f"{node} {_PIN_OF} {component} .\n{component} {_HAS_PIN} {node} .\n",
+            4 if ref.level is None else 5,
+        )
     return node
 
+
+_PIN, _PIN_NAME, _LEVEL, _PIN_OF, _HAS_PIN = (_t(n) for n in ("Pin", "pinName", "level", "pinOf", "hasPin"))
 
 # Connection fields written as plain literals, with the ontology term of each.
 _WIRE_FIELDS = tuple(
@@ -334,35 +364,40 @@ _WIRE_FIELDS = tuple(
 )
 
 
+_WIRE, _WIRE_NUMBER, _FROM_PIN, _TO_PIN, _IN_PLAN, _SEQUENCE_INDEX = (
+    _t(n) for n in ("Wire", "wireNumber", "fromPin", "toPin", "inPlan", "sequenceIndex")
+)
+_SECTION, _LENGTH, _DUCT_PATH, _PASSES_THROUGH = (
+    _t(n) for n in ("crossSectionMm2", "lengthM", "ductPath", "passesThrough")
+)
+
+
 @map_record.register
 def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
-    wire = f"<{wire_iri(w.base, record.wire_number, w.wires)}>"
-    text, typed = _literal, w.typed
+    wire = f"<{wire_iri(w.base, record.wire_number, w.wires)}> "
     plan = w.plans.get(source_slug)
     if plan is None:
         plan = w.plans[source_slug] = w.iri("plan", source_slug)
-    pairs = [
-        (_TYPE, _t("Wire")),
-        (_t("wireNumber"), text(record.wire_number)),
-        (_t("fromPin"), _pin(w, record.origin)),
-        (_t("toPin"), _pin(w, record.destination)),
-        (_t("inPlan"), plan),
-        (_t("sequenceIndex"), f'"{record.index}"^^{_INTEGER}'),
-        (_t("sourceLine"), f'"{record.line}"^^{_INTEGER}'),
+    origin, destination = _pin(w, record.origin), _pin(w, record.destination)
+    parts = [
+        f"{wire}{_TYPE} {_WIRE} .\n{wire}{_WIRE_NUMBER} {_literal(record.wire_number)} .\n"
+        f"{wire}{_FROM_PIN} {origin} .\n{wire}{_TO_PIN} {destination} .\n{wire}{_IN_PLAN} {plan} .\n"
+        f'{wire}{_SEQUENCE_INDEX} "{record.index}"^^{_INTEGER} .\n'
+        f'{wire}{_SOURCE_LINE} "{record.line}"^^{_INTEGER} .\n'
     ]
     if record.section_mm2 is not None:
-        pairs.append((_t("crossSectionMm2"), typed(record.section_mm2)))
+        parts.append(f"{wire}{_SECTION} {w.typed(record.section_mm2)} .\n")
     if record.length_m is not None:
-        pairs.append((_t("lengthM"), typed(record.length_m)))
+        parts.append(f"{wire}{_LENGTH} {w.typed(record.length_m)} .\n")
     for field_name, predicate in _WIRE_FIELDS:
         value = getattr(record, field_name)
         if value is not None:
-            pairs.append((predicate, text(value)))
+            parts.append(f"{wire}{predicate} {_literal(value)} .\n")
     if record.duct_path:
-        pairs.append((_t("ductPath"), text(";".join(record.duct_path))))
+        parts.append(f"{wire}{_DUCT_PATH} {_literal(';'.join(record.duct_path))} .\n")
         for duct_label in dict.fromkeys(record.duct_path):
-            pairs.append((_t("passesThrough"), _component(w, duct_label, "Duct")))
-    w.add_all(wire, pairs)
+            parts.append(f"{wire}{_PASSES_THROUGH} {_component(w, duct_label, 'Duct')} .\n")
+    w.add_block("".join(parts), 6 + len(parts))
 
 
 def map_manifest(w: TripleWriter, manifest: Manifest) -> None:
@@ -408,9 +443,11 @@ def write_pose(
         )
     values = [float(v) for v in xyz] + [float(v) for v in quaternion]
     # Derived graphs hold millions of these: the nine lines in one go.
-    w.lines.append(f"{node} {_TYPE} {_POSE} .\n")
-    w.lines.append(f"{node} {_PARENT_FRAME} {parent} .\n")
-    w.lines.extend([f'{node} {p} "{v!r}"^^{_DOUBLE} .\n' for p, v in zip(_POSE_TERMS, values, strict=True)])
+    w.add_block(
+        f"{node} {_TYPE} {_POSE} .\n{node} {_PARENT_FRAME} {parent} .\n"
+        + "".join([f'{node} {p} "{v!r}"^^{_DOUBLE} .\n' for p, v in zip(_POSE_TERMS, values, strict=True)]),
+        9,
+    )
     return node
 
 

@@ -120,7 +120,7 @@ def manifest_graph(manifest: Manifest) -> GraphData:
     map_provenance(writer, graph, rel, sha256_of(manifest.path), "manifest")
     map_manifest(writer, manifest)
     report = SourceReport(
-        rel, "manifest", 1 + len(manifest.frames), len(writer.lines), time.perf_counter() - started
+        rel, "manifest", 1 + len(manifest.frames), writer.triples, time.perf_counter() - started
     )
     return GraphData(graph=graph, ntriples=writer.data(), report=report)
 
