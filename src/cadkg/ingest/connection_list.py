@@ -293,38 +293,36 @@ class _RowConverter:
         self.length_key = "length_m" if "length_m" in columns else "length_mm"
         self.numbers: dict[tuple[str, str], Decimal] = {}
         self.ducts: dict[str, tuple[str, ...]] = {}
-
-    def cell(self, row: Row, key: str) -> str | None:
-        at = self.columns.get(key)
-        if at is None or at >= len(row.cells):
-            return None
-        return row.cells[at].strip() or None
+        absent = 1 << 30
+        keys = ("wire_number", "origin_pin", "destination_pin", "section", self.length_key, "duct_path")
+        self.at = tuple(columns.get(key, absent) for key in keys)
 
     def __call__(self, row: Row, index: int) -> Connection:
         cells = row.cells
         width = len(cells)
+        # Each cell stripped once; a column past the row's end reads as empty.
+        wire_number, origin, destination, section, length, ducts = (
+            cells[at].strip() if at < width else "" for at in self.at
+        )
         fields: dict[str, str | None] = {
             name: (cells[at].strip() or None) if at < width else None for name, at in self.text_columns
         }
-        wire_number = self.cell(row, "wire_number")
-        if wire_number is None:
+        if not wire_number:
             raise IngestError(
                 self.path,
                 f"empty cell in column {self.names['wire_number']!r}",
                 line=row.line,
                 expected="a wire number such as 1500.51 or 0V",
             )
-        ducts = self.cell(row, "duct_path")
-        duct_path = self.duct_path(ducts) if ducts else ()
         return Connection(
             index=index,
             line=row.line,
-            origin=self.pin(row, "origin_pin"),
-            destination=self.pin(row, "destination_pin"),
+            origin=self.pin(row, "origin_pin", origin),
+            destination=self.pin(row, "destination_pin", destination),
             wire_number=wire_number,
-            section_mm2=self.number(row, "section"),
-            length_m=self.number(row, self.length_key),
-            duct_path=duct_path,
+            section_mm2=self.number(row, "section", section) if section else None,
+            length_m=self.number(row, self.length_key, length) if length else None,
+            duct_path=self.duct_path(ducts) if ducts else (),
             **fields,
         )
 
@@ -334,9 +332,8 @@ class _RowConverter:
             path = self.ducts[text] = tuple(normalize_label(d) for d in text.split(";") if d.strip())
         return path
 
-    def pin(self, row: Row, key: str) -> PinRef:
-        raw = self.cell(row, key)
-        if raw is None or raw == "-":
+    def pin(self, row: Row, key: str, raw: str) -> PinRef:
+        if not raw or raw == "-":
             raise IngestError(
                 self.path,
                 f"empty cell in column {self.names[key]!r}",
@@ -354,10 +351,7 @@ class _RowConverter:
                 expected="DEVICE:PIN or DEVICE:TERMINAL:LEVEL, e.g. -F1500.1:14 or =-X1600:2:a",
             ) from None
 
-    def number(self, row: Row, key: str) -> Decimal | None:
-        raw = self.cell(row, key)
-        if raw is None:
-            return None
+    def number(self, row: Row, key: str, raw: str) -> Decimal:
         value = self.numbers.get((key, raw))
         if value is None:
             value = self.numbers[(key, raw)] = self._parse_number(row, key, raw)

@@ -50,7 +50,7 @@ class Row:
 
     @property
     def is_blank(self) -> bool:
-        return not any(c.strip() for c in self.cells)
+        return not "".join(self.cells).strip()
 
 
 def _line_of(data: bytes, offset: int) -> int:
