@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, Any
 
 from cadkg.derive.geometry import Pose, Vec3
 
@@ -42,9 +42,10 @@ class ModelInfo:
         return list(dict.fromkeys([*self.screws, *self.holes]))
 
 
-# Pins and wires are named tuples, not frozen dataclasses: a build makes one per pin and
-# per wire, and a frozen dataclass pays a guarded setattr per field (2.5 µs a wire).
-class PinInfo(NamedTuple):
+# Not frozen: a build makes one per pin and one per wire, and a frozen dataclass pays a
+# guarded setattr per field (1.6 µs a pin, 2.5 µs a wire); nothing changes them after.
+@dataclass(slots=True)
+class PinInfo:
     iri: str
     label: str
     name: str
@@ -52,10 +53,11 @@ class PinInfo(NamedTuple):
     item: str | None
 
 
-class WireInfo(NamedTuple):
+@dataclass(slots=True)
+class WireInfo:
     iri: str
     number: str
-    position: int  # in its list (tuple.index is taken)
+    position: int
     source: str
     origin: str
     destination: str
