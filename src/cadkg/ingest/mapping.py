@@ -15,6 +15,7 @@ from collections.abc import Callable, Iterable, Sequence
 from datetime import UTC, datetime
 from decimal import Decimal
 from functools import cache, lru_cache, singledispatch
+from operator import attrgetter
 from pathlib import Path
 from urllib.parse import quote
 
@@ -344,7 +345,7 @@ _PIN, _PIN_NAME, _LEVEL, _PIN_OF, _HAS_PIN = (_t(n) for n in ("Pin", "pinName", 
 
 # Connection fields written as plain literals, with the ontology term of each.
 _WIRE_FIELDS = tuple(
-    (field_name, _t(name))
+    (field_name, f" {_t(name)} ")
     for field_name, name in (
         ("colour", "colour"),
         ("potential_type", "potentialType"),
@@ -362,6 +363,8 @@ _WIRE_FIELDS = tuple(
         ("bundling_side", "bundlingSide"),
     )
 )
+_WIRE_VALUES = attrgetter(*(field_name for field_name, _ in _WIRE_FIELDS))
+_WIRE_PREDICATES = tuple(predicate for _, predicate in _WIRE_FIELDS)
 
 
 _WIRE, _WIRE_NUMBER, _FROM_PIN, _TO_PIN, _IN_PLAN, _SEQUENCE_INDEX = (
@@ -374,29 +377,32 @@ _SECTION, _LENGTH, _DUCT_PATH, _PASSES_THROUGH = (
 
 @map_record.register
 def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
-    wire = f"<{wire_iri(w.base, record.wire_number, w.wires)}> "
+    wire = f"<{wire_iri(w.base, record.wire_number, w.wires)}>"
     plan = w.plans.get(source_slug)
     if plan is None:
         plan = w.plans[source_slug] = w.iri("plan", source_slug)
     origin, destination = _pin(w, record.origin), _pin(w, record.destination)
     parts = [
-        f"{wire}{_TYPE} {_WIRE} .\n{wire}{_WIRE_NUMBER} {_literal(record.wire_number)} .\n"
-        f"{wire}{_FROM_PIN} {origin} .\n{wire}{_TO_PIN} {destination} .\n{wire}{_IN_PLAN} {plan} .\n"
-        f'{wire}{_SEQUENCE_INDEX} "{record.index}"^^{_INTEGER} .\n'
-        f'{wire}{_SOURCE_LINE} "{record.line}"^^{_INTEGER} .\n'
+        f"{wire} {_TYPE} {_WIRE} .\n{wire} {_WIRE_NUMBER} {_literal(record.wire_number)} .\n"
+        f"{wire} {_FROM_PIN} {origin} .\n{wire} {_TO_PIN} {destination} .\n{wire} {_IN_PLAN} {plan} .\n"
+        f'{wire} {_SEQUENCE_INDEX} "{record.index}"^^{_INTEGER} .\n'
+        f'{wire} {_SOURCE_LINE} "{record.line}"^^{_INTEGER} .\n'
     ]
     if record.section_mm2 is not None:
-        parts.append(f"{wire}{_SECTION} {w.typed(record.section_mm2)} .\n")
+        parts.append(f"{wire} {_SECTION} {w.typed(record.section_mm2)} .\n")
     if record.length_m is not None:
-        parts.append(f"{wire}{_LENGTH} {w.typed(record.length_m)} .\n")
-    for field_name, predicate in _WIRE_FIELDS:
-        value = getattr(record, field_name)
-        if value is not None:
-            parts.append(f"{wire}{predicate} {_literal(value)} .\n")
+        parts.append(f"{wire} {_LENGTH} {w.typed(record.length_m)} .\n")
+    parts.extend(
+        [
+            f"{wire}{predicate}{_literal(value)} .\n"
+            for predicate, value in zip(_WIRE_PREDICATES, _WIRE_VALUES(record), strict=True)
+            if value is not None
+        ]
+    )
     if record.duct_path:
-        parts.append(f"{wire}{_DUCT_PATH} {_literal(';'.join(record.duct_path))} .\n")
+        parts.append(f"{wire} {_DUCT_PATH} {_literal(';'.join(record.duct_path))} .\n")
         for duct_label in dict.fromkeys(record.duct_path):
-            parts.append(f"{wire}{_PASSES_THROUGH} {_component(w, duct_label, 'Duct')} .\n")
+            parts.append(f"{wire} {_PASSES_THROUGH} {_component(w, duct_label, 'Duct')} .\n")
     w.add_block("".join(parts), 6 + len(parts))
 
 
