@@ -248,8 +248,9 @@ def job_cadkg_disk(spec: Json) -> Json:
 
 
 def job_readmap(spec: Json) -> Json:
-    """The build's Python side alone: files → N-Triples per named graph, the derived graph
-    included (written out for the load jobs)."""
+    """The in-memory build's Python side alone: files → N-Triples per named graph, the
+    derived graph included (written out for the load jobs). Rows are mapped and chunks
+    handed on exactly as the build streams them, to a list instead of the loader."""
     from cadkg.derive.cabinet import derive_cell
     from cadkg.derive.collect import InputCollector
     from cadkg.derive.emit import derived_graph, derived_ntriples
@@ -260,14 +261,24 @@ def job_readmap(spec: Json) -> Json:
     workdir = Path(spec["workdir"])
     manifest = load_manifest(spec["manifest"])
     collector = InputCollector(manifest)
+    chunks: dict[str, list[bytes]] = {}
+
+    def sink(graph: str, chunk: bytes) -> None:
+        chunks.setdefault(graph, []).append(chunk)
+
     started = time.perf_counter()
     with paused_gc():  # as the build runs
-        sources = read_manifest_graphs(manifest, on_record=lambda source: collector.source(source.rel))
-        graphs = [(data.graph, data.ntriples) for data in sources]
+        sources = read_manifest_graphs(
+            manifest, sink=sink, on_record=lambda source: collector.source(source.rel)
+        )
+        for data in sources:
+            sink(data.graph, data.ntriples)  # the manifest's own graph; empty for a source
         if collector.complete:  # as the build decides; otherwise it derives from the store
             model = derive_cell(collector.inputs())
-            graphs.append((derived_graph(model), derived_ntriples(model, model.base)))
+            graph = derived_graph(model)
+            sink(graph, derived_ntriples(model, model.base, lambda chunk: sink(graph, chunk)))
     seconds = time.perf_counter() - started
+    graphs = [(graph, b"".join(parts)) for graph, parts in chunks.items()]
     index = []
     for number, (graph, ntriples) in enumerate(graphs):
         name = f"graph-{number}.nt"
