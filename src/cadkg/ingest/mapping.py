@@ -324,6 +324,9 @@ def item_mesh_file(item_id: str) -> str:
     return f"meshes/{item_id}.stl"
 
 
+_PIN, _PIN_NAME, _LEVEL, _PIN_OF, _HAS_PIN = (_t(n) for n in ("Pin", "pinName", "level", "pinOf", "hasPin"))
+
+
 def _pin(w: TripleWriter, ref: PinRef) -> str:
     key = (ref.component, ref.pin, ref.level)
     node = w.pins.get(key)
@@ -340,8 +343,6 @@ def _pin(w: TripleWriter, ref: PinRef) -> str:
         )
     return node
 
-
-_PIN, _PIN_NAME, _LEVEL, _PIN_OF, _HAS_PIN = (_t(n) for n in ("Pin", "pinName", "level", "pinOf", "hasPin"))
 
 # Connection fields written as plain literals, with the ontology term of each.
 _WIRE_FIELDS = tuple(
@@ -403,7 +404,7 @@ def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
         parts.append(f"{wire} {_DUCT_PATH} {_literal(';'.join(record.duct_path))} .\n")
         for duct_label in dict.fromkeys(record.duct_path):
             parts.append(f"{wire} {_PASSES_THROUGH} {_component(w, duct_label, 'Duct')} .\n")
-    w.add_block("".join(parts), 6 + len(parts))
+    w.add_block("".join(parts), 6 + len(parts))  # seven lines in the first part, one in each other
 
 
 def map_manifest(w: TripleWriter, manifest: Manifest) -> None:
