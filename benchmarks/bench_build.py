@@ -10,8 +10,8 @@ and the script prints Markdown tables of:
    of the in-memory build spent reading and mapping the files, and the *overlap
    floor*: the shortest build that overlapping its Python side with the store's
    load could give on this machine (see ``overlap_floor``).
-2. **Same triples, pyoxigraph vs rdflib**: the build's Python side alone (cadkg's
-   readers and mapping, ``read_manifest_graphs``, then ``derive_cell`` and the
+2. **Same triples, pyoxigraph vs rdflib**: the build's Python side alone
+   (``cadkg.building.write_graphs``: readers, mapping, ``derive_cell`` and the
    derived graph) turns the files into N-Triples per named graph once (timed:
    "read+map+derive"); those bytes are then loaded, each in its own process,
    into a pyoxigraph store the way the in-memory build does (``Store.load`` per
@@ -248,19 +248,15 @@ def job_cadkg_disk(spec: Json) -> Json:
 
 
 def job_readmap(spec: Json) -> Json:
-    """The in-memory build's Python side alone: files → N-Triples per named graph, the
-    derived graph included (written out for the load jobs). Rows are mapped and chunks
-    handed on exactly as the build streams them, to a list instead of the loader."""
-    from cadkg.derive.cabinet import derive_cell
-    from cadkg.derive.collect import InputCollector
-    from cadkg.derive.emit import derived_graph, derived_ntriples
+    """The in-memory build's Python side alone (``cadkg.building.write_graphs``, streamed as the
+    build streams it): files → N-Triples per named graph, the derived graph included, handed
+    to a list instead of the loader and written out for the load jobs."""
+    from cadkg.building import write_graphs
     from cadkg.ingest.manifest import load_manifest
-    from cadkg.ingest.pipeline import read_manifest_graphs
     from cadkg.loading import paused_gc
 
     workdir = Path(spec["workdir"])
     manifest = load_manifest(spec["manifest"])
-    collector = InputCollector(manifest)
     chunks: dict[str, list[bytes]] = {}
 
     def sink(graph: str, chunk: bytes) -> None:
@@ -268,15 +264,7 @@ def job_readmap(spec: Json) -> Json:
 
     started = time.perf_counter()
     with paused_gc():  # as the build runs
-        sources = read_manifest_graphs(
-            manifest, sink=sink, on_record=lambda source: collector.source(source.rel)
-        )
-        for data in sources:
-            sink(data.graph, data.ntriples)  # the manifest's own graph; empty for a source
-        if collector.complete:  # as the build decides; otherwise it derives from the store
-            model = derive_cell(collector.inputs())
-            graph = derived_graph(model)
-            sink(graph, derived_ntriples(model, model.base, lambda chunk: sink(graph, chunk)))
+        write_graphs(manifest, sink, stream=True)
     seconds = time.perf_counter() - started
     graphs = [(graph, b"".join(parts)) for graph, parts in chunks.items()]
     index = []
@@ -620,9 +608,8 @@ def baseline_table(results: Sequence[SizeResult]) -> str:
             fmt(read_map),
             fmt(r.oxigraph["seconds"]),
         ]
-        if r.rdflib is None:
-            missing = ["—"] * 3
-            rows.append([*ours, "—", fmt(cadkg_build), *missing, fmt(r.oxigraph["peak_mib"], 0), "—"])
+        if r.rdflib is None:  # rdflib load; then rdflib build and both ratios; rdflib peak
+            rows.append([*ours, "—", fmt(cadkg_build), *["—"] * 3, fmt(r.oxigraph["peak_mib"], 0), "—"])
             continue
         rdflib_build = read_map + r.rdflib["seconds"]
         if r.oxigraph["triples"] != r.rdflib["triples"]:

@@ -17,7 +17,6 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from datetime import date, datetime
 from decimal import Decimal
-from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -25,7 +24,7 @@ import pyoxigraph as ox
 
 from cadkg.errors import QueryError, StoreError
 from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
-from cadkg.ingest.pipeline import GraphData, SourceReport, read_manifest_graphs, read_source
+from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
 from cadkg.loading import BackgroundLoader, paused_gc
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
 from cadkg.sparql_text import bind_values
@@ -223,36 +222,25 @@ class KnowledgeGraph:
         edits: Iterable[tuple[str, str]] = (),
     ) -> list[SourceReport]:
         """Load every source, derive the geometry and load it; the store ends complete."""
-        from cadkg.derive.cabinet import derive_cell
-        from cadkg.derive.collect import InputCollector
-        from cadkg.derive.emit import derived_graph, derived_ntriples
+        from cadkg.building import write_graphs
 
-        collector = InputCollector(manifest)
-        collector.add_edits(edits)
-        model = None
         # A failure anywhere discards the whole store being built, so chunks of a file may be
         # loaded while the rest of it is still being mapped. On disk, one bulk load per file:
         # bulk-loading many chunks writes many small tables that cost more to merge.
         with BackgroundLoader(self._store, bulk=bulk) as loader:
-            sink = None if bulk else loader.put
-            graphs = read_manifest_graphs(
-                manifest, on_source, sink=sink, on_record=lambda source: collector.source(source.rel)
+            model = write_graphs(
+                manifest, loader.put, stream=not bulk, on_source=on_source, on_graph=self._took, edits=edits
             )
-            for data in graphs:
-                loader.put(data.graph, data.ntriples)
-                self._write_files(data.files)
-                self.reports.append(data.report)
-            if collector.complete:
-                # Derived while the loader thread is still indexing the sources.
-                model = derive_cell(collector.inputs())
-                graph = derived_graph(model)
-                chunks = None if bulk else partial(loader.put, graph)
-                loader.put(graph, derived_ntriples(model, model.base, chunks))
         if model is None:
             self.derive()
         else:
             self._model = model
         return list(self.reports)
+
+    def _took(self, data: GraphData) -> None:
+        """Keep what a build read from one source besides its triples: files and report."""
+        self._write_files(data.files)
+        self.reports.append(data.report)
 
     def _load_ontology(self) -> None:
         self._store.load(

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import hashlib
 import re
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 from datetime import UTC, datetime
 from decimal import Decimal
 from functools import cache, lru_cache, singledispatch
@@ -165,10 +165,6 @@ class TripleWriter:
         """
         self.lines.append(text)
         self._extra += count - 1
-
-    def add_all(self, s: str, pairs: Iterable[tuple[str, str]]) -> None:
-        """Several triples of one subject: (predicate, object) pairs."""
-        self.lines.extend([f"{s} {p} {o} .\n" for p, o in pairs])
 
     def once(self, key: str) -> bool:
         """True the first time ``key`` is seen, so shared nodes are described once per graph."""
@@ -345,27 +341,24 @@ def _pin(w: TripleWriter, ref: PinRef) -> str:
 
 
 # Connection fields written as plain literals, with the ontology term of each.
-_WIRE_FIELDS = tuple(
-    (field_name, f" {_t(name)} ")
-    for field_name, name in (
-        ("colour", "colour"),
-        ("potential_type", "potentialType"),
-        ("potential_name", "potentialName"),
-        ("origin_termination", "originTermination"),
-        ("destination_termination", "destinationTermination"),
-        ("origin_page", "originPage"),
-        ("origin_zone", "originZone"),
-        ("destination_page", "destinationPage"),
-        ("destination_zone", "destinationZone"),
-        ("cable_name", "cableName"),
-        ("job_key", "jobKey"),
-        ("origin_direction", "originDirection"),
-        ("destination_direction", "destinationDirection"),
-        ("bundling_side", "bundlingSide"),
-    )
+_WIRE_TEXT = (
+    ("colour", "colour"),
+    ("potential_type", "potentialType"),
+    ("potential_name", "potentialName"),
+    ("origin_termination", "originTermination"),
+    ("destination_termination", "destinationTermination"),
+    ("origin_page", "originPage"),
+    ("origin_zone", "originZone"),
+    ("destination_page", "destinationPage"),
+    ("destination_zone", "destinationZone"),
+    ("cable_name", "cableName"),
+    ("job_key", "jobKey"),
+    ("origin_direction", "originDirection"),
+    ("destination_direction", "destinationDirection"),
+    ("bundling_side", "bundlingSide"),
 )
-_WIRE_VALUES = attrgetter(*(field_name for field_name, _ in _WIRE_FIELDS))
-_WIRE_PREDICATES = tuple(predicate for _, predicate in _WIRE_FIELDS)
+_WIRE_VALUES = attrgetter(*(field_name for field_name, _ in _WIRE_TEXT))
+_WIRE_PREDICATES = tuple(_t(name) for _, name in _WIRE_TEXT)
 
 
 _WIRE, _WIRE_NUMBER, _FROM_PIN, _TO_PIN, _IN_PLAN, _SEQUENCE_INDEX = (
@@ -395,7 +388,7 @@ def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
         parts.append(f"{wire} {_LENGTH} {w.typed(record.length_m)} .\n")
     parts.extend(
         [
-            f"{wire}{predicate}{_literal(value)} .\n"
+            f"{wire} {predicate} {_literal(value)} .\n"
             for predicate, value in zip(_WIRE_PREDICATES, _WIRE_VALUES(record), strict=True)
             if value is not None
         ]
