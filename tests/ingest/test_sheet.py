@@ -9,7 +9,7 @@ import pytest
 
 from cadkg.errors import IngestError
 from cadkg.ingest.sheet import SheetRow, cell_address, cell_text, column_letter, read_sheet
-from tests.ingest.workbooks import write_ods, write_xlsx
+from tests.ingest.workbooks import replace_in_member, write_ods, write_xlsx
 
 ROWS = [["Block", "Position"], [None, None], [None, None], ["X1600", 2.5], [None, "x"]]
 
@@ -134,3 +134,49 @@ def test_content_decides_the_workbook_format_not_the_suffix(tmp_path: Path, kind
     path = _write(kind, tmp_path / f"book.{kind}", [("S", [["a", 1]])])
     renamed = path.rename(tmp_path / f"renamed{suffix}")
     assert read_sheet(renamed) == ("S", [SheetRow(1, ("a", 1))])
+
+
+def test_xlsx_row_numbered_past_the_last_row_is_refused(tmp_path: Path) -> None:
+    # A damaged file: openpyxl would pad every row up to this number and fill memory.
+    path = write_xlsx(tmp_path / "book.xlsx", [("S", [["a", 1], ["b", 2]])])
+    replace_in_member(path, "xl/worksheets/sheet1.xml", b'<row r="2">', b'<row r="99999999999">')
+    with pytest.raises(IngestError) as info:
+        read_sheet(path)
+    assert info.value.cell == "S!A1048577"
+    assert "beyond the last row" in info.value.reason
+
+
+_ROW = b"<table:table-row><table:table-cell "
+
+
+@pytest.mark.parametrize(
+    ("repeat", "cell"),
+    [
+        (b'<table:table-row table:number-rows-repeated="100000000"><table:table-cell ', "S!B1048577"),
+        (b'<table:table-row><table:table-cell table:number-columns-repeated="20000" ', "S!XFE1"),
+        # Within both limits, but a million rows of 16,000 values would not fit in memory.
+        (
+            b'<table:table-row table:number-rows-repeated="1000000">'
+            b'<table:table-cell table:number-columns-repeated="16000" ',
+            "S!WQK1000000",
+        ),
+    ],
+    ids=["rows", "columns", "cells"],
+)
+def test_ods_repeats_past_the_sheet_size_are_refused(tmp_path: Path, repeat: bytes, cell: str) -> None:
+    path = write_ods(tmp_path / "book.ods", [("S", [["a", 1], ["b", 2]])])
+    replace_in_member(path, "content.xml", _ROW, repeat)
+    with pytest.raises(IngestError) as info:
+        read_sheet(path)
+    assert info.value.cell == cell
+    assert "repeated rows or cells" in info.value.reason
+
+
+def test_ods_trailing_empty_repeats_as_calc_writes_them_still_read(tmp_path: Path) -> None:
+    path = write_ods(tmp_path / "book.ods", [("S", [["a", 1], ["b", 2]])])
+    empty = (
+        b'<table:table-row table:number-rows-repeated="1048574">'
+        b'<table:table-cell table:number-columns-repeated="16384"/></table:table-row></table:table>'
+    )
+    replace_in_member(path, "content.xml", b"</table:table>", empty)
+    assert read_sheet(path) == ("S", [SheetRow(1, ("a", 1)), SheetRow(2, ("b", 2))])

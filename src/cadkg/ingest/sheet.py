@@ -16,6 +16,8 @@ import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from lxml import etree
+
 from cadkg.errors import IngestError
 
 __all__ = ["SHEET_SUFFIXES", "SheetRow", "cell_address", "cell_text", "column_letter", "read_sheet"]
@@ -24,6 +26,16 @@ SHEET_SUFFIXES = (".xlsx", ".xlsm", ".ods")
 _ZIP = b"PK\x03\x04"
 _OLE2 = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
 _PLAIN_SHEET_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]*$")
+# The most rows and columns a sheet can hold, in Excel and in LibreOffice Calc. A cell
+# numbered beyond them comes from a damaged file; reading on would pad up to it.
+_MAX_ROWS = 1_048_576
+_MAX_COLUMNS = 16_384
+# Cells an ODS sheet may expand to, up to its last value: far above any cable list, far
+# below what fills memory when a damaged file repeats a row or a cell a billion times.
+_MAX_CELLS = 1 << 25
+_TABLE = "{urn:oasis:names:tc:opendocument:xmlns:table:1.0}"
+_OFFICE = "{urn:oasis:names:tc:opendocument:xmlns:office:1.0}"
+_CELLS = (_TABLE + "table-cell", _TABLE + "covered-table-cell")
 
 
 @dataclass(frozen=True, slots=True)
@@ -102,6 +114,8 @@ def read_sheet(path: str | Path) -> tuple[str, list[SheetRow]]:
     is_ods = _zip_mimetype(path) == "application/vnd.oasis.opendocument.spreadsheet"
     try:
         sheets = _ods_sheets(path) if is_ods else _xlsx_sheets(path)
+    except IngestError:
+        raise
     except Exception as err:
         # openpyxl, odfpy and zipfile fail on a damaged archive in many unrelated ways.
         raise IngestError(
@@ -137,18 +151,71 @@ def _xlsx_sheets(path: str | Path) -> list[tuple[str, list[SheetRow]]]:
             for sheet in book.worksheets:
                 # Without this a file declaring a huge used range pads every row to it.
                 sheet.reset_dimensions()
-                rows = [
-                    SheetRow(number, tuple(values))
-                    for number, values in enumerate(sheet.iter_rows(values_only=True), start=1)
-                ]
+                rows = []
+                for number, values in enumerate(sheet.iter_rows(values_only=True), start=1):
+                    if number > _MAX_ROWS:
+                        raise _beyond_last_row(path, str(sheet.title))
+                    rows.append(SheetRow(number, tuple(values)))
                 sheets.append((str(sheet.title), rows))
             return sheets
         finally:
             book.close()
 
 
+def _beyond_last_row(path: str | Path, sheet: str) -> IngestError:
+    return IngestError(
+        path,
+        "a row is numbered beyond the last row a sheet can have (a damaged workbook)",
+        cell=cell_address(sheet, _MAX_ROWS + 1, 0),
+        expected=f"at most {_MAX_ROWS:,} rows",
+    )
+
+
+def _check_ods_extent(path: str | Path) -> None:
+    """Refuse repeat counts that expand a sheet past its size: pandas expands every one."""
+    with zipfile.ZipFile(path) as archive, archive.open("content.xml") as content:
+        rows = last = width = 0
+        events = etree.iterparse(
+            content, events=("end",), resolve_entities=False, no_network=True, load_dtd=False
+        )
+        for _, element in events:
+            if element.tag == _TABLE + "table":
+                rows = last = width = 0
+                element.clear()
+            elif element.tag == _TABLE + "table-row":
+                columns = filled = 0
+                for cell in element:
+                    if cell.tag in _CELLS:
+                        columns += int(cell.get(_TABLE + "number-columns-repeated", "1"))
+                        if cell.get(_OFFICE + "value-type") is not None or len(cell):
+                            filled = columns
+                rows += int(element.get(_TABLE + "number-rows-repeated", "1"))
+                if filled:
+                    last, width = rows, max(width, filled)
+                if rows > _MAX_ROWS or columns > _MAX_COLUMNS or last * width > _MAX_CELLS:
+                    raise _oversized(path, _table_name(element), rows, columns)
+                element.clear()
+
+
+def _table_name(row: etree._Element) -> str:
+    table = next(row.iterancestors(_TABLE + "table"), None)
+    return "Sheet" if table is None else str(table.get(_TABLE + "name", "Sheet"))
+
+
+def _oversized(path: str | Path, sheet: str, rows: int, columns: int) -> IngestError:
+    return IngestError(
+        path,
+        "repeated rows or cells expand the sheet beyond what a sheet can hold (a damaged workbook)",
+        cell=cell_address(sheet, min(rows, _MAX_ROWS + 1), min(columns, _MAX_COLUMNS + 1) - 1),
+        expected=f"at most {_MAX_ROWS:,} rows, {_MAX_COLUMNS:,} columns"
+        f" and {_MAX_CELLS:,} cells up to the last value",
+    )
+
+
 def _ods_sheets(path: str | Path) -> list[tuple[str, list[SheetRow]]]:
     import pandas as pd
+
+    _check_ods_extent(path)
 
     frames = pd.read_excel(path, engine="odf", header=None, dtype=object, sheet_name=None)
     sheets = []
