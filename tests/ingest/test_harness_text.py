@@ -189,6 +189,7 @@ def test_segment_to_an_unknown_node(write: Write) -> None:
         ("connector C cavities=3-1\n", 4, "3-1", "bad cavity range"),
         ("connector C cavities=1,,2\n", 4, "an empty name", "malformed cavity list"),
         ("connector C cavities=1,1\n", 4, "1", "cavity listed twice"),
+        ("connector C cavities=" + ",".join(["1-900"] * 500) + "\n", 4, "1800", "too many cavities"),
         ("connector C cavities=1 at=Q\n", 4, "Q", "connector C is at an unknown node"),
         ("connector A cavities=1\n", 4, "A", "connector declared twice"),
         ("node A\n", 4, "A", "node declared twice"),

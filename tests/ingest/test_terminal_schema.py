@@ -87,14 +87,17 @@ def test_integral_float_position_is_accepted(tmp_path: Path) -> None:
     assert info.value.reason == "bad levels of terminal '2'"
 
 
-def test_non_integral_position_names_the_cell(tmp_path: Path) -> None:
-    rows = [HEADER, ["-X1", 1, 1, "ID1", None, "a"], ["-X1", 2.5, 2, "ID2", None, "a"]]
+@pytest.mark.parametrize(
+    ("position", "found"), [(2.5, "2.5"), (3.4e39, "3.4e+39"), (10**12, "1000000000000")]
+)
+def test_non_integral_or_huge_position_names_the_cell(tmp_path: Path, position: float, found: str) -> None:
+    rows = [HEADER, ["-X1", 1, 1, "ID1", None, "a"], ["-X1", position, 2, "ID2", None, "a"]]
     path = write_xlsx(tmp_path / "bad.xlsx", [("Sheet 1", rows)])
     with pytest.raises(IngestError) as info:
         read_terminal_schema(path)
     err = info.value
-    assert (err.cell, err.line, err.found, err.reason) == ("'Sheet 1'!B3", None, "2.5", "not a position")
-    assert str(err).startswith(f"{path}:'Sheet 1'!B3: not a position (found '2.5'")
+    assert (err.cell, err.line, err.found, err.reason) == ("'Sheet 1'!B3", None, found, "not a position")
+    assert str(err).startswith(f"{path}:'Sheet 1'!B3: not a position (found '{found}'")
 
 
 def test_gap_in_a_workbook_names_the_position_cell(tmp_path: Path) -> None:
@@ -120,6 +123,12 @@ GOOD = ["X1600;1;1;ID000081;6013290;a,b", "X1600;2;2;ID000082;6013290;a,b"]
             "terminal block X1600 has no position 3: positions must run 1..n without gaps",
             "4",
         ),
+        # Found at once, not by counting up to the huge position.
+        (
+            "X1600;999999999;3;ID000083;;a",
+            "terminal block X1600 has no position 3: positions must run 1..n without gaps",
+            "999999999",
+        ),
         ("X1600;2;3;ID000083;;a", "position 2 of terminal block X1600 given twice (first on line 3)", None),
         (
             "=-X1600;3;2;ID000083;;a",
@@ -140,6 +149,7 @@ GOOD = ["X1600;1;1;ID000081;6013290;a,b", "X1600;2;2;ID000082;6013290;a,b"]
     ],
     ids=[
         "gap",
+        "gap-after-a-huge-position",
         "duplicate-position",
         "duplicate-terminal",
         "duplicate-cad-id",

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import re
 import shlex
+from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from decimal import Decimal, InvalidOperation
@@ -58,7 +59,8 @@ _LENGTH = re.compile(r"^(?P<number>\d+(?:\.\d*)?|\.\d+)(?P<unit>mm|cm|m)$")
 _SECTION = re.compile(r"^(?P<number>\d+(?:\.\d*)?|\.\d+)(?:mm2|mm²)?$")
 _RANGE = re.compile(r"^(?P<first>\d+)-(?P<last>\d+)$")
 _METRES = {"mm": Decimal("0.001"), "cm": Decimal("0.01"), "m": Decimal(1)}
-_MAX_RANGE = 1000
+# Cavities of one connector: the largest connectors have a few hundred.
+_MAX_CAVITIES = 1000
 # Statement → (number of positional words after the keyword, required keys, optional keys).
 _GRAMMAR: dict[str, tuple[tuple[str, ...], frozenset[str], frozenset[str]]] = {
     "harness": (("name",), frozenset(), frozenset({"description"})),
@@ -285,12 +287,12 @@ class _Parser:
             match = _RANGE.match(item)
             if match:
                 first, last = int(match["first"]), int(match["last"])
-                if not 0 <= last - first < _MAX_RANGE:
+                if not 0 <= last - first < _MAX_CAVITIES:
                     raise self.error(
                         "bad cavity range",
                         s.line,
                         found=item,
-                        expected=f"FIRST-LAST with FIRST <= LAST, at most {_MAX_RANGE}",
+                        expected=f"FIRST-LAST with FIRST <= LAST, at most {_MAX_CAVITIES}",
                     )
                 names.extend(str(n) for n in range(first, last + 1))
             elif _CAVITY.match(item):
@@ -302,7 +304,11 @@ class _Parser:
                     found=item or "an empty name",
                     expected="names or ranges like 1-4, separated by commas",
                 )
-        twice = sorted({n for n in names if names.count(n) > 1})
+            if len(names) > _MAX_CAVITIES:
+                raise self.error(
+                    "too many cavities", s.line, found=len(names), expected=f"at most {_MAX_CAVITIES}"
+                )
+        twice = sorted(n for n, count in Counter(names).items() if count > 1)
         if twice:
             raise self.error("cavity listed twice", s.line, found=twice[0], expected="each cavity once")
         return tuple(names)

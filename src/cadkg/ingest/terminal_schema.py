@@ -107,15 +107,25 @@ def _csv_rows(text: str, path: str | Path) -> list[tuple[int, tuple[object, ...]
     return [(row.line, row.cells) for row in iter_rows(text, delimiter, path)]
 
 
+# Nine digits, as a text cell may have: a numeric cell holds up to 3.4e38, a damaged one more.
+_MAX_INTEGER = 999_999_999
+
+
 def _integer(value: object) -> int | None:
     if isinstance(value, bool):
         return None
     if isinstance(value, int):
-        return value
-    if isinstance(value, float):
-        return int(value) if value.is_integer() else None
-    text = cell_text(value)
-    return int(text) if text.isascii() and text.isdigit() and len(text) <= 9 else None
+        number = value
+    elif isinstance(value, float):
+        if not value.is_integer():
+            return None
+        number = int(value)
+    else:
+        text = cell_text(value)
+        if not (text.isascii() and text.isdigit() and len(text) <= len(str(_MAX_INTEGER))):
+            return None
+        number = int(text)
+    return number if number <= _MAX_INTEGER else None
 
 
 class _Table:
@@ -258,7 +268,8 @@ class _Table:
         for s in slots:
             if s.position > counts[s.block]:
                 taken = {p for b, p in places if b == s.block}
-                gap = min(p for p in range(1, s.position) if p not in taken)
+                # Positions are unique, so one of 1..count is missing: no need to scan to s.position.
+                gap = min(p for p in range(1, counts[s.block] + 1) if p not in taken)
                 raise self.error(
                     f"terminal block {s.block} has no position {gap}: positions must run 1..n without gaps",
                     s.line,
