@@ -152,6 +152,8 @@ child = "cabinet"
             "malformed base IRI",
         ),
         (CELL + SOURCES.replace("conn.tsv", "missing.tsv"), 11, "source file not found"),
+        (CELL + SOURCES.replace("conn.tsv", "x" * 300 + ".tsv"), 11, "source file not found"),
+        (CELL + SOURCES.replace("conn.tsv", "conn\\u0000.tsv"), 11, "source file not found"),
         (CELL + SOURCES.replace("conn.tsv", "./sub/../ids.wri"), 11, "file listed twice (first on line 7)"),
         (CELL + SOURCES + 'kind = "wrl"\n', 12, "unknown kind"),
         (
@@ -164,6 +166,7 @@ child = "cabinet"
         (CELL + SOURCES + FRAME + "xyz = [1.0, 2.0]\n", 16, "'xyz' must be 3 numbers"),
         (CELL + SOURCES + FRAME + 'xyz = [1.0, 2.0, "3"]\n', 16, "'xyz' must be 3 numbers"),
         (CELL + SOURCES + FRAME + "rpy = [0, nan, 0]\n", 16, "'rpy' must be 3 numbers"),
+        (CELL + SOURCES + FRAME + f"xyz = [1, 2, {'9' * 400}]\n", 16, "'xyz' must be 3 numbers"),
         (CELL + SOURCES + FRAME.replace('"cabinet"', '"my cabinet"'), 15, "malformed frame name"),
         (CELL + SOURCES + FRAME + FRAME.replace("world", "room"), 19, "frame 'cabinet' already has a parent"),
         (CELL + SOURCES + FRAME + 'parent = "x"\n', 16, "TOML syntax error"),
@@ -182,6 +185,8 @@ child = "cabinet"
         "base-iri-no-scheme",
         "base-iri-space",
         "missing-source-file",
+        "source-name-too-long",
+        "source-name-with-nul",
         "file-listed-twice",
         "unknown-kind",
         "rpy-and-quaternion",
@@ -190,6 +195,7 @@ child = "cabinet"
         "xyz-2-numbers",
         "xyz-string",
         "rpy-nan",
+        "xyz-400-digits",
         "frame-name-space",
         "two-parents",
         "duplicate-key",
@@ -268,3 +274,29 @@ def test_unknown_dotted_key_in_cell_has_its_line(cell_dir: Path, extra: str, lin
     err = error_of(manifest(cell_dir, CELL + extra))
     assert err.reason == "unknown key 'extra' in [cell]"
     assert err.line == line
+
+
+@pytest.mark.parametrize(
+    ("body", "line", "reason"),
+    [
+        ("approach_distance = -0.1\n", 14, "'approach_distance' must be a non-negative number of metres"),
+        ('approach_distance = "0.1"\n', 14, "'approach_distance' must be a non-negative number of metres"),
+        (f"cluster_tolerance = {'9' * 400}\n", 14, "'cluster_tolerance' must be a non-negative number"),
+        ("cluster_tolerance = nan\n", 14, "'cluster_tolerance' must be a non-negative number of metres"),
+        ("cluster_tolerance = true\n", 14, "'cluster_tolerance' must be a non-negative number of metres"),
+        ('rail_pattern = "(RAIL"\n', 14, "not a regular expression"),
+        ("approach = 0.1\n", 14, "unknown key 'approach' in [derive]"),
+    ],
+    ids=["negative", "text", "400-digits", "nan", "boolean", "bad-pattern", "unknown-key"],
+)
+def test_derive_settings_errors(cell_dir: Path, body: str, line: int, reason: str) -> None:
+    err = error_of(manifest(cell_dir, CELL + SOURCES + "\n[derive]\n" + body))
+    assert err.line == line, str(err)
+    assert err.reason.startswith(reason), err.reason
+
+
+def test_derive_settings_are_read(cell_dir: Path) -> None:
+    settings = 'approach_distance = 0\ncluster_tolerance = 0.004\nrail_pattern = "^R"\n'
+    text = CELL + SOURCES + "\n[derive]\n" + settings
+    spec = load_manifest(manifest(cell_dir, text)).derive
+    assert (spec.approach_distance, spec.cluster_tolerance, spec.rail_pattern) == (0.0, 0.004, "^R")

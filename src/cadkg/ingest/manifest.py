@@ -241,8 +241,12 @@ def load_manifest(path: str | Path) -> Manifest:
             raise fail(
                 "source", index, "kind", "unknown kind", found=kind, expected=", ".join(sorted(known_kinds))
             )
-        resolved = (path.parent / rel).resolve()
-        if not resolved.is_file():
+        try:
+            resolved = (path.parent / rel).resolve()
+            found = resolved.is_file()
+        except (OSError, ValueError):  # a name too long for the file system, a NUL byte
+            found = False
+        if not found:
             raise fail(
                 "source",
                 index,
@@ -334,12 +338,7 @@ def _derive_spec(fail: Any, table: object) -> DeriveSpec:
     values: dict[str, Any] = {}
     for key in ("approach_distance", "cluster_tolerance"):
         value = table.get(key, getattr(defaults, key))
-        if (
-            isinstance(value, bool)
-            or not isinstance(value, int | float)
-            or not math.isfinite(value)
-            or value < 0
-        ):
+        if not _finite(value) or value < 0:
             raise fail("derive", None, key, f"{key!r} must be a non-negative number of metres", found=value)
         values[key] = float(value)
     pattern = table.get("rail_pattern", defaults.rail_pattern)
@@ -354,6 +353,16 @@ def _derive_spec(fail: Any, table: object) -> DeriveSpec:
     return DeriveSpec(rail_pattern=pattern, **values)
 
 
+def _finite(value: object) -> bool:
+    """A TOML number a float can hold: an integer of 400 digits is refused like ``inf``."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
+
+
 def _vector(
     fail: Any,
     index: int,
@@ -365,11 +374,7 @@ def _vector(
     value = entry.get(key)
     if value is None and default is not None:
         return default
-    if (
-        not isinstance(value, list)
-        or len(value) != size
-        or not all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value)
-    ):
+    if not isinstance(value, list) or len(value) != size or not all(_finite(v) for v in value):
         raise fail(
             "frame",
             index,
