@@ -38,6 +38,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import pyoxigraph as ox
+
 from cadkg.derive.frames import Quaternion, normalize_quaternion, quaternion_from_rpy
 from cadkg.errors import ManifestError
 from cadkg.ingest.registry import kinds
@@ -212,7 +214,7 @@ def load_manifest(path: str | Path) -> Manifest:
         raise fail("cell", None, "profile", "unknown profile", found=profile, expected=" | ".join(PROFILES))
     base_iri = string("cell", None, cell, "base_iri")
     assert base_iri is not None and profile is not None
-    if not re.match(r"^[a-z][a-z0-9+.-]*:[^\s<>\"{}|\\^`]*[/#]$", base_iri):
+    if not re.match(r"^[a-z][a-z0-9+.-]*:[^\s<>\"{}|\\^`]*[/#]$", base_iri) or not _is_iri(base_iri):
         raise fail(
             "cell",
             None,
@@ -351,6 +353,15 @@ def _derive_spec(fail: Any, table: object) -> DeriveSpec:
             "derive", None, "rail_pattern", "not a regular expression", found=pattern, expected="e.g. ^RAIL"
         ) from None
     return DeriveSpec(rail_pattern=pattern, **values)
+
+
+def _is_iri(text: str) -> bool:
+    # The store's own parser (RFC 3987): a ']' in a path or a bad %-escape fails here, not at load.
+    try:
+        ox.NamedNode(text)
+    except ValueError:
+        return False
+    return True
 
 
 def _finite(value: object) -> bool:
