@@ -11,6 +11,7 @@ from __future__ import annotations
 import io
 import random
 import re
+import shutil
 import signal
 import warnings
 import zipfile
@@ -18,11 +19,12 @@ from collections.abc import Iterator
 from pathlib import Path
 from types import FrameType
 
+import pyoxigraph as ox
 import pytest
 
 from cadkg.errors import CadkgError
 from cadkg.ingest.manifest import load_manifest
-from cadkg.ingest.pipeline import read_source
+from cadkg.ingest.pipeline import manifest_graph, read_source
 from cadkg.ingest.registry import sniff_kind
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -167,3 +169,23 @@ def test_damaged_copy_reads_or_fails_with_a_cadkg_error(
     finally:
         signal.alarm(0)
         signal.signal(signal.SIGALRM, previous)
+
+
+@pytest.mark.parametrize(("name", "copy"), [(m, c) for m in MANIFESTS for c in range(COPIES)])
+def test_damaged_manifest_loads_or_fails_with_a_cadkg_error(tmp_path: Path, name: str, copy: int) -> None:
+    original = EXAMPLES / name
+    rng = random.Random(f"{name}#{copy}")
+    data = original.read_bytes()
+    for _ in range(rng.choice([1, 1, 2])):
+        data = _mutate(data, rng)
+    # Among the example's files, so the paths it names still resolve.
+    cell = shutil.copytree(original.parent, tmp_path / "cell")
+    damaged = cell / original.name
+    damaged.write_bytes(data)
+    try:
+        manifest = load_manifest(damaged)
+        graph = manifest_graph(manifest)
+        # What the manifest states must load as it will in a build.
+        ox.Store().load(graph.ntriples, ox.RdfFormat.N_TRIPLES, to_graph=ox.NamedNode(graph.graph))
+    except CadkgError as err:
+        assert str(err).startswith(str(damaged)), "the error names the damaged manifest first"
