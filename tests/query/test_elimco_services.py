@@ -227,6 +227,12 @@ def test_unknown_cable(model: ElimcoModel) -> None:
     )
 
 
+def test_a_long_number_is_no_path_index(model: ElimcoModel) -> None:
+    result = get_path_positions(model, "9" * 5000)
+    assert not result.success
+    assert result.message.startswith("no path of cable '999")
+
+
 def test_empty_model_answers_with_a_message() -> None:
     empty = ElimcoModel({}, {}, {})
     assert (
@@ -366,6 +372,20 @@ def test_load_files_without_paths(served: tuple[Session, Path]) -> None:
         False,
         "no file given: paths is a comma-separated list of files",
     )
+
+
+@pytest.mark.parametrize(
+    ("paths", "message"),
+    [
+        ("pin\x00info.xml", "cannot read the file: a NUL byte in its name"),
+        ("~no-such-user-of-cadkg/pin_info.xml", "no home directory for the user its '~' names"),
+    ],
+)
+def test_load_files_with_an_impossible_path(served: tuple[Session, Path], paths: str, message: str) -> None:
+    session, _ = served
+    result = call(session, "load_files", {"paths": paths})
+    assert not result.success
+    assert result.message.startswith("nothing loaded: ") and message in result.message
 
 
 # --- named queries ------------------------------------------------------------------------------------

@@ -67,6 +67,8 @@ def sniff_kind(path: str | Path, head: bytes | None = None) -> str:
                 head = handle.read(16384)
         except OSError as err:
             raise IngestError(path, f"cannot read the file: {err.strerror}") from err
+        except ValueError:  # a NUL byte in a path given by a service caller
+            raise IngestError(repr(str(path)), "cannot read the file: a NUL byte in its name") from None
     sniffed = [r for r in candidates or _READERS.values() if r.sniff is not None and r.sniff(head)]
     if len(sniffed) == 1:
         return sniffed[0].kind

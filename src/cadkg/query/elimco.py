@@ -104,7 +104,8 @@ class ElimcoModel:
         for route in self.routes.values():
             if route.cable == cable:
                 return route
-        if cable.isascii() and cable.isdigit():
+        # Path indices are small; a longer run of digits is no index (and int() refuses 4,300).
+        if cable.isascii() and cable.isdigit() and len(cable) <= 9:
             return self.routes.get(int(cable))
         return None
 

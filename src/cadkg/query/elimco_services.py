@@ -253,7 +253,10 @@ def load_files(session: Session, paths: str) -> LoadFilesResult:
             "the served graph cannot be changed (a store opened read-only, or a remote endpoint); "
             "serve the manifest, or a store opened for writing",
         )
-    files = [Path(p.strip()).expanduser() for p in paths.split(",") if p.strip()]
+    try:
+        files = [_expanded(p.strip()) for p in paths.split(",") if p.strip()]
+    except CadkgError as err:
+        return LoadFilesResult(False, f"nothing loaded: {err}")
     if not files:
         return LoadFilesResult(False, "no file given: paths is a comma-separated list of files")
     try:
@@ -270,6 +273,13 @@ def load_files(session: Session, paths: str) -> LoadFilesResult:
         session.forget(_MODEL)
     rels = tuple(rel for _, _, rel, _ in plan)
     return LoadFilesResult(True, f"loaded {len(plan)} file(s) into {', '.join(rels)}", rels)
+
+
+def _expanded(text: str) -> Path:
+    try:
+        return Path(text).expanduser()
+    except RuntimeError:
+        raise CadkgError(f"{text}: no home directory for the user its '~' names") from None
 
 
 def _plan(kg: Any, files: list[Path]) -> list[tuple[Path, str, str, list[object]]]:
