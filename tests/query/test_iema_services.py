@@ -229,3 +229,8 @@ def test_derived_triples_are_in_the_graph(kg: KnowledgeGraph) -> None:
     assert len(meshes) == 8
     stl = Path(kg.files_dir, meshes[0]["u"]).read_bytes()
     assert len(stl) == 84 + 50 * 12  # a box is 12 triangles
+
+
+def test_pins_sort_in_natural_order_whatever_their_length() -> None:
+    names = ["A10", "10", "9", "A9", "A", "1" * 5000, "A09x", "B1", "010"]
+    assert sorted(names, key=iema._natural) == ["9", "10", "010", "1" * 5000, "A", "A9", "A09x", "A10", "B1"]

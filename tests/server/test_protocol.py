@@ -7,6 +7,7 @@ Expected values come from the example's files: ``lista-cablaggio.csv`` has 110 w
 
 from __future__ import annotations
 
+import asyncio
 import csv
 import io
 import json
@@ -18,9 +19,11 @@ import httpx
 import pyoxigraph as ox
 import pytest
 from SPARQLWrapper import JSON, XML, SPARQLWrapper
+from starlette.requests import Request
 
 import cadkg
 from cadkg.ontology.terms import CK_NS
+from cadkg.server.protocol import BodyTooLargeError, read_body
 from tests.server.serving import serving
 
 BASE = "https://example.org/cell/iema-qe01/"
@@ -405,3 +408,15 @@ def test_settings_refuse_updates_without_a_token() -> None:
 
     with pytest.raises(ValueError, match="token"):
         Settings(allow_update=True)
+
+
+@pytest.mark.parametrize("declared", ["9" * 5000, "0" * 40 + "201", "12345678901234567890"])
+def test_declared_body_length_over_the_limit(declared: str) -> None:
+    # Beside the served test above: a declared length is compared without int() on all of it,
+    # which refuses more than 4,300 digits.
+    async def nothing() -> dict[str, object]:
+        return {"type": "http.request", "body": b"", "more_body": False}
+
+    scope = {"type": "http", "method": "POST", "headers": [(b"content-length", declared.encode())]}
+    with pytest.raises(BodyTooLargeError, match="over the limit of 200 bytes"):
+        asyncio.run(read_body(Request(scope, nothing), 200))

@@ -69,7 +69,8 @@ def read_assignments(path: str | Path) -> list[Assignment]:
             raise IngestError(path, "empty id", line=row.line, expected=f"the {kind} to assign")
         if kind == "component":
             ident = normalize_label(ident)
-        if kind == "operation" and not (ident.isdigit() and int(ident) > 0):
+        # ASCII digits only: '²'.isdigit() holds, int('²') fails.
+        if kind == "operation" and not (ident.isascii() and ident.isdigit() and ident.strip("0")):
             raise IngestError(
                 path, "operation id is not a list position", line=row.line, found=ident, expected="1, 2, ..."
             )

@@ -132,8 +132,13 @@ def _pins_sorted(geometry: ComponentGeometry) -> list[CadPin]:
     return sorted(geometry.pins.values(), key=lambda p: _natural(p.pin))
 
 
-def _natural(text: str) -> tuple[tuple[int, int | str], ...]:
-    return tuple((0, int(t)) if t.isdigit() else (1, t) for t in re.findall(r"\d+|\D+", text))
+def _natural(text: str) -> tuple[tuple[int, int, str], ...]:
+    # A run of digits compares by its value: fewer digits (leading zeros aside) is smaller,
+    # then digit by digit; no int(), which refuses runs of over 4,300 digits.
+    return tuple(
+        (0, len(t.lstrip("0")), t.lstrip("0")) if t[0] in "0123456789" else (1, 0, t)
+        for t in re.findall(r"[0-9]+|[^0-9]+", text)
+    )
 
 
 def cad_service(model: CellModel, label: str) -> CadServiceResult:

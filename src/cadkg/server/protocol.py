@@ -78,7 +78,14 @@ async def read_body(request: Request, limit: int) -> bytes:
         When ``Content-Length`` or the bytes received pass the limit.
     """
     declared = request.headers.get("content-length")
-    if declared is not None and declared.isdigit() and int(declared) > limit:
+    # Compared as text first: int() refuses over 4,300 digits, and '²'.isdigit() holds.
+    digits = (declared or "").lstrip("0")
+    if (
+        declared is not None
+        and declared.isascii()
+        and declared.isdigit()
+        and (len(digits) > len(str(limit)) or int(digits or "0") > limit)
+    ):
         raise BodyTooLargeError(f"the request body of {declared} bytes is over the limit of {limit} bytes")
     chunks: list[bytes] = []
     size = 0
