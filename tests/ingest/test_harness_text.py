@@ -187,6 +187,8 @@ def test_segment_to_an_unknown_node(write: Write) -> None:
         ("node M\nsegment S M B length=1m\nwire W1 A:1 B:1 route=S\n", 6, "S (M-B)", "breaks at segment S"),
         ("wire W1 A:1 A:2 cable=K\n", 4, "K", "a core of an unknown cable"),
         ("connector C cavities=3-1\n", 4, "3-1", "bad cavity range"),
+        ("connector C cavities=1-" + "9" * 5000 + "\n", 4, "1-" + "9" * 5000, "bad cavity range"),
+        ("connector C cavities=" + "9" * 5000 + "-1\n", 4, "9" * 5000 + "-1", "bad cavity range"),
         ("connector C cavities=1,,2\n", 4, "an empty name", "malformed cavity list"),
         ("connector C cavities=1,1\n", 4, "1", "cavity listed twice"),
         ("connector C cavities=" + ",".join(["1-900"] * 500) + "\n", 4, "1800", "too many cavities"),

@@ -286,8 +286,9 @@ class _Parser:
         for item in s.options["cavities"].split(","):
             match = _RANGE.match(item)
             if match:
-                first, last = int(match["first"]), int(match["last"])
-                if not 0 <= last - first < _MAX_CAVITIES:
+                # Nine digits at most: no connector counts higher, and int() refuses 4,300.
+                first, last = (int(n) if len(n) <= 9 else -1 for n in (match["first"], match["last"]))
+                if first < 0 or not 0 <= last - first < _MAX_CAVITIES:
                     raise self.error(
                         "bad cavity range",
                         s.line,
