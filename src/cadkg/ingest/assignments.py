@@ -69,7 +69,7 @@ def read_assignments(path: str | Path) -> list[Assignment]:
             raise IngestError(path, "empty id", line=row.line, expected=f"the {kind} to assign")
         if kind == "component":
             ident = normalize_label(ident)
-        # ASCII digits only: '²'.isdigit() holds, int('²') fails.
+        # ASCII digits, not all zeros: '²'.isdigit() holds too, and is no list position.
         if kind == "operation" and not (ident.isascii() and ident.isdigit() and ident.strip("0")):
             raise IngestError(
                 path, "operation id is not a list position", line=row.line, found=ident, expected="1, 2, ..."
