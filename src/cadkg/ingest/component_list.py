@@ -14,7 +14,7 @@ from pathlib import Path
 from cadkg.errors import IngestError
 from cadkg.ingest.component_model import ComponentModel, parse_models_fragment
 from cadkg.ingest.eplan import normalize_label
-from cadkg.ingest.text import Row, find_header, read_text
+from cadkg.ingest.text import Row, find_header, read_text, small_integer
 
 __all__ = ["ComponentListEntry", "looks_like_component_list", "read_component_list"]
 
@@ -119,8 +119,8 @@ def _entry(path: str | Path, row: Row, columns: dict[str, int], names: dict[str,
     quantity = None
     raw_quantity = text("quantity")
     if raw_quantity is not None:
-        digits = raw_quantity.isascii() and raw_quantity.isdigit() and len(raw_quantity) <= 9
-        if not digits or int(raw_quantity) == 0:
+        quantity = small_integer(raw_quantity)
+        if not quantity:
             raise IngestError(
                 path,
                 f"not a positive integer in column {names['quantity']!r}",
@@ -128,7 +128,6 @@ def _entry(path: str | Path, row: Row, columns: dict[str, int], names: dict[str,
                 found=raw_quantity,
                 expected="a whole number of parts, e.g. 1",
             )
-        quantity = int(raw_quantity)
     return ComponentListEntry(
         label=label,
         raw_id=raw_id,

@@ -45,7 +45,7 @@ from cadkg.ingest.harness_records import (
     HarnessWire,
     WireEnd,
 )
-from cadkg.ingest.text import read_text
+from cadkg.ingest.text import read_text, small_integer
 
 __all__ = ["FILE_FORMAT", "looks_like_harness_text", "read_harness_text"]
 
@@ -286,9 +286,8 @@ class _Parser:
         for item in s.options["cavities"].split(","):
             match = _RANGE.match(item)
             if match:
-                # Nine digits at most: no connector counts higher, and int() refuses 4,300.
-                first, last = (int(n) if len(n) <= 9 else -1 for n in (match["first"], match["last"]))
-                if first < 0 or not 0 <= last - first < _MAX_CAVITIES:
+                first, last = small_integer(match["first"]), small_integer(match["last"])
+                if first is None or last is None or not 0 <= last - first < _MAX_CAVITIES:
                     raise self.error(
                         "bad cavity range",
                         s.line,

@@ -23,7 +23,7 @@ from pathlib import Path
 from lxml import etree
 
 from cadkg.errors import IngestError
-from cadkg.ingest.text import read_text
+from cadkg.ingest.text import read_text, small_integer
 from cadkg.ingest.xml_input import element_children, parse_untrusted_xml
 
 __all__ = [
@@ -237,9 +237,9 @@ def read_path_info(path: str | Path) -> list[RoutePathSpec]:
         )
         line = doc.line(element)
         raw_index = attrs["index"]
-        if not raw_index.isascii() or not raw_index.isdigit() or len(raw_index) > 9:
+        index = small_integer(raw_index)
+        if index is None:
             raise doc.error("not a path index", line, found=raw_index, expected="a whole number from 0")
-        index = int(raw_index)
         if index in indices:
             raise doc.error(f"path {index} given twice (first on line {indices[index]})", line)
         indices[index] = line

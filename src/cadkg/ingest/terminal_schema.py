@@ -17,7 +17,7 @@ from pathlib import Path
 from cadkg.errors import IngestError
 from cadkg.ingest.eplan import normalize_label
 from cadkg.ingest.sheet import SHEET_SUFFIXES, cell_address, cell_text, read_sheet
-from cadkg.ingest.text import first_line, iter_rows, read_text, split_cells
+from cadkg.ingest.text import first_line, iter_rows, read_text, small_integer, split_cells
 
 __all__ = ["TerminalSlot", "looks_like_terminal_schema", "read_terminal_schema"]
 
@@ -121,10 +121,7 @@ def _integer(value: object) -> int | None:
             return None
         number = int(value)
     else:
-        text = cell_text(value)
-        if not (text.isascii() and text.isdigit() and len(text) <= len(str(_MAX_INTEGER))):
-            return None
-        number = int(text)
+        return small_integer(cell_text(value))
     return number if number <= _MAX_INTEGER else None
 
 

@@ -30,6 +30,7 @@ __all__ = [
     "named_columns",
     "parse_decimal",
     "read_text",
+    "small_integer",
     "split_cells",
 ]
 
@@ -93,6 +94,16 @@ def decode_text(path: str | Path, data: bytes, *, expected: str) -> str:
     if bad > max(8, len(text[:65536]) // 100):
         raise IngestError(path, f"binary content ({bad} control characters)", expected=expected)
     return text
+
+
+def small_integer(text: str) -> int | None:
+    """``text`` as a whole number of one to nine ASCII digits; ``None`` otherwise.
+
+    The counts, positions and indices of an input never run past nine digits, and this
+    keeps ``int()`` from what it refuses: ``'²'``, which ``isdigit()`` accepts, and runs of
+    over 4,300 digits.
+    """
+    return int(text) if text.isascii() and text.isdigit() and len(text) <= 9 else None
 
 
 def read_text(path: str | Path, *, expected: str) -> str:

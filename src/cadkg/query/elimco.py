@@ -27,6 +27,7 @@ from typing import Any
 
 from cadkg.derive.frames import quaternion_from_rpy
 from cadkg.derive.geometry import Pose, Vec3
+from cadkg.ingest.text import small_integer
 
 __all__ = [
     "CENTROID_FRAME",
@@ -104,10 +105,8 @@ class ElimcoModel:
         for route in self.routes.values():
             if route.cable == cable:
                 return route
-        # Path indices are small; a longer run of digits is no index (and int() refuses 4,300).
-        if cable.isascii() and cable.isdigit() and len(cable) <= 9:
-            return self.routes.get(int(cable))
-        return None
+        index = small_integer(cable)
+        return None if index is None else self.routes.get(index)
 
     def direction(self, name: str) -> Vec3 | None:
         """The unit route direction at a pin (see the module notes); None off every route."""
