@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Mapping
+from datetime import date, datetime
 from decimal import Decimal
 from functools import lru_cache
 from typing import Any
@@ -19,7 +20,7 @@ import pyoxigraph as ox
 
 from cadkg.errors import QueryError
 
-__all__ = ["bind_values", "query_form", "to_term", "values_clause"]
+__all__ = ["bind_values", "query_form", "term_value", "to_term", "values_clause"]
 
 _XSD = "http://www.w3.org/2001/XMLSchema#"
 # Comments, whitespace, PREFIX and BASE declarations before the query form keyword.
@@ -44,6 +45,45 @@ def to_term(value: Any) -> ox.NamedNode | ox.Literal:
     if isinstance(value, str):
         return ox.Literal(value)
     raise QueryError(f"cannot bind a value of type {type(value).__name__}")
+
+
+def _boolean(text: str) -> bool:
+    return text in ("true", "1")
+
+
+# Lexical form -> Python value per datatype; rows of big SELECTs go through here,
+# so it is one dict lookup per literal.
+_LITERAL_VALUE: dict[str, Any] = {
+    _XSD + "integer": int,
+    _XSD + "int": int,
+    _XSD + "long": int,
+    _XSD + "decimal": Decimal,
+    _XSD + "double": float,
+    _XSD + "float": float,
+    _XSD + "boolean": _boolean,
+    _XSD + "dateTime": datetime.fromisoformat,
+    _XSD + "date": date.fromisoformat,
+}
+
+
+def term_value(term: Any) -> Any:
+    """A pyoxigraph term as a Python value: IRIs as strings, typed literals converted."""
+    kind = type(term)
+    if kind is ox.Literal:
+        convert = _LITERAL_VALUE.get(term.datatype.value)
+        if convert is None:
+            return term.value
+        try:
+            return convert(term.value)
+        except (ValueError, ArithmeticError):
+            return term.value
+    if kind is ox.NamedNode:
+        return term.value
+    if term is None:
+        return None
+    if kind is ox.BlankNode:
+        return f"_:{term.value}"
+    return str(term)
 
 
 def query_form(sparql: str) -> str:

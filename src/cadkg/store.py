@@ -15,8 +15,6 @@ import time
 import uuid
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
-from datetime import date, datetime
-from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -27,7 +25,7 @@ from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
 from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
 from cadkg.loading import BackgroundLoader, paused_gc
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
-from cadkg.sparql_text import bind_values
+from cadkg.sparql_text import bind_values, term_value
 
 if TYPE_CHECKING:
     import networkx as nx
@@ -55,45 +53,6 @@ _CURRENT = "CURRENT"
 _FILES = "files"
 PERFORMERS = ("robot", "human")
 ASSIGNABLE = ("wire", "component", "operation")
-_XSD = "http://www.w3.org/2001/XMLSchema#"
-
-
-def _boolean(text: str) -> bool:
-    return text in ("true", "1")
-
-
-# Lexical form -> Python value per datatype; rows of big SELECTs go through here,
-# so it is one dict lookup per literal.
-_LITERAL_VALUE: dict[str, Any] = {
-    _XSD + "integer": int,
-    _XSD + "int": int,
-    _XSD + "long": int,
-    _XSD + "decimal": Decimal,
-    _XSD + "double": float,
-    _XSD + "float": float,
-    _XSD + "boolean": _boolean,
-    _XSD + "dateTime": datetime.fromisoformat,
-    _XSD + "date": date.fromisoformat,
-}
-
-
-def _to_python(term: Any) -> Any:
-    kind = type(term)
-    if kind is ox.Literal:
-        convert = _LITERAL_VALUE.get(term.datatype.value)
-        if convert is None:
-            return term.value
-        try:
-            return convert(term.value)
-        except (ValueError, ArithmeticError):
-            return term.value
-    if kind is ox.NamedNode:
-        return term.value
-    if term is None:
-        return None
-    if kind is ox.BlankNode:
-        return f"_:{term.value}"
-    return str(term)
 
 
 @dataclass(frozen=True)
@@ -469,7 +428,7 @@ class KnowledgeGraph:
         if not isinstance(result, ox.QuerySolutions):
             raise QueryError("query() runs SELECT queries; use ask() or construct()")
         variables = tuple(v.value for v in result.variables)
-        convert, width = _to_python, range(len(variables))
+        convert, width = term_value, range(len(variables))
         rows = tuple(
             dict(zip(variables, [convert(solution[i]) for i in width], strict=True)) for solution in result
         )
