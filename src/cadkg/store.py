@@ -4,6 +4,8 @@ On disk a store is a directory holding generations (``gen-*/``, each a complete
 oxigraph database) and a ``CURRENT`` file naming the live one. A build writes a
 new generation and then replaces ``CURRENT`` with one atomic rename, so a failed
 build leaves the previous store exactly as it was and readers never see half a build.
+Each generation also keeps its derived cell model (``cell-model.json``), dropped before
+any change to the graph and written again after it.
 """
 
 from __future__ import annotations
@@ -51,6 +53,7 @@ EXPORT_FORMATS = {
 }
 _CURRENT = "CURRENT"
 _FILES = "files"
+_MODEL_FILE = "cell-model.json"  # cadkg.derive.persist
 PERFORMERS = ("robot", "human")
 ASSIGNABLE = ("wire", "component", "operation")
 
@@ -88,6 +91,7 @@ class KnowledgeGraph:
         self._model: CellModel | None = None
         self._scratch: tempfile.TemporaryDirectory[str] | None = None
         self._files_dir: Path | None = None
+        self._model_file: Path | None = None
 
     # -- opening and building -------------------------------------------------
     @classmethod
@@ -113,6 +117,7 @@ class KnowledgeGraph:
             raise StoreError(f"{directory}: cannot open the store: {err}") from err
         kg = cls(store, directory, read_only)
         kg._files_dir = generation / _FILES
+        kg._model_file = generation / _MODEL_FILE
         return kg
 
     @classmethod
@@ -153,9 +158,13 @@ class KnowledgeGraph:
             store = ox.Store(str(generation))
             kg = cls(store, directory)
             kg._files_dir = generation / _FILES
+            kg._model_file = generation / _MODEL_FILE
             kg._load_ontology()
             edits = kg._keep_edits(directory, manifest.cell.base_iri)
             reports = kg._load_sources(manifest, on_source, bulk=True, edits=edits)
+            model = kg.cell_model()
+            if not (generation / _MODEL_FILE).exists():
+                kg._keep_model(model)
             store.flush()
             store.optimize()
             del kg, store
@@ -170,6 +179,7 @@ class KnowledgeGraph:
             shutil.rmtree(directory / previous, ignore_errors=True)
         opened = cls.open(directory, read_only=False)
         opened.reports = reports
+        opened._model = model
         return opened
 
     def _load_sources(
@@ -250,20 +260,56 @@ class KnowledgeGraph:
 
     # -- derived geometry and assignments -----------------------------------------
     def cell_model(self) -> CellModel:
-        """The cabinet's derived geometry, computed from the graph once per change."""
+        """The cabinet's derived geometry, computed from the graph once per change.
+
+        An on-disk store keeps a copy of it (:mod:`cadkg.derive.persist`) written with the
+        store and after each change, so opening the store again reads it instead of deriving.
+        """
         if self._model is None:
             from cadkg.derive.cabinet import derive_cell
             from cadkg.derive.extract import extract
 
             with paused_gc():
-                self._model = derive_cell(extract(self))
+                self._model = self._kept_model()
+                if self._model is None:
+                    self._model = derive_cell(extract(self))
+                    if not self.read_only:
+                        self._keep_model(self._model)
         return self._model
+
+    def _kept_model(self) -> CellModel | None:
+        if self._model_file is None:
+            return None
+        from cadkg.derive.persist import load_model
+
+        try:
+            data = self._model_file.read_bytes()
+        except OSError:
+            return None
+        return load_model(data)
+
+    def _keep_model(self, model: CellModel) -> None:
+        if self._model_file is None:
+            return
+        from cadkg.derive.persist import dump_model
+
+        # Written whole and renamed into place, so a reader finds the old copy, none, or this one.
+        partial = self._model_file.with_name(self._model_file.name + ".partial")
+        with contextlib.suppress(OSError):
+            partial.write_bytes(dump_model(model))
+            partial.replace(self._model_file)
+
+    def _forget_model(self) -> None:
+        """Drop the model and its kept copy; called before the graph changes, so no copy outlives it."""
+        self._model = None
+        if self._model_file is not None:
+            self._model_file.unlink(missing_ok=True)
 
     def derive(self) -> CellModel:
         """Recompute the derived geometry and replace the ``{base}derived`` graph with it."""
         from cadkg.derive.emit import derived_graph, derived_ntriples
 
-        self._model = None
+        self._forget_model()
         model = self.cell_model()
         if model.base and not self.read_only:
             graph = ox.NamedNode(derived_graph(model))
@@ -307,6 +353,7 @@ class KnowledgeGraph:
         target = node_iri(model.base, kind, ident)
         node = node_iri(model.base, "assignment", kind, ident)
         graph = f"{model.base}assignments"
+        self._forget_model()
         # One update request: the old decision goes only if the new one lands.
         self._store.update(
             f"""DELETE WHERE {{ GRAPH <{graph}> {{ <{node}> ?p ?o }} }} ;
@@ -354,6 +401,7 @@ class KnowledgeGraph:
         # One update request is one transaction: the old graph goes only if the new one lands.
         # The graph IRI is minted by us and every term of the data is escaped by the mapping.
         inserts = data.ntriples.decode("utf-8")
+        self._forget_model()
         self._store.update(
             f"DROP SILENT GRAPH <{data.graph}> ; INSERT DATA {{ GRAPH <{data.graph}> {{ {inserts} }} }}"
         )
@@ -525,6 +573,7 @@ class KnowledgeGraph:
             if update:
                 if self.read_only:
                     raise StoreError("the store is open read-only")
+                self._forget_model()
                 self._store.update(sparql, prefixes=PREFIXES)
                 # The derived graph follows what it is derived from, as after a rebuild.
                 self.derive()
