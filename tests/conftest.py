@@ -13,6 +13,17 @@ IEMA_FIG3 = EXAMPLES / "iema-switchgear" / "manifest-fig3.toml"
 BAD = EXAMPLES / "bad-cell" / "manifest.toml"
 
 
+def synthetic_manifest(directory: Path, wires: int, *, cabinet: bool) -> Path:
+    """A synthetic cell (or complete cabinet) of ``benchmarks/synthetic.py`` written into ``directory``."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import synthetic
+
+    writer = synthetic.write_cabinet if cabinet else synthetic.write_cell
+    return Path(writer(directory, wires))
+
+
 @pytest.fixture(scope="session")
 def iema() -> cadkg.KnowledgeGraph:
     """The IEMA example built in memory once; tests must not change it."""

@@ -13,7 +13,7 @@ from cadkg.derive.collect import InputCollector
 from cadkg.derive.extract import extract
 from cadkg.ingest.manifest import load_manifest
 from cadkg.ingest.pipeline import read_manifest_graphs
-from tests.conftest import BAD, EXAMPLES, ROOT
+from tests.conftest import BAD, EXAMPLES, ROOT, synthetic_manifest
 
 IEMA_DIR = EXAMPLES / "iema-switchgear"
 CELLS = [
@@ -24,16 +24,6 @@ CELLS = [
     ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml",
     BAD,
 ]
-
-
-def _synthetic(tmp_path: Path, cabinet: bool) -> Path:
-    import sys
-
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import synthetic
-
-    writer = synthetic.write_cabinet if cabinet else synthetic.write_cell
-    return Path(writer(tmp_path, 300))
 
 
 def _collected(manifest_path: Path) -> InputCollector:
@@ -74,7 +64,7 @@ def test_records_give_the_graphs_inputs(manifest_path: Path) -> None:
 
 @pytest.mark.parametrize("cabinet", [False, True], ids=["cell", "cabinet"])
 def test_records_give_the_graphs_inputs_synthetic(tmp_path: Path, cabinet: bool) -> None:
-    _check(_synthetic(tmp_path, cabinet))
+    _check(synthetic_manifest(tmp_path, 300, cabinet=cabinet))
 
 
 def test_example_inputs_are_not_empty() -> None:

@@ -13,7 +13,7 @@ import cadkg
 from cadkg.derive.cabinet import CellModel, derive_cell
 from cadkg.derive.extract import extract
 from cadkg.derive.persist import dump_model, load_model
-from tests.conftest import BAD, EXAMPLES, IEMA, ROOT
+from tests.conftest import BAD, EXAMPLES, IEMA, ROOT, synthetic_manifest
 
 MINI = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"
 CELLS = [
@@ -23,15 +23,6 @@ CELLS = [
     BAD,
     EXAMPLES / "elvez-cell" / "manifest.toml",
 ]
-
-
-def _cabinet(tmp_path: Path) -> Path:
-    import sys
-
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import synthetic
-
-    return Path(synthetic.write_cabinet(tmp_path, 300))
 
 
 def _derived(kg: cadkg.KnowledgeGraph) -> CellModel:
@@ -55,7 +46,7 @@ def test_a_model_reads_back_equal(manifest: Path) -> None:
 
 
 def test_a_synthetic_cabinet_reads_back_bit_for_bit(tmp_path: Path) -> None:
-    model = cadkg.build(_cabinet(tmp_path)).cell_model()
+    model = cadkg.build(synthetic_manifest(tmp_path, 300, cabinet=True)).cell_model()
     assert len(model.steps) == 300
     back = load_model(dump_model(model))
     assert back == model

@@ -111,8 +111,7 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
             ident: key
             for item, ids in tables.values("cadId").items()
             for ident in ids
-            for model in tables.values("instanceOf").get(item, ())
-            for key in tables.values("commercialCode").get(model, ())
+            for key in tables.follow(item, "instanceOf", "commercialCode")
         },
         frames=_frames(tables),
         bboxes=_bboxes(tables),
@@ -120,8 +119,7 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
             ident: uri
             for item, ids in tables.values("cadId").items()
             for ident in ids
-            for mesh in tables.values("hasMesh").get(item, ())
-            for uri in tables.values("meshUri").get(mesh, ())
+            for uri in tables.follow(item, "hasMesh", "meshUri")
         },
         models=_models(tables),
         blocks=_blocks(tables),
@@ -182,6 +180,14 @@ class _Tables:
                     objects.append(value)
         return table
 
+    def follow(self, subject: Any, *path: str) -> list[Any]:
+        """The objects reached from ``subject`` along ``ck:`` predicates in turn (a property path)."""
+        nodes = [subject]
+        for predicate in path:
+            table = self.values(predicate)
+            nodes = [value for node in nodes for value in table.get(node, ())]
+        return nodes
+
     def first(self, subject: Any, predicate: str) -> Any:
         """One object of ``subject``'s ``ck:predicate``, or None."""
         objects = self.values(predicate).get(subject)
@@ -217,14 +223,13 @@ def _items(tables: _Tables) -> dict[str, list[str]]:
 
 
 def _frames(tables: _Tables) -> dict[str, tuple[str, Pose]]:
-    labels, parents, poses = tables.values("label"), tables.values("parentFrame"), tables.poses()
+    labels, poses = tables.values("label"), tables.poses()
     frames: dict[str, tuple[str, Pose]] = {}
     for frame in tables.instances("Frame"):
         for pose in tables.values("hasPose").get(frame, ()):
-            if pose not in poses:
-                continue
-            for name, parent_frame in product(labels.get(frame, ()), parents.get(pose, ())):
-                for parent in labels.get(parent_frame, ()):
+            if pose in poses:
+                parents = tables.follow(pose, "parentFrame", "label")
+                for name, parent in product(labels.get(frame, ()), parents):
                     frames[name] = (parent, poses[pose])
     return frames
 
@@ -264,12 +269,10 @@ def _models(tables: _Tables) -> dict[str, ModelInfo]:
                         into[name] = poses[pose]
     for node, placements in tables.values("hasChildPlacement").items():
         for key, placement in product(codes.get(node, ()), placements):
-            for child_model, pose in product(
-                tables.values("childModel").get(placement, ()), tables.values("hasPose").get(placement, ())
-            ):
-                for child in codes.get(child_model, ()):
-                    if pose in poses:
-                        models.setdefault(key, ModelInfo(key)).children[child] = poses[pose]
+            children = tables.follow(placement, "childModel", "commercialCode")
+            for child, pose in product(children, tables.values("hasPose").get(placement, ())):
+                if pose in poses:
+                    models.setdefault(key, ModelInfo(key)).children[child] = poses[pose]
     return models
 
 
@@ -290,17 +293,16 @@ def _blocks(tables: _Tables) -> dict[str, list[tuple[int, str, str | None]]]:
 def _pins(tables: _Tables, base: str) -> dict[str, PinInfo]:
     # Pins the derivation itself added (a model's pins no wire names) are its output, not input.
     derived = base + "derived/"
-    labels, names, ids_of = tables.values("label"), tables.values("pinName"), tables.values("cadId")
+    names = tables.values("pinName")
     pins: dict[str, PinInfo] = {}
     for pin in tables.instances("Pin"):
         if pin.startswith(derived):
             continue
         levels = tables.values("level").get(pin) or [None]
-        items = [i for item in tables.values("onItem").get(pin, ()) for i in ids_of.get(item, ())] or [None]
-        for component in tables.values("pinOf").get(pin, ()):
-            for label, name in product(labels.get(component, ()), names.get(pin, ())):
-                for level, item in product(levels, items):
-                    pins[pin] = PinInfo(pin, label, name, level, item)
+        items = tables.follow(pin, "onItem", "cadId") or [None]
+        for label, name in product(tables.follow(pin, "pinOf", "label"), names.get(pin, ())):
+            for level, item in product(levels, items):
+                pins[pin] = PinInfo(pin, label, name, level, item)
     return pins
 
 

@@ -47,8 +47,9 @@ class _Writer:
         return [pin.label, pin.pin, self.pose(pin.screw), self.pose(pin.hole), pin.item, pin.iri]
 
     def block(self) -> str:
-        numbers = array("d", self.numbers)
+        numbers = self.numbers
         if sys.byteorder == "big":
+            numbers = array("d", numbers)
             numbers.byteswap()
         return base64.b64encode(numbers.tobytes()).decode("ascii")
 
