@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import gc
 import hashlib
 import json
 import shutil
@@ -144,6 +145,48 @@ def test_failed_build_leaves_the_previous_store_unchanged(tmp_path: Path) -> Non
     assert sorted(p.name for p in store.iterdir()) == before
     with cadkg.open(store) as kg:
         assert len(kg) == count
+
+
+def test_failed_first_build_leaves_nothing_behind(tmp_path: Path) -> None:
+    # A failure at the first source, while the new store is still busy in the background:
+    # the generation used to come back after its removal, and the retry was refused.
+    manifest = copy_example(tmp_path)
+    scene = manifest.parent / "scene.x3d"
+    good = scene.read_bytes()
+    scene.write_bytes(
+        good.replace(
+            b'DEF="ID000012" translation="0.01 0 0.0075"', b'DEF="ID000012" translation="0.01 nan 0.0075"', 1
+        )
+    )
+    text = manifest.read_text(encoding="utf-8")
+    wri, x3d = 'path = "ids.wri"\nkind = "wri"', 'path = "scene.x3d"\nkind = "x3d"\nframe = "cabinet"'
+    manifest.write_text(text.replace(x3d, "@").replace(wri, x3d).replace("@", wri), encoding="utf-8")
+    store = tmp_path / "store"
+    for _ in range(4):
+        with pytest.raises(IngestError) as err:
+            cadkg.build(manifest, store)
+        assert "bad number in 'translation'" in str(err.value)
+        del err  # as a command ends: the last references to the failed build go
+        gc.collect()
+        assert list(store.iterdir()) == []
+    scene.write_bytes(good)
+    with cadkg.build(manifest, store) as kg:
+        assert kg.named_query("wire-endpoints", wireNumber="1500.51").rows[0]["component"] == "F1500.1"
+
+
+def test_builds_into_what_a_killed_build_left(tmp_path: Path) -> None:
+    store = tmp_path / "store"
+    debris = store / "gen-20260101T000000-0badf00d"
+    debris.mkdir(parents=True)
+    (debris / "000024.sst").write_bytes(b"half written")
+    (store / ".CURRENT.gen-20260101T000000-0badf00d").write_text("gen-20260101T000000-0badf00d\n")
+    with cadkg.build(IEMA, store) as kg:
+        assert kg.generation != debris.name
+        assert kg.named_query("wire-endpoints", wireNumber="1500.51").rows[0]["component"] == "F1500.1"
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "gen-notes").write_text("mine")  # a file, not a generation
+    with pytest.raises(StoreError, match="not a cadkg store"):
+        cadkg.build(IEMA, tmp_path / "other")
 
 
 def test_rebuild_replaces_the_generation(tmp_path: Path) -> None:

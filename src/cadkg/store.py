@@ -11,9 +11,11 @@ any change to the graph and written again after it.
 from __future__ import annotations
 
 import contextlib
+import gc
 import shutil
 import tempfile
 import time
+import traceback
 import uuid
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
@@ -148,12 +150,18 @@ class KnowledgeGraph:
     def _build_into(
         cls, manifest: Manifest, directory: Path, on_source: Callable[[SourceSpec], None] | None
     ) -> KnowledgeGraph:
-        if directory.exists() and not (directory / _CURRENT).exists() and any(directory.iterdir()):
+        if (
+            directory.exists()
+            and not (directory / _CURRENT).exists()
+            and not all(_left_by_a_build(entry) for entry in directory.iterdir())
+        ):
             raise StoreError(f"{directory}: exists and is not a cadkg store; refusing to write into it")
         directory.mkdir(parents=True, exist_ok=True)
         name = f"gen-{time.strftime('%Y%m%dT%H%M%S')}-{uuid.uuid4().hex[:8]}"
         generation = directory / name
         reports: list[SourceReport] = []
+        store: ox.Store | None = None
+        kg: KnowledgeGraph | None = None
         try:
             store = ox.Store(str(generation))
             kg = cls(store, directory)
@@ -167,10 +175,16 @@ class KnowledgeGraph:
                 kg._keep_model(model)
             store.flush()
             store.optimize()
-            del kg, store
-        except BaseException:
+        except BaseException as err:
+            # RocksDB goes on writing (flushes, compactions) until the store is dropped; removed
+            # while open, the generation would come back as debris that blocks the next build.
+            # The failed frames below this one still hold the store: clear them, then drop it.
+            traceback.clear_frames(err.__traceback__)
+            store = kg = None
+            gc.collect()
             shutil.rmtree(generation, ignore_errors=True)
             raise
+        store = kg = None
         pointer = directory / f".{_CURRENT}.{name}"
         pointer.write_text(name + "\n", encoding="utf-8")
         previous = _read_pointer(directory)
@@ -592,6 +606,13 @@ class KnowledgeGraph:
             raise QueryError(f"not an IRI: {err}") from None
         except (RuntimeError, OSError) as err:
             raise QueryError(str(err)) from None
+
+
+def _left_by_a_build(entry: Path) -> bool:
+    """Whether ``entry`` is what a build killed before its end leaves: a generation or a pointer."""
+    if entry.is_dir():
+        return entry.name.startswith("gen-")
+    return entry.name.startswith(f".{_CURRENT}.gen-")
 
 
 def _read_pointer(directory: Path) -> str | None:
