@@ -126,6 +126,10 @@ BAD_CONTENT = {
     "control-chars": bytes(range(1, 9)) * 40,
     "random-no-nul": _random_bytes(3, 300, nul=False),
     "text-garbage": b"lorem ipsum dolor\nsit amet\n" * 5,
+    "utf16-bom-only": b"\xff\xfe",
+    "utf16-whitespace": " \r\n\t\r\n".encode("utf-16"),
+    "utf16-text-garbage": ("lorem ipsum dolor\nsit amet\n" * 5).encode("utf-16"),
+    "utf16-odd-length": "lorem ipsum dolor\n".encode("utf-16") + b"\x41",
 }
 
 
@@ -143,7 +147,7 @@ def test_reader_rejects_bad_content_with_a_located_error(
     err = info.value
     assert err.path == str(path)
     assert str(err).startswith(str(path))
-    if content_id in {"empty", "whitespace", "bom-only"}:
+    if content_id in {"empty", "whitespace", "bom-only", "utf16-bom-only", "utf16-whitespace"}:
         assert err.reason == "the file is empty"
     if content_id in {"binary-nul", "zip-header"}:
         assert err.reason.startswith("binary content (NUL byte at offset")

@@ -404,6 +404,10 @@ def test_deep_nesting_is_a_located_error(write: Write) -> None:
     err = error(write("deep.x3d", x3d(body)))
     assert err.reason == "elements nest deeper than 100 levels"
     assert err.line == 4
+    # Deeper still, the XML parser stops first, with its own limit and no advice to lift it.
+    err = error(write("deeper.x3d", x3d("<Group>\n" * 300 + "</Group>" * 300)))
+    assert err.reason == "elements nest deeper than 256 levels"
+    assert err.line == 3 + 255  # the 255th Group, 257th element down from <X3D>
 
 
 # --- Inline --------------------------------------------------------------------------------------------

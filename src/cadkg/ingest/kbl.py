@@ -39,6 +39,7 @@ from cadkg.ingest.harness_records import (
     HarnessWire,
     WireEnd,
 )
+from cadkg.ingest.text import xml_document
 from cadkg.ingest.xml_input import parse_untrusted_xml
 
 __all__ = ["KBL_NAMESPACE", "KBL_VERSIONS", "looks_like_kbl", "read_kbl"]
@@ -97,14 +98,8 @@ def read_kbl(path: str | Path) -> list[HarnessRecord]:
         data = path.read_bytes()
     except OSError as err:
         raise IngestError(path, f"cannot read the file: {err.strerror}") from err
-    body = data.removeprefix(b"\xef\xbb\xbf")
-    if not body.strip():
-        raise IngestError(path, "the file is empty", expected=_EXPECTED)
-    nul = body.find(b"\x00")
-    if nul >= 0:
-        line = body.count(b"\n", 0, nul) + 1
-        raise IngestError(path, f"binary content (NUL byte at offset {nul})", line=line, expected=_EXPECTED)
-    root = parse_untrusted_xml(path, body, what="KBL", expected=_EXPECTED)
+    document = xml_document(path, data, expected=_EXPECTED)
+    root = parse_untrusted_xml(path, document, what="KBL", expected=_EXPECTED)
     return _Kbl(path, root).records()
 
 

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cadkg.errors import IngestError
+from cadkg.ingest.text import sniffable_head
 
 __all__ = ["Reader", "kinds", "reader_for", "register", "sniff_kind"]
 
@@ -69,6 +70,7 @@ def sniff_kind(path: str | Path, head: bytes | None = None) -> str:
             raise IngestError(path, f"cannot read the file: {err.strerror}") from err
         except ValueError:  # a NUL byte in a path given by a service caller
             raise IngestError(repr(str(path)), "cannot read the file: a NUL byte in its name") from None
+    head = sniffable_head(head)
     sniffed = [r for r in candidates or _READERS.values() if r.sniff is not None and r.sniff(head)]
     if len(sniffed) == 1:
         return sniffed[0].kind

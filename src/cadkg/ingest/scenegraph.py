@@ -44,7 +44,6 @@ __all__ = [
     "Node",
     "ParsedFile",
     "Parser",
-    "check_bytes",
     "floats_of",
     "ints_of",
     "read_scene",
@@ -93,7 +92,6 @@ _SPLIT = re.compile(r"[\s,]+")
 _QUOTED = re.compile(r'"((?:[^"\\]|\\.)*)"', re.DOTALL)
 _ESCAPE = re.compile(r"\\(.)", re.DOTALL)
 _SCHEME = re.compile(r"^([A-Za-z][A-Za-z0-9+.\-]*):")
-_BOM = b"\xef\xbb\xbf"
 
 
 @dataclass(frozen=True, slots=True)
@@ -126,17 +124,6 @@ class ParsedFile:
 
 
 Parser = Callable[[Path], ParsedFile]
-
-
-def check_bytes(path: str | Path, data: bytes, expected: str) -> None:
-    """Reject empty and binary files as every cadkg reader does."""
-    body = data.removeprefix(_BOM)
-    if not body.strip():
-        raise IngestError(path, "the file is empty", expected=expected)
-    nul = body.find(b"\x00")
-    if nul >= 0:
-        line = body.count(b"\n", 0, nul) + 1
-        raise IngestError(path, f"binary content (NUL byte at offset {nul})", line=line, expected=expected)
 
 
 # --- field values --------------------------------------------------------------------------------------

@@ -1,9 +1,10 @@
 """Decoding of text exports: encodings, byte-order marks, binary garbage, rows with lines.
 
-EPLAN and spreadsheet exports arrive as UTF-8 (with or without a BOM) or as the
-Windows code page of the machine that wrote them. We read UTF-8 first and fall
-back to Windows-1252 with a warning, because a silent mojibake label would never
-match its counterpart in another file.
+EPLAN and spreadsheet exports arrive as UTF-8 (with or without a BOM), as UTF-16 with
+its BOM (EPLAN's "Unicode" export, Excel's "Unicode Text") or as the Windows code page
+of the machine that wrote them. We read UTF-8 first and fall back to Windows-1252 with
+a warning, because a silent mojibake label would never match its counterpart in
+another file.
 """
 
 from __future__ import annotations
@@ -31,10 +32,15 @@ __all__ = [
     "parse_decimal",
     "read_text",
     "small_integer",
+    "sniffable_head",
     "split_cells",
+    "xml_document",
 ]
 
 _BOM = b"\xef\xbb\xbf"
+_UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+# Printable ASCII with a NUL beside every character: UTF-16 written without its BOM.
+_UTF16_WITHOUT_BOM = re.compile(rb"((?:[\t\n\r\x20-\x7e]\x00){8})|(?:\x00[\t\n\r\x20-\x7e]){8}")
 _CONTROL_OK = {"\t", "\n", "\r", "\f"}
 
 
@@ -62,8 +68,18 @@ def decode_text(path: str | Path, data: bytes, *, expected: str) -> str:
     """Decode a text export, rejecting empty and binary files with a located error."""
     if data.startswith(_BOM):
         data = data[len(_BOM) :]
+    elif data.startswith(_UTF16_BOMS):
+        return _checked(path, _decode_utf16(path, data, expected), expected)
     if not data.strip():
         raise IngestError(path, "the file is empty", expected=expected)
+    unmarked = _UTF16_WITHOUT_BOM.match(data)
+    if unmarked is not None:
+        order = "utf-16-le" if unmarked.group(1) else "utf-16-be"
+        warnings.warn(
+            IngestWarning(path, f"UTF-16 without a byte-order mark; read as {order.upper()}", line=1),
+            stacklevel=2,
+        )
+        return _checked(path, _decode_utf16(path, data, expected, order), expected)
     nul = data.find(b"\x00")
     if nul >= 0:
         raise IngestError(
@@ -90,9 +106,79 @@ def decode_text(path: str | Path, data: bytes, *, expected: str) -> str:
             ),
             stacklevel=2,
         )
+    return _checked(path, text, expected)
+
+
+def xml_document(path: str | Path, data: bytes, *, expected: str) -> bytes | str:
+    """What to hand the XML parser: UTF-16 decoded to text, anything else as it came.
+
+    Empty and binary files are refused here as :func:`decode_text` refuses them; the
+    parser itself reads the encoding other XML declares.
+    """
+    if data.startswith(_UTF16_BOMS):
+        return decode_text(path, data, expected=expected)
+    body = data.removeprefix(_BOM)
+    if not body.strip():
+        raise IngestError(path, "the file is empty", expected=expected)
+    nul = body.find(b"\x00")
+    if nul >= 0:
+        raise IngestError(
+            path, f"binary content (NUL byte at offset {nul})", line=_line_of(body, nul), expected=expected
+        )
+    return data
+
+
+def sniffable_head(head: bytes) -> bytes:
+    """The first bytes of a file as UTF-8 when they are UTF-16, for content sniffing."""
+    if head.startswith(_UTF16_BOMS):
+        order = "utf-16"
+    elif (unmarked := _UTF16_WITHOUT_BOM.match(head)) is not None:
+        order = "utf-16-le" if unmarked.group(1) else "utf-16-be"
+    else:
+        return head
+    # The head may end inside a character: cut to whole units and replace what is left.
+    return head[: len(head) - len(head) % 2].decode(order, errors="replace").encode("utf-8")
+
+
+def _decode_utf16(path: str | Path, data: bytes, expected: str, order: str = "utf-16") -> str:
+    try:
+        return data.decode(order)  # plain "utf-16" takes the order from the BOM and drops it
+    except UnicodeDecodeError as err:
+        # The lines before the bad unit decode cleanly; an odd byte count is cut off at the end.
+        before = data[: err.start - err.start % 2].decode(order, errors="replace")
+        raise IngestError(
+            path,
+            f"not valid UTF-16 ({err.reason})",
+            line=before.count("\n") + 1,
+            expected=expected,
+        ) from None
+
+
+def _checked(path: str | Path, text: str, expected: str) -> str:
+    """``text`` once it is known not to be empty, binary, or holding stray byte-order marks."""
+    if not text.strip():
+        raise IngestError(path, "the file is empty", expected=expected)
+    nul = text.find("\x00")
+    if nul >= 0:
+        raise IngestError(
+            path, "binary content (a NUL character)", line=text.count("\n", 0, nul) + 1, expected=expected
+        )
     bad = sum(1 for ch in text[:65536] if ord(ch) < 32 and ch not in _CONTROL_OK)
     if bad > max(8, len(text[:65536]) // 100):
         raise IngestError(path, f"binary content ({bad} control characters)", expected=expected)
+    stray = text.find("\ufeff")
+    if stray >= 0:
+        # Exports joined end to end keep the second one's BOM, invisible at the start of a
+        # line; left in, it would become part of a label or an ID that then matches nothing.
+        warnings.warn(
+            IngestWarning(
+                path,
+                "byte-order mark inside the file (files joined together?); removed",
+                line=text.count("\n", 0, stray) + 1,
+            ),
+            stacklevel=3,
+        )
+        text = text.replace("\ufeff", "")
     return text
 
 

@@ -14,7 +14,8 @@ from lxml import etree
 
 from cadkg.errors import IngestError
 from cadkg.ingest.scene import SceneItem
-from cadkg.ingest.scenegraph import MAX_NESTING, Field, Node, ParsedFile, check_bytes, read_scene
+from cadkg.ingest.scenegraph import MAX_NESTING, Field, Node, ParsedFile, read_scene
+from cadkg.ingest.text import xml_document
 from cadkg.ingest.xml_input import parse_untrusted_xml
 
 __all__ = ["X3D_NAMESPACE", "parse_x3d", "read_x3d"]
@@ -56,8 +57,8 @@ def parse_x3d(path: Path) -> ParsedFile:
         data = path.read_bytes()
     except OSError as err:
         raise IngestError(path, f"cannot read the file: {err.strerror}") from err
-    check_bytes(path, data, _EXPECTED)
-    root = parse_untrusted_xml(path, data, what="X3D", expected=_EXPECTED, allow_doctype=True)
+    document = xml_document(path, data, expected=_EXPECTED)
+    root = parse_untrusted_xml(path, document, what="X3D", expected=_EXPECTED, allow_doctype=True)
     return _Builder(path).document(root)
 
 
