@@ -462,6 +462,18 @@ def test_wire_without_to_pin_fails(ontology: Graph, shapes: Graph) -> None:
     }
 
 
+def test_wire_from_a_pin_to_itself_fails(ontology: Graph, shapes: Graph) -> None:
+    conforms, report = _validate(
+        COMPONENTS + "ex:w1 a ck:Wire ; ck:fromPin ex:F1500_1_14 ; ck:toPin ex:F1500_1_14 .",
+        ontology,
+        shapes,
+    )
+    assert not conforms
+    assert [(r["focus"], r["shape"], r["component"]) for r in _results(report)] == [
+        (URIRef("https://example.org/cell#w1"), CKS.WireEndsShape, SH.DisjointConstraintComponent)
+    ]
+
+
 def _pose(qx: str, qy: str, qz: str, qw: str) -> str:
     return (
         WORLD

@@ -44,6 +44,23 @@ def test_shacl_findings_are_located(tmp_path: Path) -> None:
     assert any("toPin" in f.message for f in shacl)
 
 
+def test_a_wire_from_a_pin_to_itself_is_found_at_its_line(tmp_path: Path) -> None:
+    (tmp_path / "ids.wri").write_text("ID000001\tF1\t\r\nID000002\tQ1\t\r\n")
+    header = (
+        "N. Pagina\tZona\tComponente:pin\tN. Pagina\tZona\tComponente:pin\tNumero filo\tSezione\tColore\n"
+    )
+    rows = "+1\tQ\t-F1:1\t+1\tQ\t-Q1:1\tW1\t1,5\tBK\n+1\tQ\t-F1:2\t+1\tQ\t=-F1:2\tW2\t1,5\tBK\n"
+    (tmp_path / "a.tsv").write_text(header + rows)
+    (tmp_path / "m.toml").write_text(
+        '[cell]\nname = "t"\nprofile = "iema"\nbase_iri = "https://example.org/t/"\n'
+        '[[source]]\npath = "ids.wri"\n[[source]]\npath = "a.tsv"\n'
+    )
+    findings = validate(cadkg.build(tmp_path / "m.toml"))
+    assert [(f.location, f.severity, f.check) for f in findings] == [("a.tsv:3", "error", "shacl")]
+    assert "must not start and end on the same pin" in findings[0].message
+    assert findings[0].message.startswith("<https://example.org/t/wire/W2>")
+
+
 def test_wire_ends_without_model_data_are_found() -> None:
     from tests.query.test_iema_services import MINI
 
