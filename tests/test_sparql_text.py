@@ -12,7 +12,7 @@ import pyoxigraph as ox
 import pytest
 
 from cadkg.errors import QueryError
-from cadkg.sparql_text import bind_values, query_form, values_clause
+from cadkg.sparql_text import bind_values, query_form, syntax_error_message, values_clause
 
 EX = "http://example.org/"
 HOSTILE = [
@@ -125,3 +125,37 @@ def test_query_form(text: str, form: str) -> None:
 def test_an_update_is_not_a_query() -> None:
     with pytest.raises(QueryError, match="not a SPARQL query"):
         query_form("DROP ALL")
+
+
+def _parse_error(text: str) -> SyntaxError:
+    with pytest.raises(SyntaxError) as info:
+        ox.Store().query(text)
+    return info.value
+
+
+@pytest.mark.parametrize(
+    ("text", "line"),
+    [
+        (
+            "SELECT * WHERE { ?s ?p ?o }\nLIMIT x",
+            "SPARQL syntax error at line 2, column 7 (found 'x', expected one of HAVING, OFFSET, "
+            "OPTIONAL, VALUES)",
+        ),
+        (
+            "SELECT * WHERE { ?s foo:bar ?o }",
+            "SPARQL syntax error at line 1, column 28 (found '?o', expected a prefix declared with "
+            "PREFIX name: <iri> or one of ck, rdf)",
+        ),
+        ("SELECT * WHERE { ?s ?p", "SPARQL syntax error at line 1, column 23 (found the end of the query, "),
+    ],
+)
+def test_a_parse_error_is_one_line_saying_where_what_and_what_would_do(text: str, line: str) -> None:
+    message = syntax_error_message(_parse_error(text), text, ["rdf", "ck"])
+    assert "\n" not in message
+    assert message.startswith(line)
+    assert "[" not in message  # the parser's character classes are left out
+    assert message.count(", ") <= 20  # at most twelve tokens, then "…"
+
+
+def test_a_message_in_another_form_is_kept_whole() -> None:
+    assert syntax_error_message("unexpected", "SELECT") == "SPARQL syntax error: unexpected"

@@ -10,7 +10,7 @@ its planner starts. Local and remote stores bind the same way.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from datetime import date, datetime
 from decimal import Decimal
 from functools import lru_cache
@@ -20,7 +20,7 @@ import pyoxigraph as ox
 
 from cadkg.errors import QueryError
 
-__all__ = ["bind_values", "query_form", "term_value", "to_term", "values_clause"]
+__all__ = ["bind_values", "query_form", "syntax_error_message", "term_value", "to_term", "values_clause"]
 
 _XSD = "http://www.w3.org/2001/XMLSchema#"
 # Comments, whitespace, PREFIX and BASE declarations before the query form keyword.
@@ -28,6 +28,9 @@ _PROLOGUE = re.compile(r"(?:\s+|#[^\n]*(?:\n|$)|PREFIX\s+[^\s:]*:\s*<[^>]*>|BASE
 _FORM = re.compile(r"(SELECT|ASK|CONSTRUCT|DESCRIBE)\b", re.IGNORECASE)
 _IRIREF = re.compile(r'<[^<>"{}|^`\\\x00-\x20]*>')
 _WORD = re.compile(r"[A-Za-z_][\w-]*")
+# What oxigraph's SPARQL parser says: "error at LINE:COLUMN: expected one of A, B, ...".
+_PARSER_ERROR = re.compile(r"error at (\d+):(\d+)(?::\s*(.*))?", re.DOTALL)
+_MAX_EXPECTED = 12
 
 
 def to_term(value: Any) -> ox.NamedNode | ox.Literal:
@@ -230,3 +233,43 @@ def bind_values(sparql: str, bindings: Mapping[str, Any]) -> str:
         return f"{sparql}\n{block}"
     # On the line of the brace, so a syntax error still names the line of the query as written.
     return f"{sparql[: where + 1]} {block} {sparql[where + 1 :]}"
+
+
+def syntax_error_message(err: SyntaxError | str, text: str, prefixes: Iterable[str] = ()) -> str:
+    """One line for a SPARQL parse error of ``text``: where, what is there, what would do.
+
+    ``prefixes`` are those the store declares itself, named when an undeclared one is used.
+
+    The parser lists every token it would accept, character classes included; the words and
+    punctuation are kept, the classes (which only say "a name or a number") dropped.
+    """
+    message = str(err)
+    match = _PARSER_ERROR.match(message)
+    if match is None:
+        return f"SPARQL syntax error: {message}"
+    line, column = int(match.group(1)), int(match.group(2))
+    expected = _expected(match.group(3) or "", sorted(prefixes))
+    return f"SPARQL syntax error at line {line}, column {column} (found {_found_at(text, line, column)}" + (
+        f", expected {expected})" if expected else ")"
+    )
+
+
+def _found_at(text: str, line: int, column: int) -> str:
+    lines = text.split("\n")
+    rest = "\n".join([lines[line - 1][column - 1 :], *lines[line:]]) if line <= len(lines) else ""
+    words = rest.split()
+    return repr(words[0][:40]) if words else "the end of the query"
+
+
+def _expected(detail: str, prefixes: list[str]) -> str:
+    detail = detail.strip()
+    if not detail.startswith("expected one of "):
+        return detail.removeprefix("expected ")
+    items = [item.strip() for item in detail.removeprefix("expected one of ").split(", ")]
+    if "Prefix not found" in items:
+        declared = f" or one of {', '.join(prefixes)}" if prefixes else ""
+        return f"a prefix declared with PREFIX name: <iri>{declared}"
+    kept = [item for item in items if item and not item.startswith("[")]
+    if len(kept) > _MAX_EXPECTED:
+        kept = [*kept[:_MAX_EXPECTED], "…"]
+    return "one of " + ", ".join(kept) if kept else ""

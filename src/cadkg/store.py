@@ -29,7 +29,7 @@ from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
 from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
 from cadkg.loading import BackgroundLoader, paused_gc
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
-from cadkg.sparql_text import bind_values, term_value
+from cadkg.sparql_text import bind_values, syntax_error_message, term_value
 
 if TYPE_CHECKING:
     import networkx as nx
@@ -468,14 +468,11 @@ class KnowledgeGraph:
             On a syntax error, a parameter name that is not a SPARQL variable name or a
             value that cannot be bound.
         """
+        text = bind_values(sparql, bindings or {})
         try:
-            return self._store.query(
-                bind_values(sparql, bindings or {}), prefixes=PREFIXES, use_default_graph_as_union=True
-            )
+            return self._store.query(text, prefixes=PREFIXES, use_default_graph_as_union=True)
         except SyntaxError as err:
-            # oxigraph lists every token it would accept; the position is what helps.
-            message = str(err).split(" expected one of", 1)[0].rstrip(":")
-            raise QueryError(f"SPARQL syntax error: {message}") from None
+            raise QueryError(syntax_error_message(err, text, PREFIXES)) from None
         except (RuntimeError, OSError) as err:
             raise QueryError(str(err)) from None
 
@@ -601,7 +598,7 @@ class KnowledgeGraph:
                 named_graphs=[ox.NamedNode(g) for g in named_graphs or ()],
             )
         except SyntaxError as err:
-            raise QueryError(f"SPARQL syntax error: {err}") from None
+            raise QueryError(syntax_error_message(err, sparql, PREFIXES)) from None
         except ValueError as err:
             raise QueryError(f"not an IRI: {err}") from None
         except (RuntimeError, OSError) as err:

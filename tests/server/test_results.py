@@ -114,9 +114,10 @@ def test_negotiate_graphs_and_format_parameter() -> None:
 
 def test_syntax_message_marks_the_position() -> None:
     text = "SELECT ?x\nWHERE { ?x ?p }"
-    message = syntax_message("SPARQL syntax error: error at 2:15: expected one of LATERAL, SERVICE", text)
+    line = "SPARQL syntax error at line 2, column 15 (found '}', expected one of LATERAL, SERVICE)"
+    message = syntax_message(line, text)
     assert message.splitlines() == [
-        "SPARQL syntax error at line 2, column 15: expected one of LATERAL, SERVICE",
+        line,
         "WHERE { ?x ?p }",
         "              ^",
     ]

@@ -31,7 +31,7 @@ __all__ = [
 
 GENERATION_HEADER = "X-Cadkg-Generation"
 TRUNCATED_HEADER = "X-Cadkg-Truncated"
-_SYNTAX = re.compile(r"SPARQL syntax error: error at (\d+):(\d+)(?::\s*(.*))?", re.DOTALL)
+_SYNTAX = re.compile(r"SPARQL syntax error at line (\d+), column (\d+)")
 
 
 @dataclass(frozen=True)
@@ -148,19 +148,15 @@ class AnswerCache:
 
 
 def syntax_message(message: str, text: str) -> str:
-    """A parser's message with its position spelled out and the offending line marked."""
+    """A syntax error's one line, followed by the offending line of ``text`` and a caret."""
     match = _SYNTAX.match(message)
     if match is None:
         return message
     line, column = int(match.group(1)), int(match.group(2))
-    detail = (match.group(3) or "").strip()
-    if len(detail) > 300:
-        detail = detail[:300].rsplit(",", 1)[0] + ", …"
     lines = text.splitlines() or [""]
     source = lines[min(max(line, 1), len(lines)) - 1]
     caret = " " * max(min(column, len(source) + 1) - 1, 0) + "^"
-    head = f"SPARQL syntax error at line {line}, column {column}" + (f": {detail}" if detail else "")
-    return f"{head}\n{source}\n{caret}"
+    return f"{message}\n{source}\n{caret}"
 
 
 def error_response(status: int, message: str, headers: dict[str, str] | None = None) -> Response:
