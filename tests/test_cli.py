@@ -113,6 +113,10 @@ def test_input_error_is_one_line_without_traceback(tmp_path: Path) -> None:
         (("query", str(IEMA), "SELECT ?x WHERE {"), "SPARQL syntax error"),
         (("query", str(IEMA), "not-a-query"), "not a named query"),
         (("query", str(IEMA), "components", "label"), "key=value"),
+        (
+            ("export", str(IEMA), "-o", "/nowhere/g.ttl"),
+            "cadkg: error: /nowhere/g.ttl: No such file or directory",
+        ),
     ],
 )
 def test_usage_errors_exit_2(args: tuple[str, ...], message: str) -> None:

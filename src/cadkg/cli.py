@@ -56,10 +56,17 @@ def _guarded(func: F) -> F:
         except (CadkgError, OSError, MemoryError) as err:
             if debug:
                 raise
-            _err.print(f"cadkg: error: {err}", markup=False)
+            _err.print(f"cadkg: error: {_one_line(err)}", markup=False)
             sys.exit(2)
 
     return wrapper  # type: ignore[return-value]
+
+
+def _one_line(err: BaseException) -> str:
+    if isinstance(err, OSError) and err.filename and err.strerror:
+        # As the readers' errors: the file first, then what went wrong ("[Errno 2] ..." is noise).
+        return f"{err.filename}: {err.strerror}"
+    return str(err)
 
 
 def _store_auth(auth: str | None = None, auth_digest: str | None = None) -> Any:
