@@ -10,7 +10,7 @@ import pytest
 import cadkg
 from cadkg.derive.cabinet import derive_cell
 from cadkg.derive.collect import InputCollector
-from cadkg.derive.extract import extract
+from cadkg.derive.extract import Placements, extract, placements
 from cadkg.ingest.manifest import load_manifest
 from cadkg.ingest.pipeline import read_manifest_graphs
 from tests.conftest import BAD, EXAMPLES, ROOT, synthetic_manifest
@@ -48,6 +48,8 @@ def _check(manifest_path: Path) -> None:
     from_graph = extract(kg)
     from_records = collector.inputs()
     assert from_records == from_graph
+    # What the ROS node reads beside the kept model: the same frames and meshes, read alone.
+    assert placements(kg) == Placements(from_graph.frames, from_graph.meshes)
     # The build derived from the records; deriving again from the graph changes nothing.
     built = _derived(kg)
     steps = [(s.wire, s.performer, s.keypoints) for s in kg.cell_model().steps]
@@ -77,3 +79,11 @@ def test_example_inputs_are_not_empty() -> None:
 def test_other_profiles_fall_back_to_the_graph() -> None:
     collector = _collected(EXAMPLES / "elvez-cell" / "manifest.toml")
     assert not collector.complete
+
+
+@pytest.mark.parametrize("example", ["elvez-cell", "elimco-bench"])
+def test_placements_of_the_other_profiles_are_those_of_the_extraction(example: str) -> None:
+    with cadkg.build(EXAMPLES / example / "manifest.toml") as kg:
+        inputs, placed = extract(kg), placements(kg)
+    assert placed == Placements(inputs.frames, inputs.meshes)
+    assert placed.frames

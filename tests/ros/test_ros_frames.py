@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from cadkg.derive.extract import extract
+from cadkg.derive.extract import placements
 from cadkg.derive.geometry import Pose
 from cadkg.ros_adapter.frames import ARROW_LENGTH, Frame, marker_specs, static_frames
 from cadkg.store import KnowledgeGraph
@@ -17,9 +17,9 @@ MINI = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"
 
 def test_frames_and_markers_of_the_mini_cell() -> None:
     with KnowledgeGraph.build(MINI) as kg:
-        inputs, model = extract(kg), kg.cell_model()
-        frames = {f.child: f for f in static_frames(inputs, model)}
-        specs = marker_specs(inputs, model, kg.files_dir)
+        placed, model = placements(kg), kg.cell_model()
+        frames = {f.child: f for f in static_frames(placed, model)}
+        specs = marker_specs(placed, model, kg.files_dir)
         assert frames["cabinet"].parent == "world" and frames["cabinet"].pose.position == (1.0, 0.0, 0.0)
         assert frames["K1/corner"].parent == "cabinet"
         assert frames["K1/corner"].pose.position == pytest.approx((0.15, 0.5, 0.0675))
@@ -53,8 +53,8 @@ def test_elvez_publishes_every_element_and_point_of_interest() -> None:
 
     with KnowledgeGraph.build(ROOT / "examples" / "elvez-cell" / "manifest.toml") as kg:
         session = Session(kg.cell_model(), kg=kg)
-        inputs = extract(kg)
-        frames = {f.child: f for f in static_frames(inputs, session.model, "elvez", session)}
+        placed = placements(kg)
+        frames = {f.child: f for f in static_frames(placed, session.model, "elvez", session)}
         # G4 is ID000005; its key frame hangs in it (examples/elvez-cell/README.md, step 4).
         assert frames["G4_key"].parent == "ID000005"
         key = _compose(frames, "G4_key", "cell_top_corner")
@@ -63,7 +63,7 @@ def test_elvez_publishes_every_element_and_point_of_interest() -> None:
         assert in_base.position == pytest.approx((0.705, 0.0913397, 0.12), abs=1e-6)
         assert in_base.orientation == pytest.approx((0, 0, 0.2588190, 0.9659258), abs=1e-6)
         assert not any(name.endswith(("/original", "/corner", "/target")) for name in frames)
-        specs = marker_specs(inputs, session.model, kg.files_dir, "elvez", session)
+        specs = marker_specs(placed, session.model, kg.files_dir, "elvez", session)
         elements = {s.text: s for s in specs if s.ns == "elements"}
         assert elements["G4"].frame_id == "ID000005"
         stl = Path(elements["G4"].mesh_uri.removeprefix("file://")).read_bytes()
@@ -76,7 +76,7 @@ def test_elimco_publishes_the_bench_pin_frames() -> None:
 
     with KnowledgeGraph.build(ROOT / "examples" / "elimco-bench" / "manifest.toml") as kg:
         session = Session(kg.cell_model(), kg=kg)
-        frames = {f.child: f for f in static_frames(extract(kg), session.model, "elimco", session)}
+        frames = {f.child: f for f in static_frames(placements(kg), session.model, "elimco", session)}
         pins = [name for name in frames if name.startswith("pin_")]
         assert pins and all(frames[name].parent.startswith(("pins_centroid", "pin_")) for name in pins)
         assert "pins_centroid" in frames

@@ -31,7 +31,7 @@ from cadkg.derive.geometry import Pose, Vec3
 
 if TYPE_CHECKING:
     from cadkg.derive.cabinet import CellModel
-    from cadkg.derive.extract import CellInputs
+    from cadkg.derive.extract import Placements
     from cadkg.query.cursors import Session
 
 __all__ = ["ARROW_LENGTH", "Frame", "MarkerSpec", "marker_specs", "static_frames"]
@@ -59,7 +59,7 @@ class MarkerSpec:
 
 
 def static_frames(
-    inputs: CellInputs, model: CellModel, profile: str = "iema", session: Session | None = None
+    placed: Placements, model: CellModel, profile: str = "iema", session: Session | None = None
 ) -> list[Frame]:
     """One transform per frame of the cell; a name given twice keeps its first placement.
 
@@ -71,7 +71,7 @@ def static_frames(
         if pose is not None and child not in frames and child != parent:
             frames[child] = Frame(parent, child, pose)
 
-    for name, (parent, pose) in inputs.frames.items():
+    for name, (parent, pose) in placed.frames.items():
         add(parent, name, pose)
     if session is not None:
         for parent, child, pose in _profile_frames(profile, session):
@@ -104,7 +104,7 @@ def _profile_frames(profile: str, session: Session) -> list[tuple[str, str, Pose
 
 
 def marker_specs(
-    inputs: CellInputs,
+    placed: Placements,
     model: CellModel,
     files_dir: Path,
     profile: str = "iema",
@@ -112,7 +112,7 @@ def marker_specs(
 ) -> list[MarkerSpec]:
     """Meshes of the scene items (and of the platform elements) and an arrow onto every screw."""
     specs: list[MarkerSpec] = []
-    for index, (item, rel) in enumerate(sorted(inputs.meshes.items())):
+    for index, (item, rel) in enumerate(sorted(placed.meshes.items())):
         uri = "file://" + str((Path(files_dir) / rel).resolve())
         specs.append(MarkerSpec("mesh", "meshes", index, item, mesh_uri=uri, text=item))
     if profile == "elvez" and session is not None:

@@ -28,7 +28,7 @@ from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
 from cadkg.derive.cabinet import CellModel, derive_cell
-from cadkg.derive.extract import CellInputs, extract
+from cadkg.derive.extract import Placements, extract, placements
 from cadkg.errors import CadkgError
 from cadkg.query import services
 from cadkg.query.cursors import Session
@@ -73,7 +73,7 @@ class Loaded:
     """One generation of what the node serves: graph, derived model, cursors, profile."""
 
     kg: KnowledgeGraph
-    inputs: CellInputs
+    placements: Placements
     model: CellModel
     session: Session
     profile: str
@@ -99,15 +99,18 @@ def load(source: str, approach_distance: float | None = None) -> Loaded:
         kg = KnowledgeGraph.build(path)
     else:
         raise CadkgError(f"{source!r} is neither a store directory nor a manifest file")
-    inputs = extract(kg)
     if approach_distance is not None and approach_distance >= 0:
+        inputs = extract(kg)
         inputs.approach_distance = approach_distance
         model = derive_cell(inputs)
+        placed = Placements(inputs.frames, inputs.meshes)
     else:
+        # The store keeps the model; only the frames and meshes are read from the graph.
         model = kg.cell_model()
+        placed = placements(kg)
     rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
     profile = str(rows[0]["p"]) if rows else ""
-    return Loaded(kg, inputs, model, Session(model, kg=kg), profile)
+    return Loaded(kg, placed, model, Session(model, kg=kg), profile)
 
 
 def _latched(depth: int = 1) -> QoSProfile:
@@ -221,16 +224,16 @@ class CadkgNode:
         with self._lock:
             loaded = self.loaded
             try:
-                frames = static_frames(loaded.inputs, loaded.model, self.profile, loaded.session)
+                frames = static_frames(loaded.placements, loaded.model, self.profile, loaded.session)
                 specs = marker_specs(
-                    loaded.inputs, loaded.model, loaded.kg.files_dir, self.profile, loaded.session
+                    loaded.placements, loaded.model, loaded.kg.files_dir, self.profile, loaded.session
                 )
             except CadkgError as err:
                 # The profile's services report the same error to every caller; the cell's
                 # own frames still go out.
                 self.node.get_logger().error(f"{self.profile} frames not published: {err}")
-                frames = static_frames(loaded.inputs, loaded.model, self.profile)
-                specs = marker_specs(loaded.inputs, loaded.model, loaded.kg.files_dir, self.profile)
+                frames = static_frames(loaded.placements, loaded.model, self.profile)
+                specs = marker_specs(loaded.placements, loaded.model, loaded.kg.files_dir, self.profile)
         stamp = self.node.get_clock().now().to_msg()
         transforms = []
         for frame in frames:
@@ -348,17 +351,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     ]
     rclpy.init(args=["cadkg", *ros_args])
     served: CadkgNode | None = None
+    executor = MultiThreadedExecutor(num_threads=4)
     try:
         served = CadkgNode(args.node_name, overrides)
-        executor = MultiThreadedExecutor(num_threads=4)
         executor.add_node(served.node)
-        executor.spin()
+        # SIGINT and SIGTERM shut the context down and wake the wait; the timeout looks at the
+        # context again regardless, so a wake-up lost in a race cannot keep the node alive.
+        while rclpy.ok():
+            executor.spin_once(timeout_sec=0.5)
     except CadkgError as err:
         print(f"cadkg ros: error: {err}", file=sys.stderr)
         return 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        executor.shutdown(timeout_sec=5.0)  # lets running callbacks end before the node goes
         if served is not None:
             served.destroy()
         if rclpy.ok():
