@@ -27,3 +27,4 @@ def test_bench_reopen_prints_a_row_per_size() -> None:
         kept_mib, kept_s, extract_s = (float(row[i]) for i in (3, 4, 5))
         assert kept_mib > 0 and kept_s > 0 and extract_s > 0
         assert row[7].strip().endswith("×")
+        assert float(row[8]) > 0  # placements
