@@ -412,6 +412,23 @@ def test_quoted_line_break_in_a_data_cell_shifts_later_lines(write) -> None:
     assert [(c.line, c.colour) for c in connections] == [(2, "BU\nsee note"), (4, "BU")]
 
 
+def test_a_stray_quote_that_swallows_the_row_is_named(write) -> None:
+    text = (
+        "Componente:pin\tComponente:pin\tNumero filo\tSezione\tColore\n"
+        "-F1500.1:14\t-Q1500.1:A1\t1500.51\t0.75\tBU\n"
+        '"-F1500.2:14\t-Q1500.2:A1\t1500.53\t0.75\tBU\n'
+        "-F1500.3:14\t-Q1500.3:A1\t1500.55\t0.75\tBU\n"
+    )
+    with pytest.raises(IngestError) as info:
+        read_connection_list(write("quote.tsv", text))
+    err = info.value
+    assert (err.line, err.reason) == (3, "a cell opened with '\"' runs over the cells after it")
+    assert err.found == "-F1500.2:14\t-Q1500.2:A1\t1500.53\t0.75\tBU ..."
+    # A row merely short of its wire number is still called what it is.
+    with pytest.raises(IngestError, match="empty cell in column 'Numero filo'"):
+        read_connection_list(write("short.tsv", text.replace('"-F1500.2:14\t-Q1500.2:A1\t1500.53\t0.75\tBU', "a\tb")))
+
+
 @pytest.mark.parametrize(
     ("cell", "column", "expected_m"),
     [("746", "L filo (mm)", "0.746"), ("746 mm", "L filo (m)", "0.746"), ("0,746 m", "L filo (mm)", "0.746")],

@@ -229,6 +229,22 @@ def test_unread_geometry_and_nodes_are_skipped_with_a_warning(write: Write) -> N
     assert item.bbox_max == pytest.approx((1, 1, 1))  # the default Box is 2 wide
 
 
+def test_a_face_set_without_coordinates_and_a_zero_scale_warn(write: Write) -> None:
+    body = """<Transform DEF="A">
+<Shape><IndexedFaceSet coordIndex="0 1 2 -1"/></Shape>
+<Transform scale="1 0 1"><Shape><Box size="0.2 0.2 0.2"/></Shape></Transform>
+</Transform>"""
+    with pytest.warns(IngestWarning) as record:
+        (item,) = read_x3d(write("z.x3d", x3d(body)))
+    messages = [(w.message.line, w.message.reason) for w in record if isinstance(w.message, IngestWarning)]
+    assert messages == [
+        (5, "IndexedFaceSet has a coordIndex but no coordinates; skipped"),
+        (6, "'scale' of Transform has a zero factor; the geometry below it is flat"),
+    ]
+    assert item.bbox_min == pytest.approx((-0.1, 0, -0.1))
+    assert item.bbox_max == pytest.approx((0.1, 0, 0.1))  # flattened, as the file says
+
+
 def test_shapes_outside_items_give_one_warning(write: Write) -> None:
     body = (
         '<Shape><Box/></Shape><Transform translation="1 0 0"><Shape><Box/></Shape></Transform>'

@@ -308,12 +308,7 @@ class _RowConverter:
             name: (cells[at].strip() or None) if at < width else None for name, at in self.text_columns
         }
         if not wire_number:
-            raise IngestError(
-                self.path,
-                f"empty cell in column {self.names['wire_number']!r}",
-                line=row.line,
-                expected="a wire number such as 1500.51 or 0V",
-            )
+            raise self.empty(row, "wire_number", "a wire number such as 1500.51 or 0V")
         return Connection(
             index=index,
             line=row.line,
@@ -326,6 +321,24 @@ class _RowConverter:
             **fields,
         )
 
+    def empty(self, row: Row, key: str, expected: str) -> IngestError:
+        """The error for an empty required cell, or for the quote that emptied it."""
+        if key in self.columns and self.columns[key] >= len(row.cells):
+            for cell in row.cells:
+                if "\t" in cell or "\n" in cell:
+                    # A cell that starts with '"' runs on, delimiters and line ends included,
+                    # to the next quote: the cells after it are missing, not empty.
+                    return IngestError(
+                        self.path,
+                        "a cell opened with '\"' runs over the cells after it",
+                        line=row.line,
+                        found=cell[:40].split("\n", 1)[0] + " ...",
+                        expected="no '\"' at the start of a cell, or its closing '\"' in the same cell",
+                    )
+        return IngestError(
+            self.path, f"empty cell in column {self.names[key]!r}", line=row.line, expected=expected
+        )
+
     def duct_path(self, text: str) -> tuple[str, ...]:
         path = self.ducts.get(text)
         if path is None:
@@ -334,12 +347,7 @@ class _RowConverter:
 
     def pin(self, row: Row, key: str, raw: str) -> PinRef:
         if not raw or raw == "-":
-            raise IngestError(
-                self.path,
-                f"empty cell in column {self.names[key]!r}",
-                line=row.line,
-                expected="a pin reference such as -F1500.1:14",
-            )
+            raise self.empty(row, key, "a pin reference such as -F1500.1:14")
         try:
             return parse_pin_ref(raw)
         except PinSyntaxError as err:

@@ -282,6 +282,9 @@ class _Walk:
                     found=" ".join(f"{v:g}" for v in value),
                     expected="an axis x y z that is not 0 0 0, then the angle in radians",
                 )
+        if 0.0 in tuple(values["scale"]):
+            # Legal, but it flattens everything below it: a slip in an export more often than not.
+            _warn(node, f"'scale' of {node.type} has a zero factor; the geometry below it is flat")
         return transform_matrix(
             values["translation"],
             values["rotation"],
@@ -374,6 +377,8 @@ class _Walk:
     def indexed(self, node: Node, name: str, triangulate: Callable[[Ints], Ints]) -> Part | None:
         coords = [c.use_of or c for c in node.nodes.get("coord", [])]
         if not coords:
+            if ints_of(node, name).size:
+                _warn(node, f"{node.type} has a {name} but no coordinates; skipped")
             return None
         coord = coords[0]
         if coord.type not in _COORDINATES:
