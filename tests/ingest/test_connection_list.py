@@ -426,7 +426,8 @@ def test_a_stray_quote_that_swallows_the_row_is_named(write) -> None:
     assert err.found == "-F1500.2:14\t-Q1500.2:A1\t1500.53\t0.75\tBU ..."
     # A row merely short of its wire number is still called what it is.
     with pytest.raises(IngestError, match="empty cell in column 'Numero filo'"):
-        read_connection_list(write("short.tsv", text.replace('"-F1500.2:14\t-Q1500.2:A1\t1500.53\t0.75\tBU', "a\tb")))
+        short = text.replace('"-F1500.2:14\t-Q1500.2:A1\t1500.53\t0.75\tBU', "a\tb")
+        read_connection_list(write("short.tsv", short))
 
 
 @pytest.mark.parametrize(

@@ -212,6 +212,13 @@ def test_indexed_triangle_set_and_empty_face_set(write: Write) -> None:
     assert items["E"].bbox_min is None
 
 
+def read_warned(path: Path) -> tuple[list[SceneItem], list[tuple[int | None, str]]]:
+    """The items of ``path`` and the (line, reason) of each warning reading them gave."""
+    with pytest.warns(IngestWarning) as record:
+        items = read_x3d(path)
+    return items, [(w.message.line, w.message.reason) for w in record if isinstance(w.message, IngestWarning)]
+
+
 def test_unread_geometry_and_nodes_are_skipped_with_a_warning(write: Write) -> None:
     body = """<Transform DEF="A">
 <Shape><ElevationGrid xDimension="2" zDimension="2" height="0 0 0 0"/></Shape>
@@ -219,9 +226,7 @@ def test_unread_geometry_and_nodes_are_skipped_with_a_warning(write: Write) -> N
 <FancyNode/>
 <Viewpoint position="0 0 10"/>
 </Transform>"""
-    with pytest.warns(IngestWarning) as record:
-        (item,) = read_x3d(write("w.x3d", x3d(body)))
-    messages = [(w.message.line, w.message.reason) for w in record if isinstance(w.message, IngestWarning)]
+    (item,), messages = read_warned(write("w.x3d", x3d(body)))
     assert messages == [
         (5, "ElevationGrid geometry is not read; skipped"),
         (7, "FancyNode node is not read (not a grouping, Shape or Inline node); skipped"),
@@ -234,9 +239,7 @@ def test_a_face_set_without_coordinates_and_a_zero_scale_warn(write: Write) -> N
 <Shape><IndexedFaceSet coordIndex="0 1 2 -1"/></Shape>
 <Transform scale="1 0 1"><Shape><Box size="0.2 0.2 0.2"/></Shape></Transform>
 </Transform>"""
-    with pytest.warns(IngestWarning) as record:
-        (item,) = read_x3d(write("z.x3d", x3d(body)))
-    messages = [(w.message.line, w.message.reason) for w in record if isinstance(w.message, IngestWarning)]
+    (item,), messages = read_warned(write("z.x3d", x3d(body)))
     assert messages == [
         (5, "IndexedFaceSet has a coordIndex but no coordinates; skipped"),
         (6, "'scale' of Transform has a zero factor; the geometry below it is flat"),
