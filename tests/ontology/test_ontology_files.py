@@ -372,6 +372,7 @@ def _validate(data_ttl: str, ontology: Graph, shapes: Graph) -> tuple[bool, Grap
         shacl_graph=shapes,
         ont_graph=ontology,
         inference="none",
+        advanced=True,  # as cadkg validate runs them: one shape targets by a SPARQL query
         abort_on_first=False,
         allow_warnings=False,
         meta_shacl=False,
