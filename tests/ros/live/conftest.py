@@ -64,6 +64,8 @@ class Server:
             except subprocess.TimeoutExpired:
                 self.process.kill()
                 self.process.wait()
+                self._out.close()
+                pytest.fail(f"the node did not exit within 10 s of SIGINT:\n{self.log.read_text()}")
         self._out.close()
 
 

@@ -71,4 +71,10 @@ def test_the_launch_command_line_serves_the_cell(ros: Any, tmp_path: Path) -> No
     finally:
         ros.destroy_client(client)
         process.terminate()
-        process.wait(timeout=20)
+        try:
+            process.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            process.kill()  # not left behind: a hung node would outlive the test run
+            process.wait()
+            message = f"the node did not exit within 20 s of SIGTERM:\n{server.output()}"
+            raise AssertionError(message) from None
