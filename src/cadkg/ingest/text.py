@@ -66,28 +66,23 @@ def _line_of(data: bytes, offset: int) -> int:
 
 def decode_text(path: str | Path, data: bytes, *, expected: str) -> str:
     """Decode a text export, rejecting empty and binary files with a located error."""
-    if data.startswith(_BOM):
-        data = data[len(_BOM) :]
-    elif data.startswith(_UTF16_BOMS):
-        return _checked(path, _decode_utf16(path, data, expected), expected)
-    if not data.strip():
-        raise IngestError(path, "the file is empty", expected=expected)
-    unmarked = _UTF16_WITHOUT_BOM.match(data)
-    if unmarked is not None:
-        order = "utf-16-le" if unmarked.group(1) else "utf-16-be"
-        warnings.warn(
-            IngestWarning(path, f"UTF-16 without a byte-order mark; read as {order.upper()}", line=1),
-            stacklevel=2,
-        )
-        return _checked(path, _decode_utf16(path, data, expected, order), expected)
-    nul = data.find(b"\x00")
-    if nul >= 0:
-        raise IngestError(
-            path,
-            f"binary content (NUL byte at offset {nul})",
-            line=_line_of(data, nul),
-            expected=expected,
-        )
+    order = _utf16_order(data)
+    if order is not None:
+        if order != "utf-16":
+            warnings.warn(
+                IngestWarning(path, f"UTF-16 without a byte-order mark; read as {order.upper()}", line=1),
+                stacklevel=2,
+            )
+        text = _decode_utf16(path, data, expected, order)
+        if not text.strip():
+            raise IngestError(path, "the file is empty", expected=expected)
+        nul = text.find("\x00")
+        if nul >= 0:
+            line = text.count("\n", 0, nul) + 1
+            raise IngestError(path, "binary content (a NUL character)", line=line, expected=expected)
+        return _checked(path, text, expected)
+    data = data.removeprefix(_BOM)
+    _refuse_empty_or_binary(path, data, expected)
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as err:
@@ -117,7 +112,30 @@ def xml_document(path: str | Path, data: bytes, *, expected: str) -> bytes | str
     """
     if data.startswith(_UTF16_BOMS):
         return decode_text(path, data, expected=expected)
-    body = data.removeprefix(_BOM)
+    _refuse_empty_or_binary(path, data.removeprefix(_BOM), expected)
+    return data
+
+
+def sniffable_head(head: bytes) -> bytes:
+    """The first bytes of a file as UTF-8 when they are UTF-16, for content sniffing."""
+    order = _utf16_order(head)
+    if order is None:
+        return head
+    # The head may end inside a character: cut to whole units and replace what is left.
+    return head[: len(head) - len(head) % 2].decode(order, errors="replace").encode("utf-8")
+
+
+def _utf16_order(data: bytes) -> str | None:
+    """The codec of UTF-16 ``data`` ("utf-16" when a BOM names the order), else ``None``."""
+    if data.startswith(_UTF16_BOMS):
+        return "utf-16"
+    unmarked = _UTF16_WITHOUT_BOM.match(data)
+    if unmarked is None:
+        return None
+    return "utf-16-le" if unmarked.group(1) else "utf-16-be"
+
+
+def _refuse_empty_or_binary(path: str | Path, body: bytes, expected: str) -> None:
     if not body.strip():
         raise IngestError(path, "the file is empty", expected=expected)
     nul = body.find(b"\x00")
@@ -125,22 +143,9 @@ def xml_document(path: str | Path, data: bytes, *, expected: str) -> bytes | str
         raise IngestError(
             path, f"binary content (NUL byte at offset {nul})", line=_line_of(body, nul), expected=expected
         )
-    return data
 
 
-def sniffable_head(head: bytes) -> bytes:
-    """The first bytes of a file as UTF-8 when they are UTF-16, for content sniffing."""
-    if head.startswith(_UTF16_BOMS):
-        order = "utf-16"
-    elif (unmarked := _UTF16_WITHOUT_BOM.match(head)) is not None:
-        order = "utf-16-le" if unmarked.group(1) else "utf-16-be"
-    else:
-        return head
-    # The head may end inside a character: cut to whole units and replace what is left.
-    return head[: len(head) - len(head) % 2].decode(order, errors="replace").encode("utf-8")
-
-
-def _decode_utf16(path: str | Path, data: bytes, expected: str, order: str = "utf-16") -> str:
+def _decode_utf16(path: str | Path, data: bytes, expected: str, order: str) -> str:
     try:
         return data.decode(order)  # plain "utf-16" takes the order from the BOM and drops it
     except UnicodeDecodeError as err:
@@ -155,14 +160,7 @@ def _decode_utf16(path: str | Path, data: bytes, expected: str, order: str = "ut
 
 
 def _checked(path: str | Path, text: str, expected: str) -> str:
-    """``text`` once it is known not to be empty, binary, or holding stray byte-order marks."""
-    if not text.strip():
-        raise IngestError(path, "the file is empty", expected=expected)
-    nul = text.find("\x00")
-    if nul >= 0:
-        raise IngestError(
-            path, "binary content (a NUL character)", line=text.count("\n", 0, nul) + 1, expected=expected
-        )
+    """``text`` once it is known not to be binary nor to hold stray byte-order marks."""
     bad = sum(1 for ch in text[:65536] if ord(ch) < 32 and ch not in _CONTROL_OK)
     if bad > max(8, len(text[:65536]) // 100):
         raise IngestError(path, f"binary content ({bad} control characters)", expected=expected)
