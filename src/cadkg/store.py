@@ -54,6 +54,7 @@ EXPORT_FORMATS = {
     "jsonld": ox.RdfFormat.JSON_LD,
 }
 _CURRENT = "CURRENT"
+_GENERATION = "gen-"  # the name of each generation directory starts so
 _FILES = "files"
 _MODEL_FILE = "cell-model.json"  # cadkg.derive.persist
 PERFORMERS = ("robot", "human")
@@ -157,7 +158,7 @@ class KnowledgeGraph:
         ):
             raise StoreError(f"{directory}: exists and is not a cadkg store; refusing to write into it")
         directory.mkdir(parents=True, exist_ok=True)
-        name = f"gen-{time.strftime('%Y%m%dT%H%M%S')}-{uuid.uuid4().hex[:8]}"
+        name = f"{_GENERATION}{time.strftime('%Y%m%dT%H%M%S')}-{uuid.uuid4().hex[:8]}"
         generation = directory / name
         reports: list[SourceReport] = []
         store: ox.Store | None = None
@@ -608,8 +609,8 @@ class KnowledgeGraph:
 def _left_by_a_build(entry: Path) -> bool:
     """Whether ``entry`` is what a build killed before its end leaves: a generation or a pointer."""
     if entry.is_dir():
-        return entry.name.startswith("gen-")
-    return entry.name.startswith(f".{_CURRENT}.gen-")
+        return entry.name.startswith(_GENERATION)
+    return entry.name.startswith(f".{_CURRENT}.{_GENERATION}")
 
 
 def _read_pointer(directory: Path) -> str | None:
