@@ -1,11 +1,12 @@
 from __future__ import annotations
 
+import gc
 from pathlib import Path
 
 import pyoxigraph as ox
 import pytest
 
-from cadkg.loading import BackgroundLoader
+from cadkg.loading import BackgroundLoader, paused_gc
 
 G1 = "https://example.org/g/one"
 G2 = "https://example.org/g/two"
@@ -49,3 +50,30 @@ def test_a_producer_failure_stops_the_loading_thread() -> None:
         loader.put(G1, lines(G1, 0, 10))
         raise RuntimeError("row 7 is bad")
     assert not loader._thread.is_alive()
+
+
+def test_paused_gc_restores_the_collector_and_leaves_the_build_in_the_oldest_generation() -> None:
+    class Record:  # instances are tracked by the collector, as the build's records are
+        pass
+
+    gc.collect()
+    with paused_gc():
+        assert not gc.isenabled()
+        kept = [Record() for _ in range(5_000)]
+        assert gc.get_count()[0] >= 5_000  # nothing collected while paused
+    assert gc.isenabled()
+    assert gc.get_count() == (0, 0, 0)
+    young = {id(o) for o in gc.get_objects(generation=0)} | {id(o) for o in gc.get_objects(generation=1)}
+    assert not any(id(o) in young for o in kept)
+    assert all(gc.is_tracked(o) for o in kept[:10])  # still collectable, in the oldest generation
+    assert any(o is kept[0] for o in gc.get_objects(generation=2))
+
+
+def test_paused_gc_leaves_a_disabled_collector_disabled() -> None:
+    gc.disable()
+    try:
+        with paused_gc():
+            pass
+        assert not gc.isenabled()
+    finally:
+        gc.enable()

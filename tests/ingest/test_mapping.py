@@ -9,6 +9,7 @@ from urllib.parse import quote
 import pyoxigraph as ox
 import pytest
 
+from cadkg.ingest.mapping import TripleWriter
 from cadkg.ingest.pipeline import GraphData, read_source
 
 REPO = Path(__file__).resolve().parents[2]
@@ -191,3 +192,22 @@ def test_read_source_sniffs_the_kind(write) -> None:
     data = read_source(path, "sample.dat", None, BASE)
     assert data.report.kind == "connection-list"
     assert data.report.records == 20
+
+
+def test_streamed_chunks_start_small_and_grow_and_lose_no_line() -> None:
+    writer = TripleWriter("https://example.org/cell/")
+    chunks: list[bytes] = []
+    writer.stream_to(chunks.append)
+    expected = []
+    for i in range(700_000):
+        line = f'<https://example.org/s/{i}> <https://example.org/p> "{i}" .\n'
+        expected.append(line)
+        writer.add_block(line, 1)
+        writer.maybe_flush()
+    rest = writer.data()
+    sizes = [chunk.count(b"\n") for chunk in chunks]
+    # The loader waits for a file's first chunk: it comes after 16,000 lines, then each
+    # chunk doubles up to 250,000 lines.
+    assert sizes == [16_000, 32_000, 64_000, 128_000, 250_000]
+    assert writer.triples == 700_000
+    assert b"".join([*chunks, rest]).decode() == "".join(expected)

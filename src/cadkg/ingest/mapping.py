@@ -49,6 +49,9 @@ __all__ = [
 _ESCAPES = str.maketrans({"\\": "\\\\", '"': '\\"', "\n": "\\n", "\r": "\\r"})
 _XSD = "http://www.w3.org/2001/XMLSchema#"
 _CHUNK_LINES = 250_000
+# A file's first chunks are small and grow, so the loader, idle until the first, starts
+# at once and then always has the next.
+_FIRST_CHUNK_LINES = 16_000
 
 
 def sha256_of(path: str | Path) -> str:
@@ -130,6 +133,7 @@ class TripleWriter:
         self.wires: set[str] = set()
         self.components: dict[str, str] = {}
         self._flushed = 0
+        self._chunk = _FIRST_CHUNK_LINES
         # Lines held in multi-line entries of ``lines`` beyond one each (see add_block).
         self._extra = 0
         self._sink: Callable[[bytes], None] | None = None
@@ -140,11 +144,12 @@ class TripleWriter:
         self._sink = sink
 
     def maybe_flush(self) -> None:
-        if self._sink is not None and len(self.lines) + self._extra >= _CHUNK_LINES:
+        if self._sink is not None and len(self.lines) + self._extra >= self._chunk:
             self._sink(self.data())
             self._flushed += len(self.lines) + self._extra
             self.lines = []
             self._extra = 0
+            self._chunk = min(2 * self._chunk, _CHUNK_LINES)
 
     @property
     def triples(self) -> int:
