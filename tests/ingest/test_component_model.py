@@ -115,6 +115,17 @@ def _model(body: str, attrs: str = 'xdim="0.1" ydim="0.1" zdim="0.1"') -> str:
     return f'<data>\n<code name="M1" {attrs}>\n<couple name="1">\n{body}\n</couple>\n</code>\n</data>\n'
 
 
+def _mounting(*models: tuple[str, ...]) -> str:
+    """A file of models: each ``(model, child, ...)`` a <code> holding those children, a line each."""
+    body = "".join(
+        f"<code name='{model}'>\n"
+        + "".join(f"<child name='{child}'>{SUB.format(s='relative')}</child>\n" for child in children)
+        + "</code>\n"
+        for model, *children in models
+    )
+    return f"<data>\n{body}</data>\n"
+
+
 @pytest.mark.parametrize(
     ("text", "line", "reason", "found"),
     [
@@ -204,6 +215,19 @@ def _model(body: str, attrs: str = 'xdim="0.1" ydim="0.1" zdim="0.1"') -> str:
             None,
         ),
         ("<data>\n<code commercial='M1'/>\n</data>\n", 2, "<code> without a name attribute", None),
+        (_mounting(("M1", "M1")), 3, "model 'M1' is mounted in itself: M1 → M1", None),
+        (
+            _mounting(("M1", "M2"), ("M2", "M3"), ("M3", "M1")),
+            9,
+            "model 'M1' is mounted in itself: M1 → M2 → M3 → M1",
+            None,
+        ),
+        (
+            _mounting(("M1", "M2"), ("M2", "M3"), ("M3", "M2")),
+            9,
+            "model 'M2' is mounted in itself: M2 → M3 → M2",
+            None,
+        ),
     ],
     ids=[
         "missing-y",
@@ -227,6 +251,9 @@ def _model(body: str, attrs: str = 'xdim="0.1" ydim="0.1" zdim="0.1"') -> str:
         "duplicate-couple",
         "child-without-relative",
         "no-name",
+        "mounted-in-itself",
+        "mounted-in-a-child",
+        "cycle-below-a-root",
     ],
 )
 def test_malformed_is_a_located_error(write, text: str, line: int, reason: str, found: str | None) -> None:
@@ -272,3 +299,27 @@ def test_an_xml_declaration_naming_another_encoding_is_read(write) -> None:
     text = '<?xml version="1.0" encoding="ISO-8859-1"?>\n' + _model(SUB.format(s="hole"))
     (model,) = read_component_models(write("latin.xml", text))
     assert model.couples[0].hole is not None and model.couples[0].hole.xyz == (0.1, 0.2, 0.3)
+
+
+def test_models_sharing_a_child_or_naming_an_unknown_one_are_not_a_cycle(write) -> None:
+    text = _mounting(("M1", "M2", "M3"), ("M2", "M4"), ("M3", "M4"), ("M4", "OTHER-FILE"))
+    models = {m.key: m for m in read_component_models(write("shared.xml", text))}
+    assert [c.name for c in models["M1"].children] == ["M2", "M3"]
+    assert [c.name for c in models["M4"].children] == ["OTHER-FILE"]
+    assert [c.name for c in models["M2"].children] == ["M4"]
+
+
+def test_a_long_chain_of_children_is_read_and_a_cycle_at_its_end_found(write) -> None:
+    chain = [(f"M{i}", f"M{i + 1}") for i in range(3_000)]
+    models = read_component_models(write("chain.xml", _mounting(*chain)))
+    assert len(models) == 3_000
+    with pytest.raises(IngestError) as info:
+        read_component_models(write("loop.xml", _mounting(*chain, ("M3000", "M2990"))))
+    assert info.value.reason.startswith("model 'M2990' is mounted in itself: M2990 → M2991 → ")
+    assert info.value.line == 3 * 3_001
+
+
+def test_a_cycle_in_a_fragment_is_located_in_the_whole_file() -> None:
+    with pytest.raises(IngestError) as info:
+        parse_models_fragment(_mounting(("M1", "M1")), "list.csv", 10)
+    assert (info.value.line, info.value.reason) == (13, "model 'M1' is mounted in itself: M1 → M1")

@@ -92,8 +92,8 @@ def read_component_models(path: str | Path) -> list[ComponentModel]:
     ------
     IngestError
         On an empty or binary file, a DOCTYPE or entity declaration, malformed XML,
-        an unknown element, a missing or malformed number, or a model given twice;
-        located at file:line.
+        an unknown element, a missing or malformed number, a model given twice, or a
+        model mounted in itself through its children; located at file:line.
     """
     text = read_text(path, expected=_EXPECTED)
     return parse_models_fragment(text, path, 0)
@@ -153,6 +153,16 @@ class _Parser:
             models.append(model)
         if not models:
             raise self.error("no <code> model inside <data>", self.at(root), expected=_EXPECTED)
+        cycle = _mounted_in_itself(models)
+        if cycle is not None:
+            chain, line = cycle
+            # ``line`` is a ChildPlacement's, already shifted by the offset.
+            raise IngestError(
+                self.path,
+                f"model {chain[0]!r} is mounted in itself: {' → '.join(chain)}",
+                line=line,
+                expected="child models that do not hold the model they are mounted on",
+            )
         return models
 
     def children(self, parent: etree._Element, allowed: tuple[str, ...]) -> list[etree._Element]:
@@ -287,3 +297,29 @@ class _Parser:
             rpy=(values["R"], values["P"], values["Y"]),
             line=self.line(subitem),
         )
+
+
+def _mounted_in_itself(models: list[ComponentModel]) -> tuple[list[str], int] | None:
+    """A chain of models, each a child of the one before, back to the first, with the line of
+    the ``<child>`` that closes it; None when no model of the file holds itself."""
+    by_key = {model.key: model for model in models}
+    state: dict[str, bool] = {}  # True while on the current chain, False once left
+    for first in by_key:
+        if first in state:
+            continue
+        chain = [first]
+        state[first] = True
+        # Iterative, so a long chain of children cannot exhaust Python's recursion limit.
+        pending = [iter(by_key[first].children)]
+        while pending:
+            child = next(pending[-1], None)
+            if child is None:
+                state[chain.pop()] = False
+                pending.pop()
+            elif state.get(child.name):
+                return [*chain[chain.index(child.name) :], child.name], child.line
+            elif child.name in by_key and child.name not in state:
+                chain.append(child.name)
+                state[child.name] = True
+                pending.append(iter(by_key[child.name].children))
+    return None
