@@ -573,6 +573,37 @@ def test_duplicate_waypoint_index_fails(ontology: Graph, shapes: Graph) -> None:
     assert results[0]["path"] == CK.hasWaypoint
 
 
+def test_only_the_route_with_a_shared_waypoint_index_is_reported(ontology: Graph, shapes: Graph) -> None:
+    conforms, report = _validate(
+        """
+        ex:good a ck:RoutePath ; ck:hasWaypoint ex:g1 , ex:g2 , ex:g3 .
+        ex:g1 a ck:Waypoint ; ck:sequenceIndex 1 .
+        ex:g2 a ck:Waypoint ; ck:sequenceIndex 2 .
+        ex:g3 a ck:Waypoint ; ck:sequenceIndex 3 .
+        ex:bad a ck:RoutePath ; ck:hasWaypoint ex:b1 , ex:b2 , ex:b3 .
+        ex:b1 a ck:Waypoint ; ck:sequenceIndex 1 .
+        ex:b2 a ck:Waypoint ; ck:sequenceIndex 2 .
+        ex:b3 a ck:Waypoint ; ck:sequenceIndex 2 .
+        """,
+        ontology,
+        shapes,
+    )
+    assert not conforms
+    assert [(r["focus"], r["shape"]) for r in _results(report)] == [
+        (URIRef("https://example.org/cell#bad"), CKS.UniqueWaypointIndexShape)
+    ]
+
+
+def test_only_the_pose_off_the_unit_quaternion_is_reported(ontology: Graph, shapes: Graph) -> None:
+    good = _pose("0.0", "0.0", "0.0", "1.0")
+    bad = _pose("0.0", "0.0", "0.0", "0.999").replace("ex:p1 ", "ex:p2 ").replace(WORLD, "")
+    conforms, report = _validate(good + bad, ontology, shapes)
+    assert not conforms
+    assert [(r["focus"], r["constraint"]) for r in _results(report)] == [
+        (URIRef("https://example.org/cell#p2"), CKS.UnitQuaternionConstraint)
+    ]
+
+
 def test_component_needs_exactly_one_label(ontology: Graph, shapes: Graph) -> None:
     conforms, report = _validate(
         """
