@@ -77,3 +77,16 @@ def test_paused_gc_leaves_a_disabled_collector_disabled() -> None:
         assert not gc.isenabled()
     finally:
         gc.enable()
+
+
+def test_paused_gc_leaves_what_the_program_froze_frozen() -> None:
+    frozen = [object() for _ in range(10)], {"kept": "frozen"}
+    gc.freeze()
+    try:
+        before = gc.get_freeze_count()
+        with paused_gc():
+            [[] for _ in range(100)]
+        assert gc.get_freeze_count() == before
+    finally:
+        gc.unfreeze()
+    assert frozen

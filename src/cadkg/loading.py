@@ -94,7 +94,9 @@ def paused_gc() -> Iterator[None]:
     finally:
         if was_enabled:
             # freeze() moves every tracked object to the permanent generation, unfreeze() puts
-            # them into the oldest: two list splices, no traversal.
-            gc.freeze()
-            gc.unfreeze()
+            # them into the oldest: two list splices, no traversal. Not when the program froze
+            # objects of its own (before forking workers, say): they would be thawed too.
+            if not gc.get_freeze_count():
+                gc.freeze()
+                gc.unfreeze()
             gc.enable()
