@@ -310,3 +310,23 @@ def test_a_build_leaves_the_garbage_collector_as_it_found_it(tmp_path: Path, ena
         assert gc.isenabled() is enabled
     finally:
         gc.enable()
+
+
+def test_an_in_memory_build_writes_its_meshes_when_asked_where_they_are(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import tempfile
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    kg = cadkg.build(IEMA)
+    assert not list(tmp_path.iterdir())  # the build itself wrote no file
+    uris = sorted({row["u"] for row in kg.query("SELECT ?u WHERE { ?m ck:meshUri ?u }").rows})
+    assert len(uris) == 110  # the scene's shapes and the models' meshes
+    files = kg.files_dir
+    assert files.parent == tmp_path
+    written = sorted(str(p.relative_to(files)) for p in files.rglob("*") if p.is_file())
+    assert written == uris
+    for uri in uris:  # binary STL: 80-byte header, triangle count, 50 bytes a triangle
+        stl = (files / uri).read_bytes()
+        assert len(stl) == 84 + 50 * int.from_bytes(stl[80:84], "little") > 84
+    assert kg.files_dir == files  # written once, in one place

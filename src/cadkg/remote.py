@@ -266,6 +266,7 @@ class RemoteGraph(KnowledgeGraph):
         self._model = None
         self._scratch = None
         self._files_dir = None
+        self._unwritten = {}
         self._model_file = None
 
     # The embedded store does not exist here: a method reaching for it would read nothing,

@@ -94,6 +94,8 @@ class KnowledgeGraph:
         self._model: CellModel | None = None
         self._scratch: tempfile.TemporaryDirectory[str] | None = None
         self._files_dir: Path | None = None
+        # An in-memory graph's files, held until files_dir is first asked for.
+        self._unwritten: dict[str, bytes] = {}
         self._model_file: Path | None = None
 
     # -- opening and building -------------------------------------------------
@@ -262,12 +264,20 @@ class KnowledgeGraph:
         if self._files_dir is None:
             self._scratch = tempfile.TemporaryDirectory(prefix="cadkg-files-")
             self._files_dir = Path(self._scratch.name)
+        if self._unwritten:
+            files, self._unwritten = self._unwritten, {}
+            self._write_files(files)
         return self._files_dir
 
     def _write_files(self, files: Mapping[str, bytes]) -> None:
+        if self._files_dir is None:
+            # In memory, a scene's meshes (one file each: 78,786 at 100k wires, 0.2 ms a file
+            # here) are written when something asks where they are, not during the build.
+            self._unwritten.update(files)
+            return
         made: set[Path] = set()  # a scene's tens of thousands of meshes share one folder
         for rel, content in files.items():
-            target = self.files_dir / rel
+            target = self._files_dir / rel
             if target.parent not in made:
                 target.parent.mkdir(parents=True, exist_ok=True)
                 made.add(target.parent)
