@@ -74,12 +74,8 @@ def decode_text(path: str | Path, data: bytes, *, expected: str) -> str:
                 stacklevel=2,
             )
         text = _decode_utf16(path, data, expected, order)
-        if not text.strip():
-            raise IngestError(path, "the file is empty", expected=expected)
-        nul = text.find("\x00")
-        if nul >= 0:
-            line = text.count("\n", 0, nul) + 1
-            raise IngestError(path, "binary content (a NUL character)", line=line, expected=expected)
+        # UTF-16 bytes hold NULs in every ASCII character: checked once decoded.
+        _refuse_empty_or_binary(path, text, expected)
         return _checked(path, text, expected)
     data = data.removeprefix(_BOM)
     _refuse_empty_or_binary(path, data, expected)
@@ -135,14 +131,18 @@ def _utf16_order(data: bytes) -> str | None:
     return "utf-16-le" if unmarked.group(1) else "utf-16-be"
 
 
-def _refuse_empty_or_binary(path: str | Path, body: bytes, expected: str) -> None:
+def _refuse_empty_or_binary(path: str | Path, body: bytes | str, expected: str) -> None:
+    """Refuse a file that is blank, or holds a NUL: undecoded bytes, or decoded UTF-16 text."""
     if not body.strip():
         raise IngestError(path, "the file is empty", expected=expected)
-    nul = body.find(b"\x00")
-    if nul >= 0:
-        raise IngestError(
-            path, f"binary content (NUL byte at offset {nul})", line=_line_of(body, nul), expected=expected
-        )
+    if isinstance(body, bytes):
+        nul = body.find(b"\x00")
+        if nul >= 0:
+            reason = f"binary content (NUL byte at offset {nul})"
+            raise IngestError(path, reason, line=_line_of(body, nul), expected=expected)
+    elif (nul := body.find("\x00")) >= 0:
+        line = body.count("\n", 0, nul) + 1
+        raise IngestError(path, "binary content (a NUL character)", line=line, expected=expected)
 
 
 def _decode_utf16(path: str | Path, data: bytes, expected: str, order: str) -> str:
