@@ -211,3 +211,17 @@ def test_streamed_chunks_start_small_and_grow_and_lose_no_line() -> None:
     assert sizes == [16_000, 32_000, 64_000, 128_000, 250_000]
     assert writer.triples == 700_000
     assert b"".join([*chunks, rest]).decode() == "".join(expected)
+
+
+@pytest.mark.parametrize(
+    ("first", "rest"),
+    [(("X1600",), ("pin", "3:a")), (("=-F1 500",), ("pin", "a/b", "screw")), (("route", "7"), ("2",))],
+)
+def test_an_iri_under_a_node_is_the_iri_minted_with_all_parts(
+    first: tuple[str, ...], rest: tuple[str, ...]
+) -> None:
+    writer = TripleWriter(BASE)
+    under = writer.under(writer.iri("derived", *first), *rest)
+    assert under == writer.iri("derived", *first, *rest)
+    # Each part stays one path segment, however it is spelt.
+    assert under.count("/") == BASE.count("/") + len(first) + len(rest)

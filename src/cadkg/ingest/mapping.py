@@ -40,6 +40,7 @@ __all__ = [
     "node_iri",
     "pin_iri",
     "pin_node",
+    "pose_lines",
     "sha256_of",
     "term",
     "wire_iri",
@@ -158,6 +159,15 @@ class TripleWriter:
 
     def iri(self, kind: str, *parts: str) -> str:
         return "<" + node_iri(self.base, kind, *parts) + ">"
+
+    @staticmethod
+    def under(node: str, *parts: str) -> str:
+        """The IRI ``node``/part/...: ``under(iri(kind, a), b)`` is ``iri(kind, a, b)``.
+
+        Things minted below one node (a component's pins, a route's waypoints) pay for
+        quoting the node's parts once instead of once each.
+        """
+        return node[:-1] + "/" + "/".join([_segment(p) for p in parts]) + ">"
 
     def add(self, s: str, p: str, o: str) -> None:
         self.lines.append(f"{s} {p} {o} .\n")
@@ -436,6 +446,12 @@ def frame_node(w: TripleWriter, name: str) -> str:
 _POSE_TERMS = tuple(_t(name) for name in ("tx", "ty", "tz", "qx", "qy", "qz", "qw"))
 _POSE = _t("Pose")
 _PARENT_FRAME = _t("parentFrame")
+# Derived graphs hold millions of poses: their nine lines are one format call, {0} the
+# node, {1} the parent frame, {2}..{8} the numbers.
+_POSE_LINES = (
+    f"{{0}} {_TYPE} {_POSE} .\n{{0}} {_PARENT_FRAME} {{1}} .\n"
+    + "".join(f'{{0}} {p} "{{{i}!r}}"^^{_DOUBLE} .\n' for i, p in enumerate(_POSE_TERMS, start=2))
+).format
 
 
 def write_pose(
@@ -446,14 +462,16 @@ def write_pose(
         raise ValueError(
             f"a pose needs 3 coordinates and 4 quaternion terms, not {len(xyz)} and {len(quaternion)}"
         )
-    values = [float(v) for v in xyz] + [float(v) for v in quaternion]
-    # Derived graphs hold millions of these: the nine lines in one go.
-    w.add_block(
-        f"{node} {_TYPE} {_POSE} .\n{node} {_PARENT_FRAME} {parent} .\n"
-        + "".join([f'{node} {p} "{v!r}"^^{_DOUBLE} .\n' for p, v in zip(_POSE_TERMS, values, strict=True)]),
-        9,
-    )
+    w.add_block(pose_lines(node, xyz, quaternion, parent), 9)
     return node
+
+
+def pose_lines(node: str, xyz: Sequence[float], quaternion: Sequence[float], parent: str) -> str:
+    """The nine N-Triples lines of the ck:Pose ``node`` (see :func:`write_pose`)."""
+    x, y, z = xyz
+    qx, qy, qz, qw = quaternion
+    # float() also turns numpy scalars, whose repr is not a number, into floats.
+    return _POSE_LINES(node, parent, float(x), float(y), float(z), float(qx), float(qy), float(qz), float(qw))
 
 
 def placement_pose(w: TripleWriter, node: str, placement: Placement, parent: str) -> str:
