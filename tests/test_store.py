@@ -89,6 +89,16 @@ def test_dataframe_has_the_query_columns(iema: cadkg.KnowledgeGraph) -> None:
     assert frame["wireNumber"].tolist()[:2] == ["1500.51", "1500.50"]
 
 
+def test_an_export_of_some_graphs_holds_those_graphs_whole(iema: cadkg.KnowledgeGraph) -> None:
+    wanted = [g for g in iema.named_graphs() if g.endswith(("ids.wri", "/derived"))]
+    assert len(wanted) == 2
+    quads = list(ox.parse(iema.serialize("nq", graphs=wanted), format=ox.RdfFormat.N_QUADS))
+    assert {q.graph_name.value for q in quads} == set(wanted)
+    assert len(quads) == sum(len(list(iema.graph_quads(g))) for g in wanted)
+    merged = list(ox.parse(iema.serialize("nt", graphs=wanted[:1]), format=ox.RdfFormat.N_TRIPLES))
+    assert len(merged) == len(list(iema.graph_quads(wanted[0])))
+
+
 @pytest.mark.parametrize("fmt", ["ttl", "nt", "nq", "trig", "jsonld"])
 def test_exports_round_trip(iema: cadkg.KnowledgeGraph, fmt: str) -> None:
     data = iema.serialize(fmt)

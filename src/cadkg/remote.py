@@ -426,19 +426,21 @@ class RemoteGraph(KnowledgeGraph):
         ).rows
         return int(rows[0]["n"]) if rows else 0
 
-    def quads(self) -> Iterator[ox.Quad]:
-        """Every quad of the cell's named graphs, read one graph at a time."""
-        for graph in self.named_graphs():
+    def quads(self, graphs: Iterable[str] | None = None) -> Iterator[ox.Quad]:
+        """Every quad of the cell's named graphs (or of ``graphs``), read one graph at a time."""
+        for graph in self.named_graphs() if graphs is None else graphs:
             node = ox.NamedNode(graph)
             for triple in self.raw_query(
                 f"CONSTRUCT {{ ?s ?p ?o }} WHERE {{ GRAPH <{graph}> {{ ?s ?p ?o }} }}"
             ):
                 yield ox.Quad(triple.subject, triple.predicate, triple.object, node)
 
-    def serialize(self, fmt: str = "ttl", *, include_ontology: bool = False) -> bytes:
+    def serialize(
+        self, fmt: str = "ttl", *, include_ontology: bool = False, graphs: Iterable[str] | None = None
+    ) -> bytes:
         """The cell's graphs fetched from the store and written as :meth:`KnowledgeGraph.serialize` does."""
         copy = ox.Store()
-        copy.extend(self.quads())
+        copy.extend(self.quads(graphs))
         return KnowledgeGraph(copy).serialize(fmt, include_ontology=include_ontology)
 
     # -- writing is done with cadkg push -------------------------------------------

@@ -524,17 +524,25 @@ class KnowledgeGraph:
         return iter(self._store.quads_for_pattern(None, None, None, ox.NamedNode(graph)))
 
     # -- export -----------------------------------------------------------------
-    def serialize(self, fmt: str = "ttl", *, include_ontology: bool = False) -> bytes:
-        """The graph as Turtle, N-Triples (merged), N-Quads, TriG or JSON-LD (named graphs kept)."""
+    def serialize(
+        self, fmt: str = "ttl", *, include_ontology: bool = False, graphs: Iterable[str] | None = None
+    ) -> bytes:
+        """The graph as Turtle, N-Triples (merged), N-Quads, TriG or JSON-LD (named graphs kept);
+        with ``graphs``, only those named graphs."""
         if fmt not in EXPORT_FORMATS:
             raise QueryError(f"unknown export format {fmt!r}; one of {', '.join(EXPORT_FORMATS)}")
         rdf_format = EXPORT_FORMATS[fmt]
         keep = ox.Store()
         ontology = ox.NamedNode(ONTOLOGY_IRI)
         merge = not rdf_format.supports_datasets
+        if graphs is None:
+            quads: Iterable[ox.Quad] = self._store
+        else:
+            named = [ox.NamedNode(g) for g in graphs]
+            quads = (q for g in named for q in self._store.quads_for_pattern(None, None, None, g))
         keep.extend(
             ox.Quad(q.subject, q.predicate, q.object, ox.DefaultGraph() if merge else q.graph_name)
-            for q in self._store
+            for q in quads
             if include_ontology or q.graph_name != ontology
         )
         if merge:
