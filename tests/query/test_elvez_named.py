@@ -6,11 +6,13 @@ from collections.abc import Iterator
 from decimal import Decimal
 from pathlib import Path
 
+import pyoxigraph as ox
 import pytest
 
 from cadkg.query.named import named_queries
 from cadkg.store import KnowledgeGraph
 
+CK = "https://w3id.org/cadkg#"
 ELVEZ = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell" / "manifest.toml"
 
 
@@ -70,6 +72,29 @@ def test_total_cable_length_per_harness(kg: KnowledgeGraph) -> None:
         (2, "WH2", 10, Decimal("5.43")),
         (3, "WH3", 11, Decimal("4.18")),
     ]
+
+
+def test_a_length_stated_by_two_files_counts_once() -> None:
+    graph = KnowledgeGraph.build(ELVEZ)
+    try:
+        # Another file stating the same harness label and the same cable lengths again.
+        another = ox.NamedNode("urn:another-file")
+        rows = graph.raw_query(
+            "SELECT ?h ?label ?cable ?length WHERE { ?h a ck:Harness ; ck:label ?label ;"
+            " ck:hasBranch/ck:containsCable ?cable . ?cable ck:lengthM ?length }"
+        )
+        for row in rows:
+            graph._store.add(ox.Quad(row["h"], ox.NamedNode(CK + "label"), row["label"], another))
+            graph._store.add(ox.Quad(row["cable"], ox.NamedNode(CK + "lengthM"), row["length"], another))
+        assert "urn:another-file" in graph.named_graphs()
+        rows = graph.named_query("elvez-cable-length-per-harness").rows
+        assert [(r["cables"], r["totalLengthM"]) for r in rows] == [
+            (6, Decimal("2.45")),
+            (10, Decimal("5.43")),
+            (11, Decimal("4.18")),
+        ]
+    finally:
+        graph.close()
 
 
 def test_harness_cables_end_to_end(kg: KnowledgeGraph) -> None:
