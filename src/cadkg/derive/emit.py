@@ -61,10 +61,9 @@ def derived_ntriples(model: CellModel, base: str, sink: Callable[[bytes], None] 
                 w.add(pin_node, t("pinName"), w.text(pin.pin))
                 w.add(pin_node, t("pinOf"), node)
                 w.add(node, t("hasPin"), pin_node)
-            if pin.screw is not None:
-                _pose(w, pin_node, "screw", minted[:-1] + "/screw>", pin.screw, cell_frame)
-            if pin.hole is not None:
-                _pose(w, pin_node, "hole", minted[:-1] + "/hole>", pin.hole, cell_frame)
+            for kind, pose in (("screw", pin.screw), ("hole", pin.hole)):
+                if pose is not None:
+                    _pose(w, pin_node, kind, w.under(minted, kind), pose, cell_frame)
             if pin.missing:
                 w.lines.append(pin_node + flag)
     for rail in model.rails:
@@ -93,6 +92,7 @@ def derived_ntriples(model: CellModel, base: str, sink: Callable[[bytes], None] 
         w.add(route, t("type"), t("RoutePath"))
         w.add(route, t("routeOf"), wire)
         for i, pose in enumerate(step.keypoints, start=1):
+            # As w.under(route, str(i)) mints it: a number needs no quoting.
             point = f"{stem}/{i}>"
             pose_node = f"{stem}/{i}/pose>"
             w.add_block(
