@@ -538,8 +538,7 @@ class KnowledgeGraph:
         if graphs is None:
             quads: Iterable[ox.Quad] = self._store
         else:
-            named = [ox.NamedNode(g) for g in graphs]
-            quads = (q for g in named for q in self._store.quads_for_pattern(None, None, None, g))
+            quads = (q for g in graphs for q in self.graph_quads(g))
         keep.extend(
             ox.Quad(q.subject, q.predicate, q.object, ox.DefaultGraph() if merge else q.graph_name)
             for q in quads

@@ -16,13 +16,12 @@ def derived_graph(model: CellModel) -> str:
     return model.base + "derived"
 
 
-_XSD_INTEGER = "<http://www.w3.org/2001/XMLSchema#integer>"
 _POSE_OF = {kind: term(f"{kind}Pose") for kind in ("original", "corner", "target", "screw", "hole")}
 # A route's waypoint, four lines before its pose's nine: {0} the route, {1} the waypoint,
-# {2} its index, {3} its pose.
+# {2} its index (a typed literal), {3} its pose.
 _WAYPOINT_LINES = (
     f"{{0}} {term('hasWaypoint')} {{1}} .\n{{1}} {term('type')} {term('Waypoint')} .\n"
-    f'{{1}} {term("sequenceIndex")} "{{2}}"^^{_XSD_INTEGER} .\n{{1}} {term("hasPose")} {{3}} .\n'
+    f"{{1}} {term('sequenceIndex')} {{2}} .\n{{1}} {term('hasPose')} {{3}} .\n"
 ).format
 
 
@@ -96,7 +95,7 @@ def derived_ntriples(model: CellModel, base: str, sink: Callable[[bytes], None] 
             point = f"{stem}/{i}>"
             pose_node = f"{stem}/{i}/pose>"
             w.add_block(
-                _WAYPOINT_LINES(route, point, i, pose_node)
+                _WAYPOINT_LINES(route, point, w.typed(i), pose_node)
                 + pose_lines(pose_node, pose.position, pose.orientation, cell_frame),
                 13,
             )
