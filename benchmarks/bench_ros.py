@@ -44,8 +44,8 @@ os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
 import rclpy  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 
-from cadkg.query.cursors import Session  # noqa: E402
-from cadkg.query.services import call  # noqa: E402
+from cadkg.usecases.iema.cursors import Session  # noqa: E402
+from cadkg.services.table import call  # noqa: E402
 from cadkg.ros_adapter import convert  # noqa: E402
 from cadkg.ros_adapter.node import NAMESPACES, srv_type  # noqa: E402
 from cadkg.store import KnowledgeGraph  # noqa: E402

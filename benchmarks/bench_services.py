@@ -9,14 +9,14 @@ schema, X3D scene, connection list, assignments) and, in this process:
 2. **cell model**: what ``kg.cell_model()`` computes when its cache is empty,
    ``derive_cell(extract(kg))``, split into the SPARQL extraction and the derivation,
    and ``Session(model)``;
-3. **services**: every IEMA service of ``cadkg.query.services``, timed per call
+3. **services**: every IEMA service of ``cadkg.services.table``, timed per call
    with ``time.perf_counter_ns`` over many calls with varied parameters (random
    components, random terminal blocks, random detected poses, random wire numbers;
    the cursor services walk their cursor and are rewound, untimed, at the end):
 
    * ``call()``: ``services.call(session, name, params)`` with text parameters, as the
      CLI and the ROS adapter pass them (conversion and checks included);
-   * direct: the plain function of ``cadkg.query.iema`` or the ``Session`` method;
+   * direct: the plain function of ``cadkg.usecases.iema.answers`` or the ``Session`` method;
    * SPARQL baseline: the same answer obtained from the store with ``kg.query(...)``
      and a bound parameter (the derived graph holds the poses, pins, clusters, rails
      and routes), plus the Python that shapes the rows into that answer. The baseline
@@ -57,11 +57,11 @@ from pyoxigraph import NamedNode
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from cadkg.derive.cabinet import CellModel
-from cadkg.derive.geometry import Pose
-from cadkg.query import iema
-from cadkg.query.cursors import Session
-from cadkg.query.services import call, services_for
+from cadkg.usecases.iema.cabinet import CellModel
+from cadkg.geometry.poses import Pose
+from cadkg.usecases.iema import answers as iema
+from cadkg.usecases.iema.cursors import Session
+from cadkg.services.table import call, services_for
 from cadkg.store import KnowledgeGraph
 from synthetic import CabinetFiles, write_cabinet_files
 
@@ -743,8 +743,8 @@ def check_baseline(case: Case, count: int) -> tuple[int, int]:
 
 
 def measure_size(wires: int, workdir: Path, options: Options) -> SizeResult:
-    from cadkg.derive.cabinet import derive_cell
-    from cadkg.derive.extract import extract
+    from cadkg.usecases.iema.cabinet import derive_cell
+    from cadkg.usecases.iema.extract import extract
 
     print(f"{wires} wires: generating", file=sys.stderr, flush=True)
     started = time.perf_counter()

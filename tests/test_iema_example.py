@@ -12,10 +12,10 @@ from collections.abc import Iterator
 
 import pytest
 
-from cadkg.derive.cabinet import CellModel
-from cadkg.query import iema
-from cadkg.query.cursors import Session
-from cadkg.query.services import call, services_for
+from cadkg.usecases.iema.cabinet import CellModel
+from cadkg.usecases.iema import answers as iema
+from cadkg.usecases.iema.cursors import Session
+from cadkg.services.table import call, services_for
 from cadkg.store import KnowledgeGraph
 from tests.conftest import IEMA
 

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 
-from cadkg.derive.cabinet import CellModel, derive_cell
-from cadkg.derive.collect import InputCollector
-from cadkg.derive.emit import derived_graph, derived_ntriples
+from cadkg.usecases.iema.cabinet import CellModel, derive_cell
+from cadkg.usecases.iema.collect import InputCollector
+from cadkg.usecases.iema.emit import derived_graph, derived_ntriples
 from cadkg.ingest.manifest import Manifest, SourceSpec
 from cadkg.ingest.pipeline import GraphData, read_manifest_graphs
 

@@ -308,7 +308,7 @@ def export(target: str, fmt: str | None, output: str, view: str | None, harness:
     if harness is not None and view in (None, "structure"):
         view = "topology"
     if view in ("topology", "wires"):
-        from cadkg.query.graphml import write_harness_graphml
+        from cadkg.usecases.vw.graphml import write_harness_graphml
 
         if fmt != "graphml":
             raise click.BadParameter(f"--view {view} writes GraphML, not {fmt}")
@@ -335,8 +335,8 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
     Cursors (connection providers, rail scanner) are kept per client in STORE/cursors.json,
     so successive calls walk the list; a rebuilt store starts them afresh.
     """
-    from cadkg.query.cursors import Session
-    from cadkg.query.services import call, to_jsonable
+    from cadkg.usecases.iema.cursors import Session
+    from cadkg.services.table import call, to_jsonable
 
     kg = _open(target)
     session = Session(kg.cell_model(), kg=kg)
@@ -361,7 +361,7 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
 @cli.command(name="services")
 def list_services() -> None:
     """List the services 'cadkg call' and the ROS adapter serve."""
-    from cadkg.query.services import SERVICES
+    from cadkg.services.table import SERVICES
 
     table = Table("profile", "service", "parameters", "answers")
     for service in sorted(SERVICES.values(), key=lambda s: s.profile):

@@ -35,7 +35,7 @@ if TYPE_CHECKING:
     import networkx as nx
     import pandas as pd
 
-    from cadkg.derive.cabinet import CellModel
+    from cadkg.usecases.iema.cabinet import CellModel
 
 __all__ = ["EXPORT_FORMATS", "PREFIXES", "KnowledgeGraph", "QueryResult", "build", "open_store"]
 
@@ -56,7 +56,7 @@ EXPORT_FORMATS = {
 _CURRENT = "CURRENT"
 _GENERATION = "gen-"  # the name of each generation directory starts so
 _FILES = "files"
-_MODEL_FILE = "cell-model.json"  # cadkg.derive.persist
+_MODEL_FILE = "cell-model.json"  # cadkg.usecases.iema.persist
 PERFORMERS = ("robot", "human")
 ASSIGNABLE = ("wire", "component", "operation")
 
@@ -287,12 +287,12 @@ class KnowledgeGraph:
     def cell_model(self) -> CellModel:
         """The cabinet's derived geometry, computed from the graph once per change.
 
-        An on-disk store keeps a copy of it (:mod:`cadkg.derive.persist`) written with the
+        An on-disk store keeps a copy of it (:mod:`cadkg.usecases.iema.persist`) written with the
         store and after each change, so opening the store again reads it instead of deriving.
         """
         if self._model is None:
-            from cadkg.derive.cabinet import derive_cell
-            from cadkg.derive.extract import extract
+            from cadkg.usecases.iema.cabinet import derive_cell
+            from cadkg.usecases.iema.extract import extract
 
             with paused_gc():
                 self._model = self._kept_model()
@@ -305,7 +305,7 @@ class KnowledgeGraph:
     def _kept_model(self) -> CellModel | None:
         if self._model_file is None:
             return None
-        from cadkg.derive.persist import load_model
+        from cadkg.usecases.iema.persist import load_model
 
         try:
             data = self._model_file.read_bytes()
@@ -316,7 +316,7 @@ class KnowledgeGraph:
     def _keep_model(self, model: CellModel) -> None:
         if self._model_file is None:
             return
-        from cadkg.derive.persist import dump_model
+        from cadkg.usecases.iema.persist import dump_model
 
         # Written whole and renamed into place, so a reader finds the old copy, none, or this one.
         partial = self._model_file.with_name(self._model_file.name + ".partial")
@@ -332,7 +332,7 @@ class KnowledgeGraph:
 
     def derive(self) -> CellModel:
         """Recompute the derived geometry and replace the ``{base}derived`` graph with it."""
-        from cadkg.derive.emit import derived_graph, derived_ntriples
+        from cadkg.usecases.iema.emit import derived_graph, derived_ntriples
 
         self._forget_model()
         model = self.cell_model()
@@ -356,7 +356,7 @@ class KnowledgeGraph:
             When no such wire, component or operation is in the graph.
         """
         from cadkg.errors import NotFound
-        from cadkg.ingest.mapping import node_iri
+        from cadkg.mapping.core import node_iri
 
         if self.read_only:
             raise StoreError("the store is open read-only")

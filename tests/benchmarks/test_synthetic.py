@@ -5,9 +5,9 @@ import sys
 from pathlib import Path
 
 import cadkg
-from cadkg.query import iema
-from cadkg.query.cursors import Session
-from cadkg.query.services import services_for
+from cadkg.usecases.iema import answers as iema
+from cadkg.usecases.iema.cursors import Session
+from cadkg.services.table import services_for
 from cadkg.store import KnowledgeGraph
 from tests.conftest import ROOT
 

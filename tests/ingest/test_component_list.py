@@ -7,8 +7,8 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.component_list import ComponentListEntry, looks_like_component_list, read_component_list
-from cadkg.ingest.component_model import Placement
+from cadkg.usecases.iema.component_list import ComponentListEntry, looks_like_component_list, read_component_list
+from cadkg.usecases.iema.component_model import Placement
 from cadkg.ingest.registry import sniff_kind
 
 REPO = Path(__file__).resolve().parents[2]

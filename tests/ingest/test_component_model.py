@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.component_model import (
+from cadkg.usecases.iema.component_model import (
     ChildPlacement,
     ComponentModel,
     Couple,

@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.connection_list import Connection, ConnectionListInfo, read_connection_list
-from cadkg.ingest.eplan import PinRef
+from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo, read_connection_list
+from cadkg.ingest.eplan.labels import PinRef
 from cadkg.ingest.text import decode_text
 
 REPO = Path(__file__).resolve().parents[2]

@@ -12,7 +12,7 @@ import openpyxl
 import pytest
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.elimco_cable_list import (
+from cadkg.usecases.elimco.cable_list import (
     CableListEnd,
     CableListHarness,
     CableListWire,

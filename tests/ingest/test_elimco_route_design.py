@@ -10,7 +10,7 @@ import pytest
 
 from cadkg.errors import IngestError
 from cadkg.ingest.registry import sniff_kind
-from cadkg.ingest.route_design import (
+from cadkg.usecases.elimco.route_design import (
     BenchPinSpec,
     RouteCable,
     RoutePathSpec,

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.harness_components import HarnessComponent, read_harness_components
-from cadkg.ingest.harness_structure import CableSpec, read_harness_structure
+from cadkg.usecases.elvez.harness_components import HarnessComponent, read_harness_components
+from cadkg.usecases.elvez.harness_structure import CableSpec, read_harness_structure
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell"
 

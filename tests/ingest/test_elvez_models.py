@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.elvez_models import ElementModel, KeySize, read_element_models
-from cadkg.ingest.elvez_xml import Placement
+from cadkg.usecases.elvez.element_models import ElementModel, KeySize, read_element_models
+from cadkg.usecases.elvez.xml_fields import Placement
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell"
 ASSEMBLY = EXAMPLE / "assembly" / "assembly-models.xml"

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.action_plan import PlannedOperation, read_action_plan
+from cadkg.usecases.elvez.action_plan import PlannedOperation, read_action_plan
 
 PLAN = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell" / "action-plan.csv"
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.elvez_xml import first_element_name
+from cadkg.usecases.elvez.xml_fields import first_element_name
 from cadkg.ingest.registry import kinds, sniff_kind
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"

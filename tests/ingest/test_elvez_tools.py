@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.elvez_tools import read_tools
-from cadkg.ingest.elvez_xml import Placement
+from cadkg.usecases.elvez.tools import read_tools
+from cadkg.usecases.elvez.xml_fields import Placement
 
 TOOLS = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell" / "tools.xml"
 

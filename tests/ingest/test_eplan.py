@@ -8,7 +8,7 @@ from decimal import Decimal
 
 import pytest
 
-from cadkg.ingest.eplan import PinRef, PinSyntaxError, normalize_label, parse_pin_ref
+from cadkg.ingest.eplan.labels import PinRef, PinSyntaxError, normalize_label, parse_pin_ref
 from cadkg.ingest.text import Row, iter_rows, parse_decimal
 
 
@@ -126,7 +126,7 @@ def test_iter_rows_reports_the_start_line_of_multi_line_records() -> None:
 
 def _checked_parse(raw: str) -> PinRef | str:
     """The reference as the step-by-step checks read it, without the one-match shortcut."""
-    from cadkg.ingest import eplan
+    from cadkg.ingest.eplan import labels as eplan
 
     saved = eplan._PLAIN_REF
     eplan._PLAIN_REF = re.compile(r"(?!)")  # never matches

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from cadkg.derive.frames import normalize_quaternion, quaternion_from_rpy
+from cadkg.geometry.frames import normalize_quaternion, quaternion_from_rpy
 
 HALF = math.sqrt(0.5)
 

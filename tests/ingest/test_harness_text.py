@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.harness_records import (
+from cadkg.ingest.harness.records import (
     Harness,
     HarnessCable,
     HarnessConnector,
@@ -21,7 +21,7 @@ from cadkg.ingest.harness_records import (
     HarnessWire,
     WireEnd,
 )
-from cadkg.ingest.harness_text import FILE_FORMAT, read_harness_text
+from cadkg.usecases.vw.harness_text import FILE_FORMAT, read_harness_text
 from cadkg.ingest.registry import sniff_kind
 from tests.conftest import EXAMPLES
 

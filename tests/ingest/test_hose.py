@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.hose import HoseProduct, looks_like_hose_table, read_hoses
+from cadkg.usecases.enki.hose import HoseProduct, looks_like_hose_table, read_hoses
 from cadkg.ingest.registry import sniff_kind
 from tests.conftest import EXAMPLES
 

@@ -12,7 +12,7 @@ import pytest
 from lxml import etree
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.harness_records import (
+from cadkg.ingest.harness.records import (
     Harness,
     HarnessCable,
     HarnessConnector,
@@ -24,7 +24,7 @@ from cadkg.ingest.harness_records import (
     HarnessWire,
     WireEnd,
 )
-from cadkg.ingest.kbl import read_kbl
+from cadkg.ingest.harness.kbl import read_kbl
 from cadkg.ingest.pipeline import read_source
 from cadkg.ingest.registry import sniff_kind
 

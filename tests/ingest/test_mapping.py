@@ -9,7 +9,7 @@ from urllib.parse import quote
 import pyoxigraph as ox
 import pytest
 
-from cadkg.ingest.mapping import TripleWriter
+from cadkg.mapping.core import TripleWriter
 from cadkg.ingest.pipeline import GraphData, read_source
 
 REPO = Path(__file__).resolve().parents[2]

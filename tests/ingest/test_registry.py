@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.connection_list import read_connection_list
+from cadkg.ingest.eplan.connection_list import read_connection_list
 from cadkg.ingest.registry import Reader, kinds, reader_for, register, sniff_kind
 from cadkg.ingest.wri import read_wri
 

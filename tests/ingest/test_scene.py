@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from cadkg.ingest.scene import (
+from cadkg.ingest.scene.records import (
     IDENTITY_ROTATION,
     SceneItem,
     TriangleMesh,
@@ -27,8 +27,8 @@ from cadkg.ingest.scene import (
     stl_files,
     transform_matrix,
 )
-from cadkg.ingest.vrml import read_vrml
-from cadkg.ingest.x3d import read_x3d
+from cadkg.ingest.scene.vrml import read_vrml
+from cadkg.ingest.scene.x3d import read_x3d
 from tests.conftest import EXAMPLES
 
 EXAMPLE = EXAMPLES / "iema-switchgear"

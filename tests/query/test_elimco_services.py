@@ -15,18 +15,18 @@ from pathlib import Path
 
 import pytest
 
-from cadkg.derive.frames import quaternion_from_rpy
-from cadkg.derive.geometry import Pose
-from cadkg.query.cursors import Session
-from cadkg.query.elimco import ElimcoModel, consistency_problems, elimco_model, frame_id
-from cadkg.query.elimco_services import (
+from cadkg.geometry.frames import quaternion_from_rpy
+from cadkg.geometry.poses import Pose
+from cadkg.usecases.iema.cursors import Session
+from cadkg.usecases.elimco.bench import ElimcoModel, consistency_problems, elimco_model, frame_id
+from cadkg.usecases.elimco.services import (
     PinPositionsResult,
     get_cable_list,
     get_path_positions,
     get_pin_positions,
     pin_frames,
 )
-from cadkg.query.services import call, services_for
+from cadkg.services.table import call, services_for
 from cadkg.query.validate import validate
 from cadkg.store import KnowledgeGraph
 from tests.conftest import EXAMPLES

@@ -9,12 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from cadkg.derive.frames import quaternion_from_rpy
-from cadkg.derive.geometry import Pose
-from cadkg.derive.platform import FrameTree, element_type
+from cadkg.geometry.frames import quaternion_from_rpy
+from cadkg.geometry.poses import Pose
+from cadkg.usecases.elvez.platform import FrameTree, element_type
 from cadkg.errors import NotFound, QueryError
-from cadkg.query.cursors import Session
-from cadkg.query.services import call
+from cadkg.usecases.iema.cursors import Session
+from cadkg.services.table import call
 from cadkg.store import KnowledgeGraph
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell"

@@ -11,12 +11,12 @@ from pathlib import Path
 
 import pytest
 
-from cadkg.derive.frames import quaternion_from_rpy
-from cadkg.derive.geometry import Pose
-from cadkg.query import elvez
-from cadkg.query.cursors import Session
-from cadkg.query.elvez import BranchInfo, CableRoute, ElvezModel, OperationInfo
-from cadkg.query.services import SERVICES, call, services_for
+from cadkg.geometry.frames import quaternion_from_rpy
+from cadkg.geometry.poses import Pose
+from cadkg.usecases.elvez import answers as elvez
+from cadkg.usecases.iema.cursors import Session
+from cadkg.usecases.elvez.answers import BranchInfo, CableRoute, ElvezModel, OperationInfo
+from cadkg.services.table import SERVICES, call, services_for
 from cadkg.store import KnowledgeGraph
 
 ELVEZ = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell" / "manifest.toml"

@@ -6,9 +6,9 @@ from collections.abc import Iterator
 
 import pytest
 
-from cadkg.query.cursors import Session
-from cadkg.query.enki import HoseInfoResult, hose_info, hose_model
-from cadkg.query.services import call, services_for
+from cadkg.usecases.iema.cursors import Session
+from cadkg.usecases.enki.services import HoseInfoResult, hose_info, hose_model
+from cadkg.services.table import call, services_for
 from cadkg.query.validate import validate
 from cadkg.store import KnowledgeGraph
 from tests.conftest import EXAMPLES

@@ -15,7 +15,7 @@ from lxml import etree
 
 import cadkg
 from cadkg.errors import QueryError
-from cadkg.query.graphml import graphml_text, harness_graph, harness_graphml, write_harness_graphml
+from cadkg.usecases.vw.graphml import graphml_text, harness_graph, harness_graphml, write_harness_graphml
 from cadkg.store import KnowledgeGraph
 from tests.conftest import ROOT
 from tests.query.test_harness import VW, one_harness_cell, vw  # noqa: F401 - the fixture

@@ -14,12 +14,12 @@ import pytest
 
 import cadkg
 from cadkg.errors import NotFound, QueryError
-from cadkg.ingest.harness_records import HarnessNode, HarnessSegment
-from cadkg.ingest.kbl import read_kbl
-from cadkg.query.cursors import Session
-from cadkg.query.harness import find_harness, harnesses, topology_graph, wire_graph
-from cadkg.query.services import call
-from cadkg.query.vw_services import HarnessTopologyResult, TopologySegment, TopologyWire
+from cadkg.ingest.harness.records import HarnessNode, HarnessSegment
+from cadkg.ingest.harness.kbl import read_kbl
+from cadkg.usecases.iema.cursors import Session
+from cadkg.usecases.vw.views import find_harness, harnesses, topology_graph, wire_graph
+from cadkg.services.table import call
+from cadkg.usecases.vw.services import HarnessTopologyResult, TopologySegment, TopologyWire
 from cadkg.store import KnowledgeGraph
 from tests.conftest import EXAMPLES, ROOT
 

@@ -14,10 +14,10 @@ from pathlib import Path
 
 import pytest
 
-from cadkg.derive.geometry import Pose
-from cadkg.query import iema
-from cadkg.query.cursors import Session
-from cadkg.query.services import call, parse_pose, services_for, to_jsonable
+from cadkg.geometry.poses import Pose
+from cadkg.usecases.iema import answers as iema
+from cadkg.usecases.iema.cursors import Session
+from cadkg.services.table import call, parse_pose, services_for, to_jsonable
 from cadkg.store import KnowledgeGraph
 from tests.conftest import ROOT
 

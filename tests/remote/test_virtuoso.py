@@ -25,9 +25,9 @@ import pytest
 
 from cadkg.errors import QueryError, StoreError
 from cadkg.push import push
-from cadkg.query.cursors import Session
+from cadkg.usecases.iema.cursors import Session
 from cadkg.query.named import named_queries
-from cadkg.query.services import call, services_for, to_jsonable
+from cadkg.services.table import call, services_for, to_jsonable
 from cadkg.remote import Auth, RemoteGraph
 from cadkg.store import KnowledgeGraph, QueryResult
 from tests.conftest import IEMA, ROOT

@@ -10,11 +10,12 @@ from typing import Any, ClassVar
 
 import pytest
 
-from cadkg.derive.geometry import Pose
+from cadkg.geometry.poses import Pose
 from cadkg.errors import QueryError
-from cadkg.query import cursors, iema
-from cadkg.query.cursors import Session
-from cadkg.query.services import SERVICES, call, services_for
+from cadkg.usecases.iema import answers as iema
+from cadkg.usecases.iema import cursors
+from cadkg.usecases.iema.cursors import Session
+from cadkg.services.table import SERVICES, call, services_for
 from cadkg.ros_adapter import convert
 from cadkg.store import KnowledgeGraph
 from tests.conftest import ROOT

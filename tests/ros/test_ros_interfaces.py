@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from cadkg.query.services import SERVICES, services_for
+from cadkg.services.table import SERVICES, services_for
 from cadkg.ros_adapter import convert
 from tests.conftest import ROOT
 
@@ -122,8 +122,8 @@ def test_generic_services() -> None:
 
 
 def test_messages_mirror_the_dataclasses() -> None:
-    from cadkg.derive.cabinet import CadPin, Cluster
-    from cadkg.query.iema import CadConnection, PinData
+    from cadkg.usecases.iema.cabinet import CadPin, Cluster
+    from cadkg.usecases.iema.answers import CadConnection, PinData
 
     msg = INTERFACES / "msg"
     for cls, extra in ((CadPin, {"has_screw", "has_hole", "missing"}), (CadConnection, set())):

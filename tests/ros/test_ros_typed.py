@@ -12,8 +12,8 @@ from typing import Any
 import pytest
 
 import cadkg
-from cadkg.query.cursors import Session
-from cadkg.query.services import SERVICES, call, services_for
+from cadkg.usecases.iema.cursors import Session
+from cadkg.services.table import SERVICES, call, services_for
 from cadkg.ros_adapter import convert
 from tests.conftest import ROOT
 from tests.ros.test_ros_interfaces import INTERFACES, fields, service
@@ -106,7 +106,7 @@ def test_results_convert_to_their_response(sessions: dict[str, Session], name: s
 
 
 def test_a_missing_result_field_is_an_error_not_a_default() -> None:
-    from cadkg.query.enki import HoseInfoResult
+    from cadkg.usecases.enki.services import HoseInfoResult
 
     _, response_fields = service("HoseInfo")
     with pytest.raises(TypeError, match="no field 'product'"):

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cadkg.errors import IngestError
-from cadkg.ingest.eplan import normalize_label
+from cadkg.ingest.eplan.labels import normalize_label
 from cadkg.ingest.text import iter_rows, read_text
 
 __all__ = ["KINDS", "PERFORMERS", "Assignment", "read_assignments"]

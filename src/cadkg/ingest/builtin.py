@@ -5,15 +5,15 @@ from __future__ import annotations
 from importlib import import_module
 
 from cadkg.ingest.assignments import read_assignments
-from cadkg.ingest.component_list import looks_like_component_list, read_component_list
-from cadkg.ingest.component_model import looks_like_component_models, read_component_models
-from cadkg.ingest.connection_list import iter_connection_list, read_connection_list
-from cadkg.ingest.elimco_cable_list import workbook_strings
+from cadkg.usecases.iema.component_list import looks_like_component_list, read_component_list
+from cadkg.usecases.iema.component_model import looks_like_component_models, read_component_models
+from cadkg.ingest.eplan.connection_list import iter_connection_list, read_connection_list
+from cadkg.usecases.elimco.cable_list import workbook_strings
 from cadkg.ingest.registry import Reader, register
-from cadkg.ingest.terminal_schema import looks_like_terminal_schema, read_terminal_schema
-from cadkg.ingest.vrml import read_vrml
+from cadkg.usecases.iema.terminal_schema import looks_like_terminal_schema, read_terminal_schema
+from cadkg.ingest.scene.vrml import read_vrml
 from cadkg.ingest.wri import iter_wri, read_wri
-from cadkg.ingest.x3d import read_x3d
+from cadkg.ingest.scene.x3d import read_x3d
 
 __all__: list[str] = []
 
@@ -120,17 +120,17 @@ register(
 )
 
 # The mappings of the cabinet records register themselves with the mapping on import.
-import_module("cadkg.ingest.mapping_cabinet")
+import_module("cadkg.usecases.iema.mapping")
 
 
 def _register_elvez() -> None:
     # The ELVEZ harness-assembly cell; shared suffixes are told apart by the first element
     # (XML) or the header row (CSV).
-    from cadkg.ingest.action_plan import looks_like_action_plan, read_action_plan
-    from cadkg.ingest.elvez_models import looks_like_element_models, read_element_models
-    from cadkg.ingest.elvez_tools import looks_like_tools, read_tools
-    from cadkg.ingest.harness_components import looks_like_harness_components, read_harness_components
-    from cadkg.ingest.harness_structure import looks_like_harness_structure, read_harness_structure
+    from cadkg.usecases.elvez.action_plan import looks_like_action_plan, read_action_plan
+    from cadkg.usecases.elvez.element_models import looks_like_element_models, read_element_models
+    from cadkg.usecases.elvez.tools import looks_like_tools, read_tools
+    from cadkg.usecases.elvez.harness_components import looks_like_harness_components, read_harness_components
+    from cadkg.usecases.elvez.harness_structure import looks_like_harness_structure, read_harness_structure
 
     for reader in (
         Reader(
@@ -170,7 +170,7 @@ def _register_elvez() -> None:
         ),
     ):
         register(reader)
-    import_module("cadkg.ingest.mapping_elvez")
+    import_module("cadkg.usecases.elvez.mapping")
 
 
 _register_elvez()
@@ -178,8 +178,8 @@ _register_elvez()
 
 def _register_vw() -> None:
     # Volkswagen harness descriptions: KBL files and the harness text format.
-    from cadkg.ingest.harness_text import looks_like_harness_text, read_harness_text
-    from cadkg.ingest.kbl import looks_like_kbl, read_kbl
+    from cadkg.usecases.vw.harness_text import looks_like_harness_text, read_harness_text
+    from cadkg.ingest.harness.kbl import looks_like_kbl, read_kbl
 
     register(
         Reader(
@@ -199,7 +199,7 @@ def _register_vw() -> None:
             looks_like_harness_text,
         )
     )
-    import_module("cadkg.ingest.mapping_harness")
+    import_module("cadkg.mapping.harness")
 
 
 _register_vw()
@@ -208,9 +208,9 @@ _register_vw()
 def _register_elimco_enki() -> None:
     # ELIMCO's cable list and route-design files, ENKI's hose products. Shared suffixes are
     # told apart by the root element (XML) or the header row (CSV and workbooks).
-    from cadkg.ingest.elimco_cable_list import looks_like_cable_list, read_elimco_cable_list
-    from cadkg.ingest.hose import looks_like_hose_table, read_hoses
-    from cadkg.ingest.route_design import (
+    from cadkg.usecases.elimco.cable_list import looks_like_cable_list, read_elimco_cable_list
+    from cadkg.usecases.enki.hose import looks_like_hose_table, read_hoses
+    from cadkg.usecases.elimco.route_design import (
         looks_like_cable_info,
         looks_like_path_info,
         looks_like_pin_info,
@@ -257,7 +257,7 @@ def _register_elimco_enki() -> None:
         ),
     ):
         register(reader)
-    import_module("cadkg.ingest.mapping_elimco")
+    import_module("cadkg.usecases.elimco.mapping")
 
 
 _register_elimco_enki()

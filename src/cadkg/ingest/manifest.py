@@ -40,7 +40,7 @@ from typing import Any
 
 import pyoxigraph as ox
 
-from cadkg.derive.frames import Quaternion, normalize_quaternion, quaternion_from_rpy
+from cadkg.geometry.frames import Quaternion, normalize_quaternion, quaternion_from_rpy
 from cadkg.errors import ManifestError
 from cadkg.ingest.registry import kinds
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.manifest import Manifest, SourceSpec
-from cadkg.ingest.mapping import (
+from cadkg.mapping.core import (
     TripleWriter,
     graph_iri,
     map_manifest,

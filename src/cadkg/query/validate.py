@@ -143,7 +143,7 @@ def _shacl(kg: KnowledgeGraph) -> list[Finding]:
     import rdflib
     from rdflib.namespace import SH
 
-    from cadkg.derive.extract import source_graphs
+    from cadkg.usecases.iema.extract import source_graphs
 
     # What the files say, not the derived graph: cadkg writes that one from them (its poses
     # checked against these shapes by cadkg's tests), and in a cabinet it holds 70 % of the

@@ -1,6 +1,6 @@
 """Service results as response fields, and request fields as service parameters; no ROS needed.
 
-:func:`response` turns any result of :data:`cadkg.query.services.SERVICES` into plain data
+:func:`response` turns any result of :data:`cadkg.services.table.SERVICES` into plain data
 (dicts for messages, lists for arrays) keyed like the fields of the ``.srv`` response in
 ``ros2/cadkg_interfaces``; :func:`fill` writes that data into a ROS message. Both work on
 any object with the right attributes, so they are tested without rclpy.
@@ -17,8 +17,8 @@ import re
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
-from cadkg.derive.frames import normalize_quaternion
-from cadkg.derive.geometry import Pose
+from cadkg.geometry.frames import normalize_quaternion
+from cadkg.geometry.poses import Pose
 from cadkg.errors import QueryError
 
 __all__ = [
@@ -80,7 +80,7 @@ def _texts(values: Iterable[str]) -> list[str]:
 
 
 def cad_pin(value: Any) -> Data:
-    """A :class:`~cadkg.derive.cabinet.CadPin` as ``cadkg_interfaces/CadPin``; ``None`` as an empty pin."""
+    """A :class:`~cadkg.usecases.iema.cabinet.CadPin` as ``cadkg_interfaces/CadPin``; ``None`` as an empty pin."""
     if value is None:
         return {
             "label": "",

@@ -27,12 +27,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from cadkg.derive.geometry import Pose, Vec3
+from cadkg.geometry.poses import Pose, Vec3
 
 if TYPE_CHECKING:
-    from cadkg.derive.cabinet import CellModel
-    from cadkg.derive.extract import Placements
-    from cadkg.query.cursors import Session
+    from cadkg.usecases.iema.cabinet import CellModel
+    from cadkg.usecases.iema.extract import Placements
+    from cadkg.usecases.iema.cursors import Session
 
 __all__ = ["ARROW_LENGTH", "Frame", "MarkerSpec", "marker_specs", "static_frames"]
 
@@ -91,12 +91,12 @@ def static_frames(
 
 def _profile_frames(profile: str, session: Session) -> list[tuple[str, str, Pose]]:
     if profile == "elvez":
-        from cadkg.query.elvez_services import model_of as elvez_model
+        from cadkg.usecases.elvez.services import model_of as elvez_model
 
         return list(elvez_model(session).platforms.tree.transforms())
     if profile == "elimco":
-        from cadkg.query.elimco_services import model_of as elimco_model
-        from cadkg.query.elimco_services import pin_frames
+        from cadkg.usecases.elimco.services import model_of as elimco_model
+        from cadkg.usecases.elimco.services import pin_frames
 
         result = pin_frames(elimco_model(session))
         return [(f.parent, f.name, f.pose) for f in result.frames]
@@ -116,7 +116,7 @@ def marker_specs(
         uri = "file://" + str((Path(files_dir) / rel).resolve())
         specs.append(MarkerSpec("mesh", "meshes", index, item, mesh_uri=uri, text=item))
     if profile == "elvez" and session is not None:
-        from cadkg.query.elvez_services import model_of as elvez_model
+        from cadkg.usecases.elvez.services import model_of as elvez_model
 
         elements = sorted(elvez_model(session).platforms.elements.values(), key=lambda e: e.label)
         for index, element in enumerate(e for e in elements if e.mesh):

@@ -1,4 +1,4 @@
-"""The ROS 2 node: the services of :data:`cadkg.query.services.SERVICES`, SPARQL, reload, TF and markers.
+"""The ROS 2 node: the services of :data:`cadkg.services.table.SERVICES`, SPARQL, reload, TF and markers.
 
 Run it with the Python of ``.venv-ros`` (``scripts/ros-setup.sh``): ``cadkg ros SOURCE`` or
 ``python -m cadkg.ros_adapter SOURCE``. See ``docs/ros.md``.
@@ -27,11 +27,11 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
-from cadkg.derive.cabinet import CellModel, derive_cell
-from cadkg.derive.extract import Placements, extract, placements
+from cadkg.usecases.iema.cabinet import CellModel, derive_cell
+from cadkg.usecases.iema.extract import Placements, extract, placements
 from cadkg.errors import CadkgError
-from cadkg.query import services
-from cadkg.query.cursors import Session
+from cadkg.services import table as services
+from cadkg.usecases.iema.cursors import Session
 from cadkg.ros_adapter import convert
 from cadkg.ros_adapter.frames import marker_specs, static_frames
 from cadkg.store import KnowledgeGraph

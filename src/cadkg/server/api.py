@@ -25,7 +25,7 @@ from starlette.responses import Response
 
 from cadkg.errors import CadkgError, NotFound, QueryError
 from cadkg.query.named import coerce_params, named_queries
-from cadkg.query.services import SERVICES, call, to_jsonable
+from cadkg.services.table import SERVICES, call, to_jsonable
 from cadkg.server.context import Answer, Endpoint, ProtocolError, json_response, status_of
 from cadkg.server.holder import Served
 from cadkg.server.limits import Deadline

@@ -31,7 +31,7 @@ def close(actual: tuple[float, ...], expected: tuple[float, ...]) -> bool:
 
 
 def test_every_service_is_advertised_with_its_type(ros: Any, server: Server) -> None:
-    from cadkg.query.services import services_for
+    from cadkg.services.table import services_for
     from cadkg.ros_adapter.convert import srv_type_name
 
     expected = {

@@ -33,8 +33,8 @@ def remote_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Se
 def _serve_pushed_store(
     tmp_path_factory: pytest.TempPathFactory, directory: Path, env: dict[str, str]
 ) -> Iterator[tuple[Server, Any]]:
-    from cadkg.query.cursors import Session
-    from cadkg.query.services import call
+    from cadkg.usecases.iema.cursors import Session
+    from cadkg.services.table import call
     from cadkg.store import KnowledgeGraph
 
     credentials = f"{env['VIRTUOSO_USER']}:{env['VIRTUOSO_PASSWORD']}"

@@ -1,0 +1,398 @@
+"""Reader of EPLAN connection lists (wiring lists), the IEMA process description.
+
+Three real layouts read here, all matched by header meaning rather than position:
+
+* the 11-column form of the reference's Figure 3 (``... Numero filo, Sezione,
+  Colore, Tipo, pot.``), where the last column holds the wire length in mm;
+* the 15-column Italian "Lista cablaggio" with preamble rows, decimal commas and
+  units inside cells (``1,5 mm²``, ``0,474 m``), duct paths and terminations;
+* machine exports whose header cells are quoted and contain line breaks, among them
+  the Komax wire-processing export: machine options before a 31-column header whose
+  origin and destination columns say their end (``Componente:pin origine``).
+
+The row order is the operation sequence.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass
+from decimal import Decimal
+from pathlib import Path
+
+from cadkg.errors import IngestError
+from cadkg.ingest.eplan.labels import PinRef, PinSyntaxError, normalize_label, parse_pin_ref
+from cadkg.ingest.text import Row, find_header, parse_decimal, read_text
+
+__all__ = ["Connection", "ConnectionListInfo", "iter_connection_list", "read_connection_list"]
+
+_EXPECTED = (
+    "a header row naming 'Componente:pin' (origin and destination), 'Numero filo', "
+    "'Sezione' and 'Colore', separated by tabs, semicolons or commas"
+)
+_HEADER_SCAN_ROWS = 40
+
+# Header text (lower case, white space folded) → meaning. Columns that occur twice
+# (page, zone, pin) are origin first, destination second.
+_ALIASES: dict[str, str] = {
+    "n. pagina": "page",
+    "pagina": "page",
+    "page": "page",
+    "sheet": "page",
+    "zona": "zone",
+    "zone": "zone",
+    "componente:pin": "pin",
+    "component:pin": "pin",
+    "device:pin": "pin",
+    "betriebsmittel:anschluss": "pin",
+    "componente: pin": "pin",
+    "numero filo": "wire_number",
+    "n. filo": "wire_number",
+    "wire number": "wire_number",
+    "wire no.": "wire_number",
+    "verbindungsnummer": "wire_number",
+    "sezione": "section",
+    "sezione (mm²)": "section",
+    "sezione (mm2)": "section",
+    "section": "section",
+    "cross-section": "section",
+    "querschnitt": "section",
+    "colore": "colour",
+    "colour": "colour",
+    "color": "colour",
+    "farbe": "colour",
+    "tipo": "potential_type",
+    "tipo pot.": "potential_type",
+    "potential type": "potential_type",
+    "pot.": "potential_name",
+    "nome pot.": "potential_name",
+    "potential": "potential_name",
+    "potential name": "potential_name",
+    "l filo (m)": "length_m",
+    "lunghezza (m)": "length_m",
+    "length (m)": "length_m",
+    "l filo (mm)": "length_mm",
+    "lunghezza (mm)": "length_mm",
+    "length (mm)": "length_mm",
+    "lunghezza": "length_mm",
+    "length": "length_mm",
+    "traccia collegamenti": "duct_path",
+    "percorso": "duct_path",
+    "route": "duct_path",
+    "terminazione origine": "origin_termination",
+    "terminazione destinazione": "destination_termination",
+    "chiave job": "job_key",
+    "job key": "job_key",
+    "nome cavo": "cable_name",
+    "cable name": "cable_name",
+    "lato fascettatura": "bundling_side",
+    "bundling side": "bundling_side",
+}
+_PAIRED = ("page", "zone", "pin")
+# A header may tie its meaning to one end by a word after it ('Componente:pin origine',
+# 'Lunghezza spelatura origine (mm)'). Only these meanings are read per end; the others
+# (strip length, ferrule, marking) have no field in the record.
+_PER_END = {
+    "termination": "termination",
+    "terminazione": "termination",
+    "direction": "direction",
+    "direzione": "direction",
+} | {alias: meaning for alias, meaning in _ALIASES.items() if meaning in _PAIRED}
+_END = re.compile(r"^(?P<base>.+?) (?P<end>origine|origin|destinazione|destination)(?: (?P<rest>.*))?$")
+_SECTION_UNITS = frozenset({"mm²", "mm2", "mmq", "mm^2"})
+_LENGTH_UNITS = frozenset({"m", "mm"})
+_REQUIRED = {
+    "origin_pin": "Componente:pin (origin)",
+    "destination_pin": "Componente:pin (destination)",
+    "wire_number": "Numero filo",
+    "section": "Sezione",
+    "colour": "Colore",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class ConnectionListInfo:
+    """What the preamble of a connection list says about the project."""
+
+    project: str | None
+    job: str | None
+    header_line: int
+
+
+@dataclass(frozen=True, slots=True)
+class Connection:
+    """One wire to make: a row of the connection list, in operation order."""
+
+    index: int
+    line: int
+    origin: PinRef
+    destination: PinRef
+    wire_number: str
+    section_mm2: Decimal | None
+    colour: str | None
+    potential_type: str | None
+    potential_name: str | None
+    length_m: Decimal | None
+    duct_path: tuple[str, ...]
+    origin_termination: str | None
+    destination_termination: str | None
+    origin_page: str | None
+    origin_zone: str | None
+    destination_page: str | None
+    destination_zone: str | None
+    cable_name: str | None = None
+    job_key: str | None = None
+    origin_direction: str | None = None
+    destination_direction: str | None = None
+    bundling_side: str | None = None
+
+
+def _norm(header: str) -> str:
+    return re.sub(r"\s+", " ", header.strip().lower())
+
+
+def _columns(row: Row) -> dict[str, int]:
+    columns: dict[str, int] = {}
+    for index, cell in enumerate(row.cells):
+        header = _norm(cell)
+        meaning = _ALIASES.get(header)
+        ends = _END.match(header) if meaning is None else None
+        if ends is not None:
+            base = f"{ends['base']} {ends['rest'] or ''}".strip()
+            if base in _PER_END:
+                end = "origin" if ends["end"].startswith("origin") else "destination"
+                columns.setdefault(f"{end}_{_PER_END[base]}", index)
+            continue
+        if meaning is None:
+            continue
+        if meaning in _PAIRED:
+            key = f"origin_{meaning}" if f"origin_{meaning}" not in columns else f"destination_{meaning}"
+        else:
+            key = meaning
+        columns.setdefault(key, index)
+    return columns
+
+
+def _find_header(text: str, path: str | Path) -> tuple[list[Row], int, dict[str, int]]:
+    # One pin column is enough to take the row for the header, so that a missing twin
+    # is reported as a missing column rather than as no header at all.
+    rows, position, columns = find_header(
+        text,
+        path,
+        _columns,
+        lambda columns: bool({"origin_pin", "destination_pin"} & columns.keys()) and len(columns) >= 3,
+        _EXPECTED,
+        _HEADER_SCAN_ROWS,
+    )
+    # Figure 3's 11-column form shifts the potential columns: 'Tipo' then 'pot.' whose
+    # numbers are the wire length in mm (there is no separate length column).
+    if "potential_name" in columns and not ({"length_m", "length_mm"} & columns.keys()):
+        header = rows[position]
+        if (
+            _norm(header.cells[columns["potential_name"]]) == "pot."
+            and _norm(header.cells[columns.get("potential_type", -1)] if "potential_type" in columns else "")
+            == "tipo"
+        ):
+            columns["length_mm"] = columns.pop("potential_name")
+    return rows, position, columns
+
+
+def _preamble_value(rows: list[Row], label: str) -> str | None:
+    for row in rows:
+        for i, cell in enumerate(row.cells):
+            if _norm(cell) == label:
+                for later in row.cells[i + 1 :]:
+                    if later.strip():
+                        return later.strip()
+    return None
+
+
+def read_connection_list(path: str | Path) -> list[ConnectionListInfo | Connection]:
+    """Read an EPLAN connection list into a :class:`ConnectionListInfo` and its connections.
+
+    Raises
+    ------
+    IngestError
+        When no header is found, a required column is missing, a number or pin
+        reference is malformed, or there are no data rows; located at file:line.
+    """
+    return list(iter_connection_list(path))
+
+
+def iter_connection_list(path: str | Path) -> Iterator[ConnectionListInfo | Connection]:
+    """The records of :func:`read_connection_list` one by one, as the rows are converted.
+
+    The header is checked before the first record; a malformed row raises when it is reached.
+    """
+    text = read_text(path, expected=_EXPECTED)
+    rows, header_at, columns = _find_header(text, path)
+    header = rows[header_at]
+    missing = [name for key, name in _REQUIRED.items() if key not in columns]
+    if missing:
+        found = ", ".join(re.sub(r"\s+", " ", c.strip()) for c in header.cells if c.strip())
+        raise IngestError(
+            path,
+            f"missing column {', '.join(repr(m) for m in missing)}",
+            line=header.line,
+            found=found[:200],
+            expected="the connection list columns " + ", ".join(_REQUIRED.values()),
+        )
+    header_names = {key: re.sub(r"\s+", " ", header.cells[i].strip()) for key, i in columns.items()}
+    preamble = rows[:header_at]
+    yield ConnectionListInfo(
+        project=_preamble_value(preamble, "nome progetto:") or _preamble_value(preamble, "programma"),
+        job=_preamble_value(preamble, "commessa:"),
+        header_line=header.line,
+    )
+    convert = _RowConverter(path, columns, header_names)
+    index = 0
+    for row in rows[header_at + 1 :]:
+        if row.is_blank:
+            continue
+        index += 1
+        yield convert(row, index)
+    if index == 0:
+        raise IngestError(
+            path, "no connections after the header", line=header.line, expected="at least one data row"
+        )
+
+
+# Record fields taken as they stand in their column (stripped; empty → None).
+_TEXT_FIELDS = (
+    "colour",
+    "potential_type",
+    "potential_name",
+    "origin_termination",
+    "destination_termination",
+    "origin_page",
+    "origin_zone",
+    "destination_page",
+    "destination_zone",
+    "cable_name",
+    "job_key",
+    "origin_direction",
+    "destination_direction",
+    "bundling_side",
+)
+
+
+class _RowConverter:
+    """Turns data rows into :class:`Connection` records.
+
+    Built once per file: column positions are looked up once, and the values that
+    repeat down a list (sections, lengths, duct paths) are parsed once each.
+    """
+
+    def __init__(self, path: str | Path, columns: dict[str, int], names: dict[str, str]) -> None:
+        self.path = path
+        self.columns = columns
+        self.names = names
+        # A column the file lacks sits past every row's end, so its field reads as None.
+        self.text_columns = [(name, columns.get(name, 1 << 30)) for name in _TEXT_FIELDS]
+        self.length_key = "length_m" if "length_m" in columns else "length_mm"
+        self.numbers: dict[tuple[str, str], Decimal] = {}
+        self.ducts: dict[str, tuple[str, ...]] = {}
+        absent = 1 << 30
+        keys = ("wire_number", "origin_pin", "destination_pin", "section", self.length_key, "duct_path")
+        self.at = tuple(columns.get(key, absent) for key in keys)
+
+    def __call__(self, row: Row, index: int) -> Connection:
+        cells = row.cells
+        width = len(cells)
+        # Each cell stripped once; a column past the row's end reads as empty.
+        wire_number, origin, destination, section, length, ducts = (
+            cells[at].strip() if at < width else "" for at in self.at
+        )
+        fields: dict[str, str | None] = {
+            name: (cells[at].strip() or None) if at < width else None for name, at in self.text_columns
+        }
+        if not wire_number:
+            raise self.empty(row, "wire_number", "a wire number such as 1500.51 or 0V")
+        return Connection(
+            index=index,
+            line=row.line,
+            origin=self.pin(row, "origin_pin", origin),
+            destination=self.pin(row, "destination_pin", destination),
+            wire_number=wire_number,
+            section_mm2=self.number(row, "section", section) if section else None,
+            length_m=self.number(row, self.length_key, length) if length else None,
+            duct_path=self.duct_path(ducts) if ducts else (),
+            **fields,
+        )
+
+    def empty(self, row: Row, key: str, expected: str) -> IngestError:
+        """The error for an empty required cell, or for the quote that emptied it."""
+        if key in self.columns and self.columns[key] >= len(row.cells):
+            for cell in row.cells:
+                if "\t" in cell or "\n" in cell:
+                    # A cell that starts with '"' runs on, delimiters and line ends included,
+                    # to the next quote: the cells after it are missing, not empty.
+                    return IngestError(
+                        self.path,
+                        "a cell opened with '\"' runs over the cells after it",
+                        line=row.line,
+                        found=cell[:40].split("\n", 1)[0] + " ...",
+                        expected="no '\"' at the start of a cell, or its closing '\"' in the same cell",
+                    )
+        return IngestError(
+            self.path, f"empty cell in column {self.names[key]!r}", line=row.line, expected=expected
+        )
+
+    def duct_path(self, text: str) -> tuple[str, ...]:
+        path = self.ducts.get(text)
+        if path is None:
+            path = self.ducts[text] = tuple(normalize_label(d) for d in text.split(";") if d.strip())
+        return path
+
+    def pin(self, row: Row, key: str, raw: str) -> PinRef:
+        if not raw or raw == "-":
+            raise self.empty(row, key, "a pin reference such as -F1500.1:14")
+        try:
+            return parse_pin_ref(raw)
+        except PinSyntaxError as err:
+            raise IngestError(
+                self.path,
+                f"unknown pin reference in column {self.names[key]!r}: {err}",
+                line=row.line,
+                found=raw,
+                expected="DEVICE:PIN or DEVICE:TERMINAL:LEVEL, e.g. -F1500.1:14 or =-X1600:2:a",
+            ) from None
+
+    def number(self, row: Row, key: str, raw: str) -> Decimal:
+        value = self.numbers.get((key, raw))
+        if value is None:
+            value = self.numbers[(key, raw)] = self._parse_number(row, key, raw)
+        return value
+
+    def _parse_number(self, row: Row, key: str, raw: str) -> Decimal:
+        unit, units = ("mm²", _SECTION_UNITS) if key == "section" else (key[len("length_") :], _LENGTH_UNITS)
+        try:
+            value, found_unit = parse_decimal(raw)
+        except ValueError:
+            raise IngestError(
+                self.path,
+                f"not a number in column {self.names[key]!r}",
+                line=row.line,
+                found=raw,
+                expected=f"a number in {unit}, e.g. 1,5 or 1.5 {unit}",
+            ) from None
+        if found_unit and found_unit.lower() not in units:
+            raise IngestError(
+                self.path,
+                f"wrong unit in column {self.names[key]!r}",
+                line=row.line,
+                found=raw,
+                expected=f"a number in {unit}",
+            )
+        if value <= 0:
+            raise IngestError(
+                self.path,
+                f"non-positive value in column {self.names[key]!r}",
+                line=row.line,
+                found=raw,
+                expected=f"a positive number in {unit}",
+            )
+        if key != "section" and (found_unit or unit) == "mm":
+            return value / 1000
+        return value

@@ -1,0 +1,246 @@
+"""The derivation's inputs gathered from the records of a build, beside their triples.
+
+A build has every record in hand before the store has indexed it, so the cabinet
+geometry can be derived while the store is still loading instead of being read back
+out of it afterwards (which at 100k wires cost as much as the load). Each record
+type here adds to :class:`CellInputs` exactly what its mapping writes and
+:func:`cadkg.usecases.iema.extract.extract` reads back; tests build both ways on every
+example cell and compare. A record type not listed makes the collector give up
+(:attr:`InputCollector.complete`), and the build then reads the graph as before.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from typing import Any
+
+from cadkg.usecases.iema.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.geometry.frames import quaternion_from_rpy
+from cadkg.geometry.poses import Pose
+from cadkg.ingest.assignments import Assignment
+from cadkg.usecases.iema.component_list import ComponentListEntry
+from cadkg.usecases.iema.component_model import ComponentModel, Placement
+from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo
+from cadkg.ingest.eplan.labels import PinRef
+from cadkg.ingest.manifest import Manifest
+from cadkg.mapping.core import graph_iri, item_mesh_file, node_iri, pin_iri, wire_iri
+from cadkg.ingest.scene.records import SceneItem
+from cadkg.usecases.iema.terminal_schema import TerminalSlot
+from cadkg.ingest.wri import IdEntry
+
+__all__ = ["InputCollector"]
+
+_NO_LINE = 1 << 30
+
+
+def _pose(xyz: Iterable[float], quaternion: Iterable[float]) -> Pose:
+    x, y, z = (float(v) for v in xyz)
+    qx, qy, qz, qw = (float(v) for v in quaternion)
+    return Pose((x, y, z), (qx, qy, qz, qw))
+
+
+def _placement(placement: Placement) -> Pose:
+    return _pose(placement.xyz, quaternion_from_rpy(*placement.rpy))
+
+
+class _Source:
+    """What one file's mapping de-duplicates within its own graph."""
+
+    def __init__(self, rel: str, frame: str | None) -> None:
+        self.rel = rel
+        self.root_frame = frame or "cabinet"
+        self.wires: set[str] = set()
+        self.described: set[str] = set()
+
+
+class InputCollector:
+    """Feed it the manifest's sources in order (:meth:`source`), then take :meth:`inputs`."""
+
+    def __init__(self, manifest: Manifest) -> None:
+        cell = manifest.cell
+        self.base = cell.base_iri
+        # Only a cabinet cell's derivation reads pins and wires (see extract).
+        self.complete = cell.profile == "iema"
+        self._items: dict[str, dict[str, None]] = {}
+        self._item_lines: dict[str, int] = {}
+        self._item_model: dict[str, str] = {}
+        self._frames = {f.child: (f.parent, _pose(f.xyz, f.quaternion)) for f in manifest.frames}
+        self._bboxes: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]] = {}
+        self._meshes: dict[str, str] = {}
+        self._models: dict[str, ModelInfo] = {}
+        self._blocks: dict[str, dict[tuple[int, str, str | None], None]] = {}
+        self._pins: dict[str, PinInfo] = {}
+        self._pin_iris: dict[tuple[str, str, str | None], str] = {}
+        self._wires: list[WireInfo] = []
+        self._assignments: list[tuple[str, int | None, str, str]] = []
+        self._ducts: set[str] = set()
+        self._settings = manifest.derive
+        self._root_frames = {source.rel: source.frame for source in manifest.sources}
+
+    def source(self, rel: str) -> Callable[[object], None]:
+        """The function that takes the records of source ``rel`` one by one, in file order."""
+        source = _Source(rel, self._root_frames.get(rel))
+        handlers = _HANDLERS
+
+        def take(record: object) -> None:
+            if not self.complete:
+                return
+            handler = handlers.get(type(record))
+            if handler is None:
+                self.complete = False
+            else:
+                handler(self, record, source)
+
+        return take
+
+    def add_edits(self, edits: Iterable[tuple[str, str]]) -> None:
+        """Assignments (target IRI, performer) kept in the store's edits graph."""
+        graph = self.base + "assignments"
+        self._assignments.extend((graph, None, target, who) for target, who in edits)
+
+    def inputs(self) -> CellInputs:
+        items_of = {
+            label: sorted(ids, key=lambda i: (self._item_lines.get(i, _NO_LINE), i))
+            for label, ids in self._items.items()
+        }
+        settings = self._settings
+        return CellInputs(
+            base=self.base,
+            approach_distance=float(settings.approach_distance),
+            rail_pattern=settings.rail_pattern,
+            cluster_tolerance=float(settings.cluster_tolerance),
+            items_of=items_of,
+            item_model=dict(self._item_model),
+            frames=dict(self._frames),
+            bboxes=dict(self._bboxes),
+            meshes=dict(self._meshes),
+            models=self._models,
+            blocks={label: sorted(rows, key=lambda r: (r[0], r[1])) for label, rows in self._blocks.items()},
+            pins=self._pins,
+            wires=sorted(self._wires, key=lambda w: (w.source, w.position)),
+            # As the graph is read: by graph IRI, then by line (none first).
+            assignments=[
+                (g, target, who)
+                for g, _, target, who in sorted(
+                    self._assignments, key=lambda a: (a[0], -1 if a[1] is None else a[1])
+                )
+            ],
+            duct_labels=set(self._ducts),
+        )
+
+    # -- one method per record type, mirroring its mapping ----------------------------
+    def _id_entry(self, record: IdEntry, source: _Source) -> None:
+        self._item(record.label, record.cad_id)
+        line = self._item_lines.get(record.cad_id)
+        self._item_lines[record.cad_id] = record.line if line is None else min(line, record.line)
+        if record.commercial is not None:
+            self._model(record.commercial)
+            self._item_model[record.cad_id] = record.commercial
+
+    def _list_info(self, record: ConnectionListInfo, source: _Source) -> None:
+        pass
+
+    def _connection(self, record: Connection, source: _Source) -> None:
+        wire = wire_iri(self.base, record.wire_number, source.wires)
+        section, length = record.section_mm2, record.length_m
+        self._wires.append(
+            WireInfo(
+                iri=wire,
+                number=record.wire_number,
+                position=record.index,
+                source=source.rel,
+                origin=self._pin(record.origin),
+                destination=self._pin(record.destination),
+                ducts=record.duct_path,
+                section_mm2=float(section) if section is not None else None,
+                colour=record.colour,
+                length_m=float(length) if length is not None else None,
+                terminations=(record.origin_termination, record.destination_termination),
+            )
+        )
+        self._ducts.update(record.duct_path)
+
+    def _component_model(self, record: ComponentModel, source: _Source) -> None:
+        self._describe(record, source)
+
+    def _component_list_entry(self, record: ComponentListEntry, source: _Source) -> None:
+        if record.part_number:
+            self._model(record.part_number)
+        for model in record.models:
+            self._describe(model, source)
+
+    def _terminal_slot(self, record: TerminalSlot, source: _Source) -> None:
+        self._item(record.block, record.cad_id)
+        self._blocks.setdefault(record.block, {})[(record.position, record.cad_id, record.terminal)] = None
+        if record.commercial:
+            self._model(record.commercial)
+            self._item_model[record.cad_id] = record.commercial
+        if record.terminal is not None:
+            for level in record.levels:
+                iri = self._pin(PinRef(record.block, record.terminal, level, ""))
+                pin = self._pins[iri]
+                self._pins[iri] = PinInfo(pin.iri, pin.label, pin.name, pin.level, record.cad_id)
+
+    def _scene_item(self, record: SceneItem, source: _Source) -> None:
+        parent = record.parent_id or source.root_frame
+        self._frames[record.item_id] = (parent, _pose(record.translation, record.rotation))
+        if record.bbox_min is not None and record.bbox_max is not None:
+            low = tuple(float(v) for v in record.bbox_min)
+            high = tuple(float(v) for v in record.bbox_max)
+            self._bboxes[record.item_id] = (low, high)  # type: ignore[assignment]
+        if record.mesh is not None:
+            self._meshes[record.item_id] = item_mesh_file(record.item_id)
+
+    def _assignment(self, record: Assignment, source: _Source) -> None:
+        target = node_iri(self.base, record.kind, record.ident)
+        self._assignments.append((graph_iri(self.base, source.rel), record.line, target, record.performer))
+
+    # -- shared nodes ----------------------------------------------------------------
+    def _item(self, label: str, cad_id: str) -> None:
+        self._items.setdefault(label, {})[cad_id] = None
+
+    def _model(self, key: str) -> ModelInfo:
+        model = self._models.get(key)
+        if model is None:
+            model = self._models[key] = ModelInfo(key)
+        return model
+
+    def _pin(self, ref: PinRef) -> str:
+        key = (ref.component, ref.pin, ref.level)
+        iri = self._pin_iris.get(key)
+        if iri is None:
+            iri = self._pin_iris[key] = pin_iri(self.base, ref)
+            if iri not in self._pins:
+                self._pins[iri] = PinInfo(iri, ref.component, ref.pin, ref.level, None)
+        return iri
+
+    def _describe(self, record: ComponentModel, source: _Source) -> None:
+        model = self._model(record.key)
+        # The mapping describes a model once per graph: the first description in a file counts.
+        if record.key in source.described:
+            return
+        source.described.add(record.key)
+        model.role = model.role or record.role
+        if record.dimensions:
+            x, y, z = (float(v) for v in record.dimensions)
+            model.dimensions = (x, y, z)
+        for couple in record.couples:
+            if couple.screw is not None:
+                model.screws[couple.name] = _placement(couple.screw)
+            if couple.hole is not None:
+                model.holes[couple.name] = _placement(couple.hole)
+        for child in record.children:
+            self._model(child.name)
+            model.children[child.name] = _placement(child.relative)
+
+
+_HANDLERS: dict[type, Callable[[InputCollector, Any, _Source], None]] = {
+    IdEntry: InputCollector._id_entry,
+    ConnectionListInfo: InputCollector._list_info,
+    Connection: InputCollector._connection,
+    ComponentModel: InputCollector._component_model,
+    ComponentListEntry: InputCollector._component_list_entry,
+    TerminalSlot: InputCollector._terminal_slot,
+    SceneItem: InputCollector._scene_item,
+    Assignment: InputCollector._assignment,
+}

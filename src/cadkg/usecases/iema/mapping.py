@@ -1,0 +1,147 @@
+"""Cabinet records → triples: component models, parts lists, terminal schemas, scenes, assignments.
+
+IRIs join those of the WRI and the connection list: ``item/ID000041`` is the same
+node whether the WRI, the scene or the terminal schema names it, ``model/CODE`` is
+keyed by the commercial code the WRI uses, and terminal pins are
+``pin/BLOCK/TERMINAL/LEVEL`` as the connection list writes them.
+"""
+
+from __future__ import annotations
+
+from cadkg.ingest.assignments import Assignment
+from cadkg.usecases.iema.component_list import ComponentListEntry
+from cadkg.usecases.iema.component_model import ComponentModel
+from cadkg.ingest.eplan.labels import PinRef
+from cadkg.mapping.core import (
+    TripleWriter,
+    component_node,
+    dimensions,
+    frame_node,
+    item_mesh_file,
+    map_record,
+    mesh_node,
+    model_frame,
+    model_node,
+    pin_node,
+    placement_pose,
+    term,
+    write_pose,
+)
+from cadkg.ingest.scene.records import SceneItem
+from cadkg.usecases.iema.terminal_schema import TerminalSlot
+
+__all__: list[str] = []
+
+t = term
+
+
+def _map_model(w: TripleWriter, model: ComponentModel) -> str:
+    node = model_node(w, model.key)
+    if not w.once(node + "#described"):
+        return node
+    w.add(node, t("label"), w.text(model.code))
+    w.add(node, t("sourceLine"), w.typed(model.line))
+    if model.role:
+        w.add(node, t("modelRole"), w.text(model.role))
+    if model.dimensions:
+        dimensions(w, node, model.dimensions)
+    frame = model_frame(w, node, model.key)
+    for couple in model.couples:
+        pin = w.iri("model", model.key, "pin", couple.name)
+        w.add(node, t("definesPin"), pin)
+        w.add(pin, t("type"), t("ModelPin"))
+        w.add(pin, t("pinName"), w.text(couple.name))
+        w.add(pin, t("sourceLine"), w.typed(couple.line))
+        for kind, placement in (("screw", couple.screw), ("hole", couple.hole)):
+            if placement is not None:
+                pose = w.iri("model", model.key, "pin", couple.name, kind)
+                w.add(pin, t(f"{kind}Pose"), placement_pose(w, pose, placement, frame))
+    for child in model.children:
+        place = w.iri("model", model.key, "child", child.name)
+        w.add(node, t("hasChildPlacement"), place)
+        w.add(place, t("type"), t("ModelChild"))
+        w.add(place, t("childModel"), model_node(w, child.name))
+        pose = w.iri("model", model.key, "child", child.name, "pose")
+        w.add(place, t("hasPose"), placement_pose(w, pose, child.relative, frame))
+    return node
+
+
+@map_record.register
+def _(record: ComponentModel, w: TripleWriter, source_slug: str) -> None:
+    _map_model(w, record)
+
+
+@map_record.register
+def _(record: ComponentListEntry, w: TripleWriter, source_slug: str) -> None:
+    component = component_node(w, record.label)
+    entry = w.iri("part", record.label, str(record.line))
+    w.add(component, t("hasPartEntry"), entry)
+    w.add(entry, t("type"), t("PartEntry"))
+    w.add(entry, t("sourceLine"), w.typed(record.line))
+    if record.description:
+        w.add(entry, t("description"), w.text(record.description))
+        if w.once(component + "#description"):
+            w.add(component, t("description"), w.text(record.description))
+    if record.quantity is not None:
+        w.add(entry, t("quantity"), w.typed(record.quantity))
+    if record.part_number:
+        w.add(entry, t("instanceOf"), model_node(w, record.part_number))
+    for model in record.models:
+        _map_model(w, model)
+
+
+@map_record.register
+def _(record: TerminalSlot, w: TripleWriter, source_slug: str) -> None:
+    block = component_node(w, record.block)
+    if w.once(block + "#block"):
+        w.add(block, t("type"), t("TerminalBlock"))
+    item = w.iri("item", record.cad_id)
+    w.add(item, t("type"), t("CadItem"))
+    w.add(item, t("type"), t("TerminalItem"))
+    w.add(item, t("cadId"), w.text(record.cad_id))
+    w.add(item, t("blockPosition"), w.typed(record.position))
+    w.add(block, t("hasItem"), item)
+    w.add(block, t("hasTerminalItem"), item)
+    if record.commercial:
+        w.add(item, t("instanceOf"), model_node(w, record.commercial))
+    if record.terminal is None:
+        return
+    w.add(item, t("terminalName"), w.text(record.terminal))
+    for level in record.levels:
+        pin = pin_node(
+            w, PinRef(record.block, record.terminal, level, f"{record.block}:{record.terminal}:{level}")
+        )
+        w.add(pin, t("onItem"), item)
+
+
+@map_record.register
+def _(record: SceneItem, w: TripleWriter, source_slug: str) -> None:
+    item = w.iri("item", record.item_id)
+    w.add(item, t("type"), t("CadItem"))
+    w.add(item, t("cadId"), w.text(record.item_id))
+    frame = frame_node(w, record.item_id)
+    w.add(item, t("hasFrame"), frame)
+    parent = frame_node(w, record.parent_id or w.root_frame)
+    pose = w.iri("pose", record.item_id)
+    w.add(frame, t("hasPose"), write_pose(w, pose, record.translation, record.rotation, parent))
+    w.add(pose, t("sourceLine"), w.typed(record.line))
+    if record.bbox_min is not None and record.bbox_max is not None:
+        for name, value in zip(
+            ("minX", "minY", "minZ", "maxX", "maxY", "maxZ"),
+            (*record.bbox_min, *record.bbox_max),
+            strict=True,
+        ):
+            w.add(item, t(name), w.typed(float(value)))
+    if record.mesh is not None:
+        rel = item_mesh_file(record.item_id)
+        w.meshes[rel] = record.mesh
+        mesh_node(w, item, w.iri("mesh", record.item_id), rel)
+
+
+@map_record.register
+def _(record: Assignment, w: TripleWriter, source_slug: str) -> None:
+    node = w.iri("assignment", record.kind, record.ident)
+    w.add(node, t("type"), t("Assignment"))
+    w.add(node, t("assignmentOf"), w.iri(record.kind, record.ident))
+    w.add(node, t("assignedTo"), t(record.performer))
+    w.add(node, t("sourceLine"), w.typed(record.line))
