@@ -44,11 +44,11 @@ os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
 import rclpy  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 
-from cadkg.usecases.iema.cursors import Session  # noqa: E402
-from cadkg.services.table import call  # noqa: E402
+from cadkg.graph import KnowledgeGraph  # noqa: E402
 from cadkg.ros_adapter import convert  # noqa: E402
-from cadkg.ros_adapter.node import NAMESPACES, srv_type  # noqa: E402
-from cadkg.store import KnowledgeGraph  # noqa: E402
+from cadkg.ros_adapter.node import default_namespace, srv_type  # noqa: E402
+from cadkg.services.session import Session  # noqa: E402
+from cadkg.services.table import call  # noqa: E402
 
 TARGET_US = 2000.0
 
@@ -126,7 +126,7 @@ def over_ros(case: Case, calls: int) -> tuple[list[float], Any, float]:
     executor = SingleThreadedExecutor()
     executor.add_node(client_node)
     kind = srv_type(case.service)
-    client = client_node.create_client(kind, f"{NAMESPACES[case.profile]}/{case.service}")
+    client = client_node.create_client(kind, f"{default_namespace(case.profile)}/{case.service}")
     try:
         started = time.monotonic()
         while not client.wait_for_service(timeout_sec=0.5):

@@ -57,12 +57,13 @@ from pyoxigraph import NamedNode
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from cadkg.usecases.iema.cabinet import CellModel
+import cadkg.usecases.iema.cursors as cursors
 from cadkg.geometry.poses import Pose
-from cadkg.usecases.iema import answers as iema
-from cadkg.usecases.iema.cursors import Session
+from cadkg.graph import KnowledgeGraph
+from cadkg.services.session import Session
 from cadkg.services.table import call, services_for
-from cadkg.store import KnowledgeGraph
+from cadkg.usecases.iema import answers as iema
+from cadkg.usecases.iema.cabinet import CellModel
 from synthetic import CabinetFiles, write_cabinet_files
 
 TARGET_P50_US = 250.0
@@ -530,8 +531,8 @@ def build_cases(
     # walks the same robot steps by list position. Each is rewound (untimed) at the end.
     def rewind_connections(client: str) -> Callable[[int], None]:
         def before(i: int) -> None:
-            if session.state(client).step >= len(robot):
-                session.reset_connection_list(client)
+            if cursors.state(session, client).step >= len(robot):
+                cursors.reset_connection_list(session, client)
 
         return before
 
@@ -546,10 +547,10 @@ def build_cases(
         rewind_connections("direct")(i)
 
     def full_check(i: int) -> Any:
-        session.reset_connection_list("check")
-        state = session.state("check")
+        cursors.reset_connection_list(session, "check")
+        state = cursors.state(session, "check")
         state.step = (i // 2) % len(robot)
-        return session.full_connection_provider(i % 2 == 1, "check")
+        return cursors.full_connection_provider(session, i % 2 == 1, "check")
 
     cases.append(
         Case(
@@ -557,7 +558,7 @@ def build_cases(
             lambda i: call(
                 session, "full_connection_provider", {"occupancy": "true" if i % 2 else "false"}, "call"
             ),
-            lambda i: session.full_connection_provider(i % 2 == 1, "direct"),
+            lambda i: cursors.full_connection_provider(session, i % 2 == 1, "direct"),
             lambda i: baseline.full_connection_provider(*at_step(i, 2), i % 2 == 1),
             before_both,
             full_check,
@@ -565,14 +566,14 @@ def build_cases(
     )
 
     def group_check(i: int) -> Any:
-        session.state("check").step = i % len(robot)
-        return session.group_connection_provider("check")
+        cursors.state(session, "check").step = i % len(robot)
+        return cursors.group_connection_provider(session, "check")
 
     cases.append(
         Case(
             "group_connection_provider",
             lambda i: call(session, "group_connection_provider", {}, "call"),
-            lambda i: session.group_connection_provider("direct"),
+            lambda i: cursors.group_connection_provider(session, "direct"),
             lambda i: baseline.group_connection_provider(*at_step(i, 1)),
             before_both,
             group_check,
@@ -582,21 +583,21 @@ def build_cases(
         Case(
             "reset_connection_list",
             lambda i: call(session, "reset_connection_list", {}, "call"),
-            lambda i: session.reset_connection_list("direct"),
+            lambda i: cursors.reset_connection_list(session, "direct"),
             None,
         )
     )
 
     def reset_to_check(i: int) -> Any:
-        session.reset_to_connection_list(float(numbers[i].wire), "", "check")
-        step = session.state("check").step
+        cursors.reset_to_connection_list(session, float(numbers[i].wire), "", "check")
+        step = cursors.state(session, "check").step
         return robot[step].position
 
     cases.append(
         Case(
             "reset_to_connection_list",
             lambda i: call(session, "reset_to_connection_list", {"data": numbers[i].wire}, "call"),
-            lambda i: session.reset_to_connection_list(float(numbers[i].wire), "", "direct"),
+            lambda i: cursors.reset_to_connection_list(session, float(numbers[i].wire), "", "direct"),
             lambda i: baseline.reset_to_connection_list(numbers[i].wire),
             check=reset_to_check,
         )
@@ -606,18 +607,18 @@ def build_cases(
 
     def rewind_rails(i: int) -> None:
         for client in ("call", "direct"):
-            if session.state(client).rail >= len(rail_labels):
-                session.reset_rail_scanner(client)
+            if cursors.state(session, client).rail >= len(rail_labels):
+                cursors.reset_rail_scanner(session, client)
 
     def rail_check(i: int) -> Any:
-        session.state("check").rail = i % len(rail_labels)
-        return session.rail_scanner("check")
+        cursors.state(session, "check").rail = i % len(rail_labels)
+        return cursors.rail_scanner(session, "check")
 
     cases.append(
         Case(
             "rail_scanner",
             lambda i: call(session, "rail_scanner", {}, "call"),
-            lambda i: session.rail_scanner("direct"),
+            lambda i: cursors.rail_scanner(session, "direct"),
             lambda i: baseline.rail_scanner(rail_labels[i % len(rail_labels)]),
             rewind_rails,
             rail_check,
@@ -627,7 +628,7 @@ def build_cases(
         Case(
             "reset_rail_scanner",
             lambda i: call(session, "reset_rail_scanner", {}, "call"),
-            lambda i: session.reset_rail_scanner("direct"),
+            lambda i: cursors.reset_rail_scanner(session, "direct"),
             None,
         )
     )

@@ -14,7 +14,7 @@ import pytest
 from click.testing import CliRunner, Result
 
 from cadkg.cli import cli
-from cadkg.store import KnowledgeGraph
+from cadkg.graph import KnowledgeGraph
 from tests.conftest import EXAMPLES
 
 MANIFEST = EXAMPLES / "elvez-cell" / "manifest.toml"

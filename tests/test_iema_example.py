@@ -12,11 +12,12 @@ from collections.abc import Iterator
 
 import pytest
 
-from cadkg.usecases.iema.cabinet import CellModel
-from cadkg.usecases.iema import answers as iema
-from cadkg.usecases.iema.cursors import Session
+import cadkg.usecases.iema.cursors as cursors
+from cadkg.graph import KnowledgeGraph
+from cadkg.services.session import Session
 from cadkg.services.table import call, services_for
-from cadkg.store import KnowledgeGraph
+from cadkg.usecases.iema import answers as iema
+from cadkg.usecases.iema.cabinet import CellModel
 from tests.conftest import IEMA
 
 VRML = IEMA.parent / "manifest-vrml.toml"
@@ -175,7 +176,7 @@ def test_rails_are_ordered_along_x(model: CellModel) -> None:
 def test_providers_walk_every_robot_wire_once(model: CellModel) -> None:
     session = Session(model)
     seen = []
-    while not (step := session.group_connection_provider()).end:
+    while not (step := cursors.group_connection_provider(session)).end:
         seen.append(step.list_position)
     robot = [s.position for s in model.steps if s.performer == "robot"]
     human = [s.position for s in model.steps if s.performer == "human"]

@@ -11,7 +11,7 @@ import pytest
 
 import cadkg
 from cadkg.errors import IngestError, QueryError, StoreError
-from cadkg.mapping.core import graph_iri
+from cadkg.mapping.writer import graph_iri
 from tests.conftest import IEMA, ROOT
 
 BASE = "https://example.org/cell/iema-qe01/"

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.store import KnowledgeGraph
+from cadkg.graph import KnowledgeGraph
 from tests.conftest import EXAMPLES
 from tests.test_cli import run
 

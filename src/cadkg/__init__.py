@@ -12,12 +12,14 @@ from cadkg.errors import (
     ManifestError,
     NotFound,
     QueryError,
+    RegistryError,
     StoreError,
     UnknownTermError,
 )
+from cadkg.graph import KnowledgeGraph, build, open_store
 from cadkg.ontology.terms import CK
 from cadkg.query.validate import Finding, validate
-from cadkg.store import KnowledgeGraph, QueryResult, build, open_store
+from cadkg.store import QueryResult
 
 open = open_store
 
@@ -34,6 +36,7 @@ __all__ = [
     "NotFound",
     "QueryError",
     "QueryResult",
+    "RegistryError",
     "StoreError",
     "UnknownTermError",
     "__version__",

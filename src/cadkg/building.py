@@ -7,10 +7,9 @@ to time this side alone. Both therefore run the same steps in the same order.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
+from typing import Any
 
-from cadkg.usecases.iema.cabinet import CellModel, derive_cell
-from cadkg.usecases.iema.collect import InputCollector
-from cadkg.usecases.iema.emit import derived_graph, derived_ntriples
+import cadkg.registry as registry
 from cadkg.ingest.manifest import Manifest, SourceSpec
 from cadkg.ingest.pipeline import GraphData, read_manifest_graphs
 
@@ -25,7 +24,7 @@ def write_graphs(
     on_source: Callable[[SourceSpec], None] | None = None,
     on_graph: Callable[[GraphData], None] | None = None,
     edits: Iterable[tuple[str, str]] = (),
-) -> CellModel | None:
+) -> Any:
     """Hand ``sink(graph, chunk)`` the manifest's graph, each source's and the derived one.
 
     With ``stream``, a file's N-Triples go to ``sink`` in chunks while its later rows are
@@ -35,22 +34,27 @@ def write_graphs(
     returned, or ``None`` when the records did not hold all the derivation needs and it
     must be read from the store.
     """
-    collector = InputCollector(manifest)
-    collector.add_edits(edits)
+    derivation = registry.derivation()
+    collector = derivation.collector(manifest) if derivation is not None else None
+    if collector is not None:
+        collector.add_edits(edits)
     graphs = read_manifest_graphs(
         manifest,
         on_source,
         sink=sink if stream else None,
-        on_record=lambda source: collector.source(source.rel),
+        on_record=(lambda source: collector.source(source.rel)) if collector is not None else None,
     )
     for data in graphs:
         sink(data.graph, data.ntriples)  # what was not streamed
         if on_graph is not None:
             on_graph(data)
-    if not collector.complete:
+    if derivation is None or collector is None or not collector.complete:
         return None
     # Derived while a loader may still be indexing the sources.
-    model = derive_cell(collector.inputs())
-    graph = derived_graph(model)
-    sink(graph, derived_ntriples(model, model.base, (lambda chunk: sink(graph, chunk)) if stream else None))
+    model = derivation.derive(collector.inputs())
+    graph = derivation.graph(model)
+    rest = derivation.ntriples(
+        model, derivation.base(model), (lambda chunk: sink(graph, chunk)) if stream else None
+    )
+    sink(graph, rest)
     return model

@@ -16,6 +16,7 @@ __all__ = [
     "ManifestError",
     "NotFound",
     "QueryError",
+    "RegistryError",
     "StoreError",
     "UnknownTermError",
     "format_location",
@@ -119,6 +120,11 @@ class QueryError(CadkgError):
 
 class NotFound(CadkgError):  # noqa: N818 - the name the design documents
     """A label, wire or other named thing is not in the graph."""
+
+
+class RegistryError(CadkgError, ValueError):
+    """A reader, service or use case that cannot be registered: a name taken twice, a use case
+    that does not load."""
 
 
 class UnknownTermError(CadkgError, AttributeError):

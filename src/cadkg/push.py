@@ -25,8 +25,8 @@ from typing import Literal
 import pyoxigraph as ox
 
 from cadkg.errors import StoreError
+from cadkg.graph import KnowledgeGraph
 from cadkg.remote import DEFAULT_TIMEOUT, Auth, HttpSparql, is_url
-from cadkg.store import KnowledgeGraph
 
 __all__ = ["METHODS", "GraphPush", "PushReport", "push"]
 

@@ -1,6 +1,6 @@
 """A cell's graph in an external SPARQL 1.1 store, read over the SPARQL 1.1 Protocol.
 
-:class:`RemoteGraph` answers every read method of :class:`~cadkg.store.KnowledgeGraph`
+:class:`RemoteGraph` answers every read method of :class:`~cadkg.graph.KnowledgeGraph`
 (``query``, ``ask``, ``construct``, ``named_query``, ``sources``, ``cell_model`` ...) from a
 remote endpoint, so the services, exports and validation run on it unchanged. What the
 embedded store gives for free a remote store must provide, see ``docs/remote.md``:
@@ -39,9 +39,10 @@ import httpx
 import pyoxigraph as ox
 
 from cadkg.errors import QueryError, StoreError
+from cadkg.graph import KnowledgeGraph
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI
 from cadkg.sparql_text import bind_values, query_form, values_clause
-from cadkg.store import PREFIXES, KnowledgeGraph
+from cadkg.store import PREFIXES
 
 __all__ = [
     "AUTH_DIGEST_ENV",
@@ -267,7 +268,7 @@ class RemoteGraph(KnowledgeGraph):
         self._scratch = None
         self._files_dir = None
         self._unwritten = {}
-        self._model_file = None
+        self._generation = None
 
     # The embedded store does not exist here: a method reaching for it would read nothing,
     # so it fails loudly instead.

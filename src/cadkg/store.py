@@ -1,43 +1,45 @@
-"""The knowledge graph: a pyoxigraph store with one named graph per input file.
+"""The store: a pyoxigraph database with one named graph per input file.
 
 On disk a store is a directory holding generations (``gen-*/``, each a complete
 oxigraph database) and a ``CURRENT`` file naming the live one. A build writes a
 new generation and then replaces ``CURRENT`` with one atomic rename, so a failed
 build leaves the previous store exactly as it was and readers never see half a build.
-Each generation also keeps its derived cell model (``cell-model.json``), dropped before
-any change to the graph and written again after it.
+Each generation also keeps the files that come with the graph (``files/``: STL meshes) and
+what :mod:`cadkg.graph` derives from it (``cell-model.json``).
 """
 
 from __future__ import annotations
 
 import contextlib
-import gc
 import shutil
 import tempfile
 import time
-import traceback
 import uuid
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Self
 
 import pyoxigraph as ox
 
 from cadkg.errors import QueryError, StoreError
-from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
-from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
-from cadkg.loading import BackgroundLoader, paused_gc
+from cadkg.ingest.pipeline import SourceReport
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
 from cadkg.sparql_text import bind_values, syntax_error_message, term_value
 
 if TYPE_CHECKING:
-    import networkx as nx
     import pandas as pd
 
-    from cadkg.usecases.iema.cabinet import CellModel
-
-__all__ = ["EXPORT_FORMATS", "PREFIXES", "KnowledgeGraph", "QueryResult", "build", "open_store"]
+__all__ = [
+    "EXPORT_FORMATS",
+    "FILES",
+    "PREFIXES",
+    "GraphStore",
+    "QueryResult",
+    "new_generation",
+    "publish_generation",
+    "read_pointer",
+]
 
 PREFIXES = {
     "ck": CK_NS,
@@ -55,10 +57,7 @@ EXPORT_FORMATS = {
 }
 _CURRENT = "CURRENT"
 _GENERATION = "gen-"  # the name of each generation directory starts so
-_FILES = "files"
-_MODEL_FILE = "cell-model.json"  # cadkg.usecases.iema.persist
-PERFORMERS = ("robot", "human")
-ASSIGNABLE = ("wire", "component", "operation")
+FILES = "files"
 
 
 @dataclass(frozen=True)
@@ -80,10 +79,11 @@ class QueryResult:
         return pd.DataFrame(list(self.rows), columns=list(self.variables))
 
 
-class KnowledgeGraph:
+class GraphStore:
     """The cell's RDF graph over pyoxigraph, in memory or in a store directory.
 
-    Queries see the union of all named graphs as their default graph.
+    Queries see the union of all named graphs as their default graph. What is derived from
+    the graph (the cell model, its derived graph) is :class:`cadkg.graph.KnowledgeGraph`'s.
     """
 
     def __init__(self, store: ox.Store, directory: Path | None = None, read_only: bool = False) -> None:
@@ -91,23 +91,22 @@ class KnowledgeGraph:
         self.directory = directory
         self.read_only = read_only
         self.reports: list[SourceReport] = []
-        self._model: CellModel | None = None
         self._scratch: tempfile.TemporaryDirectory[str] | None = None
         self._files_dir: Path | None = None
         # An in-memory graph's files, held until files_dir is first asked for.
         self._unwritten: dict[str, bytes] = {}
-        self._model_file: Path | None = None
+        # The live generation's directory, for what a store keeps beside its database.
+        self._generation: Path | None = None
 
-    # -- opening and building -------------------------------------------------
     @classmethod
-    def memory(cls) -> KnowledgeGraph:
+    def memory(cls) -> Self:
         kg = cls(ox.Store())
         kg._load_ontology()
         return kg
 
     @classmethod
-    def open(cls, directory: str | Path, *, read_only: bool = True) -> KnowledgeGraph:
-        """Open a store directory written by :meth:`build_into`.
+    def open(cls, directory: str | Path, *, read_only: bool = True) -> Self:
+        """Open a store directory written by a build.
 
         Raises
         ------
@@ -121,142 +120,19 @@ class KnowledgeGraph:
         except OSError as err:
             raise StoreError(f"{directory}: cannot open the store: {err}") from err
         kg = cls(store, directory, read_only)
-        kg._files_dir = generation / _FILES
-        kg._model_file = generation / _MODEL_FILE
+        kg._files_dir = generation / FILES
+        kg._generation = generation
         return kg
-
-    @classmethod
-    def build(
-        cls,
-        manifest: str | Path | Manifest,
-        directory: str | Path | None = None,
-        *,
-        on_source: Callable[[SourceSpec], None] | None = None,
-    ) -> KnowledgeGraph:
-        """Build the graph of a manifest, in memory or atomically into ``directory``.
-
-        Raises
-        ------
-        IngestError, ManifestError
-            When any input is malformed; an existing store directory is left unchanged.
-        """
-        if not isinstance(manifest, Manifest):
-            manifest = load_manifest(manifest)
-        with paused_gc():
-            if directory is None:
-                kg = cls.memory()
-                kg._load_sources(manifest, on_source, bulk=False)
-                return kg
-            return cls._build_into(manifest, Path(directory), on_source)
-
-    @classmethod
-    def _build_into(
-        cls, manifest: Manifest, directory: Path, on_source: Callable[[SourceSpec], None] | None
-    ) -> KnowledgeGraph:
-        if (
-            directory.exists()
-            and not (directory / _CURRENT).exists()
-            and not all(_left_by_a_build(entry) for entry in directory.iterdir())
-        ):
-            raise StoreError(f"{directory}: exists and is not a cadkg store; refusing to write into it")
-        directory.mkdir(parents=True, exist_ok=True)
-        name = f"{_GENERATION}{time.strftime('%Y%m%dT%H%M%S')}-{uuid.uuid4().hex[:8]}"
-        generation = directory / name
-        reports: list[SourceReport] = []
-        store: ox.Store | None = None
-        kg: KnowledgeGraph | None = None
-        try:
-            store = ox.Store(str(generation))
-            kg = cls(store, directory)
-            kg._files_dir = generation / _FILES
-            kg._model_file = generation / _MODEL_FILE
-            kg._load_ontology()
-            edits = kg._keep_edits(directory, manifest.cell.base_iri)
-            reports = kg._load_sources(manifest, on_source, bulk=True, edits=edits)
-            model = kg.cell_model()
-            if not (generation / _MODEL_FILE).exists():
-                kg._keep_model(model)
-            store.flush()
-            store.optimize()
-        except BaseException as err:
-            # RocksDB goes on writing (flushes, compactions) until the store is dropped; removed
-            # while open, the generation would come back as debris that blocks the next build.
-            # The failed frames below this one still hold the store: clear them, then drop it.
-            traceback.clear_frames(err.__traceback__)
-            store = kg = None
-            gc.collect()
-            shutil.rmtree(generation, ignore_errors=True)
-            raise
-        store = kg = None
-        pointer = directory / f".{_CURRENT}.{name}"
-        pointer.write_text(name + "\n", encoding="utf-8")
-        previous = _read_pointer(directory)
-        pointer.replace(directory / _CURRENT)
-        if previous is not None and previous != name:
-            shutil.rmtree(directory / previous, ignore_errors=True)
-        opened = cls.open(directory, read_only=False)
-        opened.reports = reports
-        opened._model = model
-        return opened
-
-    def _load_sources(
-        self,
-        manifest: Manifest,
-        on_source: Callable[[SourceSpec], None] | None,
-        *,
-        bulk: bool,
-        edits: Iterable[tuple[str, str]] = (),
-    ) -> list[SourceReport]:
-        """Load every source, derive the geometry and load it; the store ends complete."""
-        from cadkg.building import write_graphs
-
-        # A failure anywhere discards the whole store being built, so chunks of a file may be
-        # loaded while the rest of it is still being mapped. On disk, one bulk load per file:
-        # bulk-loading many chunks writes many small tables that cost more to merge.
-        with BackgroundLoader(self._store, bulk=bulk) as loader:
-            model = write_graphs(
-                manifest, loader.put, stream=not bulk, on_source=on_source, on_graph=self._took, edits=edits
-            )
-        if model is None:
-            self.derive()
-        else:
-            self._model = model
-        return list(self.reports)
-
-    def _took(self, data: GraphData) -> None:
-        """Keep what a build read from one source besides its triples: files and report."""
-        self._write_files(data.files)
-        self.reports.append(data.report)
 
     def _load_ontology(self) -> None:
         self._store.load(
             path=ontology_path(), format=ox.RdfFormat.TURTLE, to_graph=ox.NamedNode(ONTOLOGY_IRI)
         )
 
-    def _keep_edits(self, directory: Path, base_iri: str) -> list[tuple[str, str]]:
-        """Carry the live generation's hand-edited assignments over; give (target, performer) pairs."""
-        # Assignments edited by hand live in their own graph; a rebuild from the
-        # source files carries them over from the live generation.
-        previous = _read_pointer(directory)
-        if previous is None or not (directory / previous).is_dir():
-            return []
-        graph = ox.NamedNode(base_iri + "assignments")
-        try:
-            old = ox.Store.read_only(str(directory / previous))
-        except OSError:
-            return []
-        self._store.extend(list(old.quads_for_pattern(None, None, None, graph)))
-        del old
-        rows = self.query(
-            "SELECT ?g ?target ?who WHERE { GRAPH ?g { ?a ck:assignmentOf ?target ; ck:assignedTo ?who } }",
-            g=graph,
-        )
-        return [(row["target"], row["who"].rsplit("#", 1)[-1]) for row in rows]
-
     @property
     def generation(self) -> str | None:
         """The name of the live generation of a store directory (None in memory)."""
-        return _read_pointer(self.directory) if self.directory is not None else None
+        return read_pointer(self.directory) if self.directory is not None else None
 
     @property
     def files_dir(self) -> Path:
@@ -283,157 +159,6 @@ class KnowledgeGraph:
                 made.add(target.parent)
             target.write_bytes(content)
 
-    # -- derived geometry and assignments -----------------------------------------
-    def cell_model(self) -> CellModel:
-        """The cabinet's derived geometry, computed from the graph once per change.
-
-        An on-disk store keeps a copy of it (:mod:`cadkg.usecases.iema.persist`) written with the
-        store and after each change, so opening the store again reads it instead of deriving.
-        """
-        if self._model is None:
-            from cadkg.usecases.iema.cabinet import derive_cell
-            from cadkg.usecases.iema.extract import extract
-
-            with paused_gc():
-                self._model = self._kept_model()
-                if self._model is None:
-                    self._model = derive_cell(extract(self))
-                    if not self.read_only:
-                        self._keep_model(self._model)
-        return self._model
-
-    def _kept_model(self) -> CellModel | None:
-        if self._model_file is None:
-            return None
-        from cadkg.usecases.iema.persist import load_model
-
-        try:
-            data = self._model_file.read_bytes()
-        except OSError:
-            return None
-        return load_model(data)
-
-    def _keep_model(self, model: CellModel) -> None:
-        if self._model_file is None:
-            return
-        from cadkg.usecases.iema.persist import dump_model
-
-        # Written whole and renamed into place, so a reader finds the old copy, none, or this one.
-        partial = self._model_file.with_name(self._model_file.name + ".partial")
-        with contextlib.suppress(OSError):
-            partial.write_bytes(dump_model(model))
-            partial.replace(self._model_file)
-
-    def _forget_model(self) -> None:
-        """Drop the model and its kept copy; called before the graph changes, so no copy outlives it."""
-        self._model = None
-        if self._model_file is not None:
-            self._model_file.unlink(missing_ok=True)
-
-    def derive(self) -> CellModel:
-        """Recompute the derived geometry and replace the ``{base}derived`` graph with it."""
-        from cadkg.usecases.iema.emit import derived_graph, derived_ntriples
-
-        self._forget_model()
-        model = self.cell_model()
-        if model.base and not self.read_only:
-            graph = ox.NamedNode(derived_graph(model))
-            if graph in set(self._store.named_graphs()):
-                self._store.remove_graph(graph)
-            with paused_gc():
-                data = derived_ntriples(model, model.base)
-            self._store.load(data, ox.RdfFormat.N_TRIPLES, to_graph=graph, lenient=True)
-        return model
-
-    def assign(self, kind: str, ident: str, performer: str) -> str:
-        """Decide who makes a wire, handles a component or performs an operation; kept across rebuilds.
-
-        Raises
-        ------
-        StoreError
-            On an unknown kind or performer, or a read-only store.
-        NotFound
-            When no such wire, component or operation is in the graph.
-        """
-        from cadkg.errors import NotFound
-        from cadkg.mapping.core import node_iri
-
-        if self.read_only:
-            raise StoreError("the store is open read-only")
-        if kind not in ASSIGNABLE or performer not in PERFORMERS:
-            raise StoreError(
-                f"cannot assign {kind!r} to {performer!r}: kind is one of {', '.join(ASSIGNABLE)}, "
-                f"performer one of {', '.join(PERFORMERS)}"
-            )
-        model = self.cell_model()
-        if not model.base:
-            raise StoreError("the store has no cell; build it from a manifest first")
-        known = {
-            "wire": {s.wire for s in model.steps},
-            "component": set(model.components),
-            "operation": {str(s.position) for s in model.steps},
-        }[kind]
-        if ident not in known:
-            raise NotFound(f"no {kind} {ident!r} in the graph")
-        target = node_iri(model.base, kind, ident)
-        node = node_iri(model.base, "assignment", kind, ident)
-        graph = f"{model.base}assignments"
-        self._forget_model()
-        # One update request: the old decision goes only if the new one lands.
-        self._store.update(
-            f"""DELETE WHERE {{ GRAPH <{graph}> {{ <{node}> ?p ?o }} }} ;
-                INSERT DATA {{ GRAPH <{graph}> {{
-                  <{node}> a <{CK_NS}Assignment> ; <{CK_NS}assignmentOf> <{target}> ;
-                    <{CK_NS}assignedTo> <{CK_NS}{performer}> }} }}"""
-        )
-        self.derive()
-        return target
-
-    def _write_graph(self, data: GraphData, *, bulk: bool) -> None:
-        self._write_files(data.files)
-        graph = ox.NamedNode(data.graph)
-        # The N-Triples are written by the mapping, which percent-encodes every IRI part and
-        # escapes every literal; re-validating them costs a third of the load.
-        if bulk:
-            self._store.bulk_load(data.ntriples, ox.RdfFormat.N_TRIPLES, to_graph=graph, lenient=True)
-        else:
-            self._store.load(data.ntriples, ox.RdfFormat.N_TRIPLES, to_graph=graph, lenient=True)
-        self.reports.append(data.report)
-
-    def replace_source(
-        self,
-        path: str | Path,
-        rel_path: str,
-        base_iri: str,
-        kind: str | None = None,
-        frame: str | None = None,
-    ) -> SourceReport:
-        """Re-read one input file and replace its named graph, leaving every other graph as is.
-
-        The file is read and mapped before the store is touched, and the swap is one
-        transaction: on a read error the old graph stays.
-
-        Raises
-        ------
-        IngestError
-            When the file is malformed.
-        """
-        if self.read_only:
-            raise StoreError("the store is open read-only")
-        with paused_gc():
-            data = read_source(Path(path), rel_path, kind, base_iri, frame)
-        self._write_files(data.files)
-        # One update request is one transaction: the old graph goes only if the new one lands.
-        # The graph IRI is minted by us and every term of the data is escaped by the mapping.
-        inserts = data.ntriples.decode("utf-8")
-        self._forget_model()
-        self._store.update(
-            f"DROP SILENT GRAPH <{data.graph}> ; INSERT DATA {{ GRAPH <{data.graph}> {{ {inserts} }} }}"
-        )
-        self.derive()
-        self.reports.append(data.report)
-        return data.report
-
     def close(self) -> None:
         if not self.read_only:
             with contextlib.suppress(OSError):
@@ -442,11 +167,17 @@ class KnowledgeGraph:
         if self._scratch is not None:
             self._scratch.cleanup()
 
-    def __enter__(self) -> KnowledgeGraph:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+    def _changing(self) -> None:
+        """Called before an update changes the graph (see :meth:`execute`)."""
+
+    def _changed(self) -> None:
+        """Called after an update changed the graph (see :meth:`execute`)."""
 
     # -- reading ---------------------------------------------------------------
     def __len__(self) -> int:
@@ -454,6 +185,14 @@ class KnowledgeGraph:
 
     def named_graphs(self) -> list[str]:
         return sorted(g.value for g in self._store.named_graphs() if isinstance(g, ox.NamedNode))
+
+    def source_graphs(self, base: str | None = None) -> list[str]:
+        """The named graphs but the derived one: what the files, the manifest and the
+        assignments say (``base`` is the cell's base IRI, read from the graph when not given)."""
+        if base is None:
+            rows = self.query("SELECT ?cell WHERE { ?cell a ck:Cell } LIMIT 1").rows
+            base = str(rows[0]["cell"]).removesuffix("cell/this") if rows else ""
+        return [g for g in self.named_graphs() if g != base + "derived"]
 
     def sources(self) -> list[dict[str, Any]]:
         """Provenance of every ingested file: graph, path, sha256, kind, time."""
@@ -490,7 +229,7 @@ class KnowledgeGraph:
     def query(self, sparql: str, **bindings: Any) -> QueryResult:
         """Run a SELECT and return its rows as dictionaries of Python values.
 
-        >>> kg = KnowledgeGraph.memory()
+        >>> kg = GraphStore.memory()
         >>> kg.query("SELECT ?c WHERE { ?c a owl:Class ; rdfs:label ?l } LIMIT 1").variables
         ('c',)
         """
@@ -551,31 +290,6 @@ class KnowledgeGraph:
         assert data is not None  # dump() returns bytes when given no output
         return data
 
-    def export(self, path: str | Path, fmt: str | None = None) -> Path:
-        """Write the graph to ``path``; the format comes from ``fmt`` or the suffix
-        (``.ttl .nt .nq .trig .jsonld .graphml``)."""
-        path = Path(path)
-        fmt = fmt or path.suffix.lstrip(".").lower()
-        if fmt == "graphml":
-            from cadkg.query.views import write_graphml
-
-            write_graphml(self, path)
-            return path
-        path.write_bytes(self.serialize(fmt))
-        return path
-
-    def graph_view(self, relations: Iterable[str] | None = None) -> nx.MultiDiGraph:
-        """A networkx view of the selected relations (see :func:`cadkg.query.views.graph_view`)."""
-        from cadkg.query.views import graph_view
-
-        return graph_view(self, relations)
-
-    def named_query(self, name: str, **params: Any) -> QueryResult:
-        """Run a named query of ``query/sparql`` (see :func:`cadkg.query.named.run_named`)."""
-        from cadkg.query.named import run_named
-
-        return run_named(self, name, **params)
-
     def execute(
         self,
         sparql: str,
@@ -588,8 +302,8 @@ class KnowledgeGraph:
 
         With ``default_graphs`` the default graph is the merge of those graphs (not the union of
         all), and the named graphs are ``named_graphs`` (none when not given); with neither the
-        dataset is as in :meth:`raw_query`. An update is followed by the derivation, so the
-        ``derived`` graph and the cell model reflect it.
+        dataset is as in :meth:`raw_query`. An update is surrounded by :meth:`_changing` and
+        :meth:`_changed`, where a subclass keeps what it derives from the graph in step.
 
         Raises
         ------
@@ -602,10 +316,9 @@ class KnowledgeGraph:
             if update:
                 if self.read_only:
                     raise StoreError("the store is open read-only")
-                self._forget_model()
+                self._changing()
                 self._store.update(sparql, prefixes=PREFIXES)
-                # The derived graph follows what it is derived from, as after a rebuild.
-                self.derive()
+                self._changed()
                 return None
             if default_graphs is None and named_graphs is None:
                 return self._store.query(sparql, prefixes=PREFIXES, use_default_graph_as_union=True)
@@ -630,7 +343,7 @@ def _left_by_a_build(entry: Path) -> bool:
     return entry.name.startswith(f".{_CURRENT}.{_GENERATION}")
 
 
-def _read_pointer(directory: Path) -> str | None:
+def read_pointer(directory: Path) -> str | None:
     try:
         return (directory / _CURRENT).read_text(encoding="utf-8").strip() or None
     except FileNotFoundError:
@@ -638,7 +351,7 @@ def _read_pointer(directory: Path) -> str | None:
 
 
 def _current_generation(directory: Path) -> Path:
-    name = _read_pointer(directory)
+    name = read_pointer(directory)
     if name is None:
         raise StoreError(f"{directory}: not a cadkg store (no {_CURRENT} file); build one with 'cadkg build'")
     generation = directory / name
@@ -647,11 +360,30 @@ def _current_generation(directory: Path) -> Path:
     return generation
 
 
-def build(manifest: str | Path, store: str | Path | None = None) -> KnowledgeGraph:
-    """Build the graph of a manifest: in memory, or into a store directory (atomically)."""
-    return KnowledgeGraph.build(manifest, store)
+def new_generation(directory: Path) -> Path:
+    """The path of a new generation in the store directory ``directory`` (made if missing).
+
+    Raises
+    ------
+    StoreError
+        When ``directory`` holds something other than a store or what a killed build left.
+    """
+    if (
+        directory.exists()
+        and not (directory / _CURRENT).exists()
+        and not all(_left_by_a_build(entry) for entry in directory.iterdir())
+    ):
+        raise StoreError(f"{directory}: exists and is not a cadkg store; refusing to write into it")
+    directory.mkdir(parents=True, exist_ok=True)
+    return directory / f"{_GENERATION}{time.strftime('%Y%m%dT%H%M%S')}-{uuid.uuid4().hex[:8]}"
 
 
-def open_store(directory: str | Path, *, read_only: bool = True) -> KnowledgeGraph:
-    """Open a store directory written by :func:`build`."""
-    return KnowledgeGraph.open(directory, read_only=read_only)
+def publish_generation(directory: Path, generation: Path) -> None:
+    """Make the complete ``generation`` the live one with one atomic rename; drop the previous."""
+    name = generation.name
+    pointer = directory / f".{_CURRENT}.{name}"
+    pointer.write_text(name + "\n", encoding="utf-8")
+    previous = read_pointer(directory)
+    pointer.replace(directory / _CURRENT)
+    if previous is not None and previous != name:
+        shutil.rmtree(directory / previous, ignore_errors=True)

@@ -5,10 +5,11 @@ import sys
 from pathlib import Path
 
 import cadkg
-from cadkg.usecases.iema import answers as iema
-from cadkg.usecases.iema.cursors import Session
+import cadkg.usecases.iema.cursors as cursors
+from cadkg.graph import KnowledgeGraph
+from cadkg.services.session import Session
 from cadkg.services.table import services_for
-from cadkg.store import KnowledgeGraph
+from cadkg.usecases.iema import answers as iema
 from tests.conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
@@ -39,7 +40,7 @@ def test_synthetic_cabinet_has_pin_data_and_rails_in_order(tmp_path: Path) -> No
 
     session = Session(model)
     scans = []
-    while not (scan := session.rail_scanner()).end:
+    while not (scan := cursors.rail_scanner(session)).end:
         scans.append(scan)
     assert [scan.rail for scan in scans] == list(files.rails)
     for scan in scans:

@@ -8,11 +8,11 @@ import pyoxigraph as ox
 import pytest
 
 import cadkg
+from cadkg.ingest.manifest import load_manifest
+from cadkg.ingest.pipeline import read_manifest_graphs
 from cadkg.usecases.iema.cabinet import derive_cell
 from cadkg.usecases.iema.collect import InputCollector
 from cadkg.usecases.iema.extract import Placements, extract, placements
-from cadkg.ingest.manifest import load_manifest
-from cadkg.ingest.pipeline import read_manifest_graphs
 from tests.conftest import BAD, EXAMPLES, ROOT, synthetic_manifest
 
 IEMA_DIR = EXAMPLES / "iema-switchgear"

@@ -7,9 +7,13 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.usecases.iema.component_list import ComponentListEntry, looks_like_component_list, read_component_list
-from cadkg.usecases.iema.component_model import Placement
-from cadkg.ingest.registry import sniff_kind
+from cadkg.ingest.placement import Placement
+from cadkg.registry import sniff_kind
+from cadkg.usecases.iema.component_list import (
+    ComponentListEntry,
+    looks_like_component_list,
+    read_component_list,
+)
 
 REPO = Path(__file__).resolve().parents[2]
 READERS = REPO / "tests" / "data" / "readers"

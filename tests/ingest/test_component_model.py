@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
+from cadkg.registry import sniff_kind
 from cadkg.usecases.iema.component_model import (
     ChildPlacement,
     ComponentModel,
@@ -16,7 +17,6 @@ from cadkg.usecases.iema.component_model import (
     parse_models_fragment,
     read_component_models,
 )
-from cadkg.ingest.registry import sniff_kind
 
 READERS = Path(__file__).resolve().parents[1] / "data" / "readers"
 SAMPLE = READERS / "models-sample.xml"

@@ -12,6 +12,7 @@ import openpyxl
 import pytest
 
 from cadkg.errors import IngestError, IngestWarning
+from cadkg.registry import sniff_kind
 from cadkg.usecases.elimco.cable_list import (
     CableListEnd,
     CableListHarness,
@@ -20,7 +21,6 @@ from cadkg.usecases.elimco.cable_list import (
     looks_like_cable_list,
     read_elimco_cable_list,
 )
-from cadkg.ingest.registry import sniff_kind
 from tests.conftest import EXAMPLES
 from tests.ingest.workbooks import write_ods, write_xlsx
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.registry import sniff_kind
+from cadkg.registry import sniff_kind
 from cadkg.usecases.elimco.route_design import (
     BenchPinSpec,
     RouteCable,

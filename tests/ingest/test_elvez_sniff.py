@@ -7,8 +7,8 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
+from cadkg.registry import kinds, sniff_kind
 from cadkg.usecases.elvez.xml_fields import first_element_name
-from cadkg.ingest.registry import kinds, sniff_kind
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 ELVEZ = EXAMPLES / "elvez-cell"

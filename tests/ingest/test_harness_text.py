@@ -21,8 +21,8 @@ from cadkg.ingest.harness.records import (
     HarnessWire,
     WireEnd,
 )
+from cadkg.registry import sniff_kind
 from cadkg.usecases.vw.harness_text import FILE_FORMAT, read_harness_text
-from cadkg.ingest.registry import sniff_kind
 from tests.conftest import EXAMPLES
 
 DOOR = EXAMPLES / "vw-harness" / "door-l.harness"

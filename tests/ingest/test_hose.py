@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
+from cadkg.registry import sniff_kind
 from cadkg.usecases.enki.hose import HoseProduct, looks_like_hose_table, read_hoses
-from cadkg.ingest.registry import sniff_kind
 from tests.conftest import EXAMPLES
 
 HOSES = EXAMPLES / "enki-hose" / "hoses.csv"

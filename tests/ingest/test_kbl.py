@@ -12,6 +12,7 @@ import pytest
 from lxml import etree
 
 from cadkg.errors import IngestError, IngestWarning
+from cadkg.ingest.harness.kbl import read_kbl
 from cadkg.ingest.harness.records import (
     Harness,
     HarnessCable,
@@ -24,9 +25,8 @@ from cadkg.ingest.harness.records import (
     HarnessWire,
     WireEnd,
 )
-from cadkg.ingest.harness.kbl import read_kbl
 from cadkg.ingest.pipeline import read_source
-from cadkg.ingest.registry import sniff_kind
+from cadkg.registry import sniff_kind
 
 KBL = Path(__file__).resolve().parents[1] / "data" / "kbl"
 GETRIEBE = KBL / "kblxml_2.3sr-1_000971250_ltgs_getriebe_170718.kbl"

@@ -9,8 +9,8 @@ from urllib.parse import quote
 import pyoxigraph as ox
 import pytest
 
-from cadkg.mapping.core import TripleWriter
 from cadkg.ingest.pipeline import GraphData, read_source
+from cadkg.mapping.writer import TripleWriter
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "iema-switchgear"

@@ -25,7 +25,7 @@ import pytest
 from cadkg.errors import CadkgError
 from cadkg.ingest.manifest import load_manifest
 from cadkg.ingest.pipeline import manifest_graph, read_source
-from cadkg.ingest.registry import sniff_kind
+from cadkg.registry import sniff_kind
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 MANIFESTS = [

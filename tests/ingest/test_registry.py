@@ -10,8 +10,9 @@ import pytest
 
 from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.eplan.connection_list import read_connection_list
-from cadkg.ingest.registry import Reader, kinds, reader_for, register, sniff_kind
+from cadkg.ingest.reader import Reader
 from cadkg.ingest.wri import read_wri
+from cadkg.registry import kinds, reader_for, register, sniff_kind
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "iema-switchgear"

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import trimesh
 
+from cadkg.ingest.scene.read import read_vrml, read_x3d
 from cadkg.ingest.scene.records import (
     IDENTITY_ROTATION,
     SceneItem,
@@ -27,8 +28,6 @@ from cadkg.ingest.scene.records import (
     stl_files,
     transform_matrix,
 )
-from cadkg.ingest.scene.vrml import read_vrml
-from cadkg.ingest.scene.x3d import read_x3d
 from tests.conftest import EXAMPLES
 
 EXAMPLE = EXAMPLES / "iema-switchgear"

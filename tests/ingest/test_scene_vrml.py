@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.registry import sniff_kind
+from cadkg.ingest.scene.read import read_vrml, read_x3d
 from cadkg.ingest.scene.records import IDENTITY_ROTATION
-from cadkg.ingest.scene.vrml import parse_vrml, read_vrml
-from cadkg.ingest.scene.x3d import read_x3d
+from cadkg.ingest.scene.vrml import parse_vrml
+from cadkg.registry import sniff_kind
 from tests.ingest.test_scene import world
 
 SCENE = Path(__file__).resolve().parents[1] / "data" / "readers" / "scene"

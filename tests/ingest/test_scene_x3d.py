@@ -14,9 +14,9 @@ import pytest
 import trimesh
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.registry import reader_for, sniff_kind
+from cadkg.ingest.scene.read import read_x3d
 from cadkg.ingest.scene.records import IDENTITY_ROTATION, SceneItem
-from cadkg.ingest.scene.x3d import read_x3d
+from cadkg.registry import reader_for, sniff_kind
 from tests.ingest.test_scene import world, world_vertices
 
 SCENE = Path(__file__).resolve().parents[1] / "data" / "readers" / "scene"

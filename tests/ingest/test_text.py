@@ -9,14 +9,14 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.usecases.iema.component_model import read_component_models
 from cadkg.ingest.eplan.connection_list import read_connection_list
 from cadkg.ingest.harness.kbl import read_kbl
-from cadkg.ingest.registry import sniff_kind
+from cadkg.ingest.scene.read import read_x3d
 from cadkg.ingest.scene.records import SceneItem
 from cadkg.ingest.text import decode_text, sniffable_head
 from cadkg.ingest.wri import read_wri
-from cadkg.ingest.scene.x3d import read_x3d
+from cadkg.registry import sniff_kind
+from cadkg.usecases.iema.component_model import read_component_models
 from tests.conftest import ROOT
 
 IEMA = ROOT / "examples" / "iema-switchgear"

@@ -17,7 +17,10 @@ import pytest
 
 from cadkg.geometry.frames import quaternion_from_rpy
 from cadkg.geometry.poses import Pose
-from cadkg.usecases.iema.cursors import Session
+from cadkg.graph import KnowledgeGraph
+from cadkg.query.validate import validate
+from cadkg.services.session import Session
+from cadkg.services.table import call, services_for
 from cadkg.usecases.elimco.bench import ElimcoModel, consistency_problems, elimco_model, frame_id
 from cadkg.usecases.elimco.services import (
     PinPositionsResult,
@@ -26,9 +29,6 @@ from cadkg.usecases.elimco.services import (
     get_pin_positions,
     pin_frames,
 )
-from cadkg.services.table import call, services_for
-from cadkg.query.validate import validate
-from cadkg.store import KnowledgeGraph
 from tests.conftest import EXAMPLES
 
 BENCH = EXAMPLES / "elimco-bench"

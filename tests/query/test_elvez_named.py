@@ -9,8 +9,8 @@ from pathlib import Path
 import pyoxigraph as ox
 import pytest
 
+from cadkg.graph import KnowledgeGraph
 from cadkg.query.named import named_queries
-from cadkg.store import KnowledgeGraph
 
 CK = "https://w3id.org/cadkg#"
 ELVEZ = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell" / "manifest.toml"

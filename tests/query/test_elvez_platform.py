@@ -9,13 +9,13 @@ from pathlib import Path
 
 import pytest
 
+from cadkg.errors import NotFound, QueryError
 from cadkg.geometry.frames import quaternion_from_rpy
 from cadkg.geometry.poses import Pose
-from cadkg.usecases.elvez.platform import FrameTree, element_type
-from cadkg.errors import NotFound, QueryError
-from cadkg.usecases.iema.cursors import Session
+from cadkg.graph import KnowledgeGraph
+from cadkg.services.session import Session
 from cadkg.services.table import call
-from cadkg.store import KnowledgeGraph
+from cadkg.usecases.elvez.platform import FrameTree, element_type
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell"
 

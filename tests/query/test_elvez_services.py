@@ -13,11 +13,11 @@ import pytest
 
 from cadkg.geometry.frames import quaternion_from_rpy
 from cadkg.geometry.poses import Pose
-from cadkg.usecases.elvez import answers as elvez
-from cadkg.usecases.iema.cursors import Session
-from cadkg.usecases.elvez.answers import BranchInfo, CableRoute, ElvezModel, OperationInfo
+from cadkg.graph import KnowledgeGraph
+from cadkg.services.session import Session
 from cadkg.services.table import SERVICES, call, services_for
-from cadkg.store import KnowledgeGraph
+from cadkg.usecases.elvez import answers as elvez
+from cadkg.usecases.elvez.answers import BranchInfo, CableRoute, ElvezModel, OperationInfo
 
 ELVEZ = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell" / "manifest.toml"
 TABLE_2 = ("guide_info", "cable_info", "con_info", "wh_info", "all_tools", "tool_info", "all_op", "index_op")

@@ -6,11 +6,11 @@ from collections.abc import Iterator
 
 import pytest
 
-from cadkg.usecases.iema.cursors import Session
-from cadkg.usecases.enki.services import HoseInfoResult, hose_info, hose_model
-from cadkg.services.table import call, services_for
+from cadkg.graph import KnowledgeGraph
 from cadkg.query.validate import validate
-from cadkg.store import KnowledgeGraph
+from cadkg.services.session import Session
+from cadkg.services.table import call, services_for
+from cadkg.usecases.enki.services import HoseInfoResult, hose_info, hose_model
 from tests.conftest import EXAMPLES
 
 

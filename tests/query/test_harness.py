@@ -14,13 +14,13 @@ import pytest
 
 import cadkg
 from cadkg.errors import NotFound, QueryError
-from cadkg.ingest.harness.records import HarnessNode, HarnessSegment
+from cadkg.graph import KnowledgeGraph
 from cadkg.ingest.harness.kbl import read_kbl
-from cadkg.usecases.iema.cursors import Session
-from cadkg.usecases.vw.views import find_harness, harnesses, topology_graph, wire_graph
+from cadkg.ingest.harness.records import HarnessNode, HarnessSegment
+from cadkg.services.session import Session
 from cadkg.services.table import call
 from cadkg.usecases.vw.services import HarnessTopologyResult, TopologySegment, TopologyWire
-from cadkg.store import KnowledgeGraph
+from cadkg.usecases.vw.views import find_harness, harnesses, topology_graph, wire_graph
 from tests.conftest import EXAMPLES, ROOT
 
 VW = EXAMPLES / "vw-harness" / "manifest.toml"

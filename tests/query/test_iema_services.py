@@ -14,11 +14,13 @@ from pathlib import Path
 
 import pytest
 
+import cadkg.usecases.iema.cursors as cursors
 from cadkg.geometry.poses import Pose
+from cadkg.graph import KnowledgeGraph
+from cadkg.services.service import parse_pose, to_jsonable
+from cadkg.services.session import Session
+from cadkg.services.table import call, services_for
 from cadkg.usecases.iema import answers as iema
-from cadkg.usecases.iema.cursors import Session
-from cadkg.services.table import call, parse_pose, services_for, to_jsonable
-from cadkg.store import KnowledgeGraph
 from tests.conftest import ROOT
 
 MINI = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"
@@ -125,19 +127,19 @@ def test_cad_reference(kg: KnowledgeGraph) -> None:
 
 
 def test_rail_scanner_cursor(session: Session) -> None:
-    first = session.rail_scanner()
+    first = cursors.rail_scanner(session)
     assert not first.end and first.rail == "RAIL1"
     assert first.components_label == ("K1", "X1", "K2")
     assert close(first.rail_start.position if first.rail_start else None, (0.1, 0.5, 0.0))
     assert close(first.components_dimensions[1], (0.012, 0.05, 0.04))
-    assert session.rail_scanner().end
-    assert session.rail_scanner(client="other").rail == "RAIL1"
-    assert session.reset_rail_scanner().success
-    assert session.rail_scanner().rail == "RAIL1"
+    assert cursors.rail_scanner(session).end
+    assert cursors.rail_scanner(session, client="other").rail == "RAIL1"
+    assert cursors.reset_rail_scanner(session).success
+    assert cursors.rail_scanner(session).rail == "RAIL1"
 
 
 def test_group_provider_walks_robot_wires_then_ends(session: Session) -> None:
-    first = session.group_connection_provider()
+    first = cursors.group_connection_provider(session)
     assert (first.wire, first.list_position, first.wire_path) == ("W1", 1, "U1")
     # Origin hole → entry of duct U1 → exit towards the destination → destination hole.
     points = [p.position for p in first.path_keypoints]
@@ -145,46 +147,46 @@ def test_group_provider_walks_robot_wires_then_ends(session: Session) -> None:
     assert close(points[1], (0.155, 0.62, 0.03)) and close(points[2], (0.2525, 0.62, 0.03))
     assert close(points[3], (0.2525, 0.545, 0.0375))
     # W3 is assigned to a human: skipped.
-    assert [session.group_connection_provider().wire for _ in range(2)] == ["W2", "W4"]
-    assert session.group_connection_provider().end
-    assert session.reset_connection_list().success
-    assert session.group_connection_provider().wire == "W1"
+    assert [cursors.group_connection_provider(session).wire for _ in range(2)] == ["W2", "W4"]
+    assert cursors.group_connection_provider(session).end
+    assert cursors.reset_connection_list(session).success
+    assert cursors.group_connection_provider(session).wire == "W1"
 
 
 def test_missing_pin_data_is_flagged(session: Session) -> None:
-    session.reset_to_connection_list(4)
-    step = session.group_connection_provider()
+    cursors.reset_to_connection_list(session, 4)
+    step = cursors.group_connection_provider(session)
     assert step.wire == "W4" and step.missing_pin_data == "K9:1"
     assert step.path_keypoints == ()
 
 
 def test_full_provider_hands_out_ends(session: Session) -> None:
-    origin = session.full_connection_provider(False)
-    again = session.full_connection_provider(False)
+    origin = cursors.full_connection_provider(session, False)
+    again = cursors.full_connection_provider(session, False)
     assert (
         (origin.label, origin.pin, origin.direction) == ("K1", "A1", True) == (again.label, again.pin, True)
     )
     assert origin.source == "connections.tsv" and origin.list_position == 1
-    destination = session.full_connection_provider(True)
+    destination = cursors.full_connection_provider(session, True)
     assert (destination.label, destination.pin, destination.direction) == ("X1", "1:a", False)
     assert close(
         destination.component_pose.position if destination.component_pose else None, (0.25, 0.5, 0.0075)
     )
-    assert session.full_connection_provider(False).wire == "W2"
+    assert cursors.full_connection_provider(session, False).wire == "W2"
 
 
 def test_reset_to_wire_number_or_position(session: Session) -> None:
-    result = session.reset_to_connection_list(2.0, "connections.tsv")
+    result = cursors.reset_to_connection_list(session, 2.0, "connections.tsv")
     assert result.success and "W2" in result.output
-    assert session.group_connection_provider().wire == "W2"
-    assert not session.reset_to_connection_list(3.0).success  # W3 is the human's
-    assert not session.reset_to_connection_list(1.0, "other.csv").success
+    assert cursors.group_connection_provider(session).wire == "W2"
+    assert not cursors.reset_to_connection_list(session, 3.0).success  # W3 is the human's
+    assert not cursors.reset_to_connection_list(session, 1.0, "other.csv").success
 
 
 def test_cursors_are_per_client(session: Session) -> None:
-    session.group_connection_provider(client="a")
-    assert session.group_connection_provider(client="b").wire == "W1"
-    assert session.group_connection_provider(client="a").wire == "W2"
+    cursors.group_connection_provider(session, client="a")
+    assert cursors.group_connection_provider(session, client="b").wire == "W1"
+    assert cursors.group_connection_provider(session, client="a").wire == "W2"
 
 
 def test_call_converts_and_checks_parameters(session: Session) -> None:

@@ -24,12 +24,14 @@ from typing import Any
 import pytest
 
 from cadkg.errors import QueryError, StoreError
+from cadkg.graph import KnowledgeGraph
 from cadkg.push import push
-from cadkg.usecases.iema.cursors import Session
 from cadkg.query.named import named_queries
-from cadkg.services.table import call, services_for, to_jsonable
 from cadkg.remote import Auth, RemoteGraph
-from cadkg.store import KnowledgeGraph, QueryResult
+from cadkg.services.service import to_jsonable
+from cadkg.services.session import Session
+from cadkg.services.table import call, services_for
+from cadkg.store import QueryResult
 from tests.conftest import IEMA, ROOT
 from tests.remote.virtuoso import running_virtuoso
 from tests.test_cli import run

@@ -10,14 +10,14 @@ from typing import Any, ClassVar
 
 import pytest
 
-from cadkg.geometry.poses import Pose
 from cadkg.errors import QueryError
+from cadkg.geometry.poses import Pose
+from cadkg.graph import KnowledgeGraph
+from cadkg.ros_adapter import convert
+from cadkg.services.session import Session
+from cadkg.services.table import SERVICES, call, services_for
 from cadkg.usecases.iema import answers as iema
 from cadkg.usecases.iema import cursors
-from cadkg.usecases.iema.cursors import Session
-from cadkg.services.table import SERVICES, call, services_for
-from cadkg.ros_adapter import convert
-from cadkg.store import KnowledgeGraph
 from tests.conftest import ROOT
 
 MINI = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"

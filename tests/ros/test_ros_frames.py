@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from cadkg.usecases.iema.extract import placements
 from cadkg.geometry.poses import Pose
+from cadkg.graph import KnowledgeGraph
 from cadkg.ros_adapter.frames import ARROW_LENGTH, Frame, marker_specs, static_frames
-from cadkg.store import KnowledgeGraph
+from cadkg.usecases.iema.extract import placements
 from tests.conftest import ROOT
 
 MINI = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"
@@ -49,7 +49,7 @@ def _compose(frames: dict[str, Frame], child: str, root: str) -> Pose:
 
 
 def test_elvez_publishes_every_element_and_point_of_interest() -> None:
-    from cadkg.usecases.iema.cursors import Session
+    from cadkg.services.session import Session
 
     with KnowledgeGraph.build(ROOT / "examples" / "elvez-cell" / "manifest.toml") as kg:
         session = Session(kg.cell_model(), kg=kg)
@@ -72,7 +72,7 @@ def test_elvez_publishes_every_element_and_point_of_interest() -> None:
 
 
 def test_elimco_publishes_the_bench_pin_frames() -> None:
-    from cadkg.usecases.iema.cursors import Session
+    from cadkg.services.session import Session
 
     with KnowledgeGraph.build(ROOT / "examples" / "elimco-bench" / "manifest.toml") as kg:
         session = Session(kg.cell_model(), kg=kg)

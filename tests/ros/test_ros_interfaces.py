@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from cadkg.services.table import SERVICES, services_for
 from cadkg.ros_adapter import convert
+from cadkg.services.table import SERVICES, services_for
 from tests.conftest import ROOT
 
 PACKAGES = ROOT / "ros2"
@@ -122,8 +122,8 @@ def test_generic_services() -> None:
 
 
 def test_messages_mirror_the_dataclasses() -> None:
-    from cadkg.usecases.iema.cabinet import CadPin, Cluster
     from cadkg.usecases.iema.answers import CadConnection, PinData
+    from cadkg.usecases.iema.cabinet import CadPin, Cluster
 
     msg = INTERFACES / "msg"
     for cls, extra in ((CadPin, {"has_screw", "has_hole", "missing"}), (CadConnection, set())):

@@ -12,9 +12,9 @@ from typing import Any
 import pytest
 
 import cadkg
-from cadkg.usecases.iema.cursors import Session
-from cadkg.services.table import SERVICES, call, services_for
 from cadkg.ros_adapter import convert
+from cadkg.services.session import Session
+from cadkg.services.table import SERVICES, call, services_for
 from tests.conftest import ROOT
 from tests.ros.test_ros_interfaces import INTERFACES, fields, service
 

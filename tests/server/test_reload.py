@@ -9,8 +9,8 @@ from pathlib import Path
 import httpx
 import pytest
 
+from cadkg.graph import KnowledgeGraph
 from cadkg.server import Limits, Settings
-from cadkg.store import KnowledgeGraph
 from tests.conftest import IEMA
 from tests.server.serving import serving
 

@@ -1,31 +1,12 @@
-"""Readers of the cell's input files, the reader registry, the manifest and the mapping to triples."""
+"""Reading the cell's input files: the manifest, the build pipeline, and one module (or package)
+per format that no single use case owns.
 
-from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo, read_connection_list
-from cadkg.ingest.eplan.labels import PinRef, normalize_label, parse_pin_ref
-from cadkg.ingest.manifest import CellSpec, FrameSpec, Manifest, SourceSpec, load_manifest
-from cadkg.ingest.pipeline import SourceReport, read_source
-from cadkg.ingest.registry import Reader, kinds, reader_for, register, sniff_kind
-from cadkg.ingest.wri import IdEntry, read_wri
+- ``manifest``: the cell manifest (TOML); ``pipeline``: read a file, map its records, report;
+- ``reader``: what a reader declares; ``formats``: the readers of the formats below;
+- ``text``, ``sheet``, ``xml_input``: encodings and CSV sniffing, workbooks, untrusted XML;
+- ``wri``: WRI ID tables; ``assignments``: the robot/human overlay; ``placement``: poses as files state them;
+- ``eplan/``: EPLAN device tags and connection lists; ``scene/``: the X3D/VRML scene graph;
+  ``harness/``: harness records and KBL.
 
-__all__ = [
-    "CellSpec",
-    "Connection",
-    "ConnectionListInfo",
-    "FrameSpec",
-    "IdEntry",
-    "Manifest",
-    "PinRef",
-    "Reader",
-    "SourceReport",
-    "SourceSpec",
-    "kinds",
-    "load_manifest",
-    "normalize_label",
-    "parse_pin_ref",
-    "read_connection_list",
-    "read_source",
-    "read_wri",
-    "reader_for",
-    "register",
-    "sniff_kind",
-]
+Every reader returns typed records (frozen dataclasses) and knows nothing of triples.
+"""

@@ -20,7 +20,7 @@ from cadkg.errors import IngestError
 from cadkg.ingest.eplan.labels import normalize_label
 from cadkg.ingest.text import iter_rows, read_text
 
-__all__ = ["KINDS", "PERFORMERS", "Assignment", "read_assignments"]
+__all__ = ["KINDS", "PERFORMERS", "Assignment", "looks_like_assignments", "read_assignments"]
 
 KINDS = ("wire", "component", "operation")
 PERFORMERS = ("robot", "human")
@@ -78,3 +78,9 @@ def read_assignments(path: str | Path) -> list[Assignment]:
     if not result:
         raise IngestError(path, "no assignments after the header", line=rows[0].line, expected=_EXPECTED)
     return result
+
+
+def looks_like_assignments(head: bytes) -> bool:
+    """Whether the first line is the overlay's header ``kind,id,performer``."""
+    first = head.decode("utf-8", errors="replace").lstrip("\ufeff").split("\n", 1)[0]
+    return first.strip().lower().replace(";", ",").startswith("kind,id,performer")

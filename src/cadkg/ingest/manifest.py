@@ -40,13 +40,12 @@ from typing import Any
 
 import pyoxigraph as ox
 
-from cadkg.geometry.frames import Quaternion, normalize_quaternion, quaternion_from_rpy
 from cadkg.errors import ManifestError
-from cadkg.ingest.registry import kinds
+from cadkg.geometry.frames import Quaternion, normalize_quaternion, quaternion_from_rpy
+from cadkg.registry import kinds, use_cases
 
-__all__ = ["PROFILES", "CellSpec", "DeriveSpec", "FrameSpec", "Manifest", "SourceSpec", "load_manifest"]
+__all__ = ["CellSpec", "DeriveSpec", "FrameSpec", "Manifest", "SourceSpec", "load_manifest"]
 
-PROFILES = ("iema", "elvez", "elimco", "vw", "enki")
 _KEYS = {
     "": {"cell", "source", "frame", "derive"},
     "cell": {"name", "profile", "base_iri", "description"},
@@ -210,8 +209,9 @@ def load_manifest(path: str | Path) -> Manifest:
     cell = data["cell"]
     check_keys("cell", None, cell)
     profile = string("cell", None, cell, "profile")
-    if profile not in PROFILES:
-        raise fail("cell", None, "profile", "unknown profile", found=profile, expected=" | ".join(PROFILES))
+    profiles = [c.name for c in use_cases()]
+    if profile not in profiles:
+        raise fail("cell", None, "profile", "unknown profile", found=profile, expected=" | ".join(profiles))
     base_iri = string("cell", None, cell, "base_iri")
     assert base_iri is not None and profile is not None
     if not re.match(r"^[a-z][a-z0-9+.-]*:[^\s<>\"{}|\\^`]*[/#]$", base_iri) or not _is_iri(base_iri):

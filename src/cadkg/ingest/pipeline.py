@@ -14,15 +14,11 @@ from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.manifest import Manifest, SourceSpec
-from cadkg.mapping.core import (
-    TripleWriter,
-    graph_iri,
-    map_manifest,
-    map_provenance,
-    mapper,
-    sha256_of,
-)
-from cadkg.ingest.registry import reader_for, sniff_kind
+from cadkg.mapping import harness as _harness  # noqa: F401  (registers the harness records' mappings)
+from cadkg.mapping.cell import map_manifest
+from cadkg.mapping.dispatch import mapper
+from cadkg.mapping.writer import TripleWriter, graph_iri, map_provenance, sha256_of
+from cadkg.registry import reader_for, sniff_kind
 
 __all__ = ["GraphData", "SourceReport", "read_manifest_graphs", "read_source"]
 

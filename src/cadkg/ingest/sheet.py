@@ -11,8 +11,10 @@ from __future__ import annotations
 import datetime
 import math
 import re
+import struct
 import warnings
 import zipfile
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -20,10 +22,20 @@ from lxml import etree
 
 from cadkg.errors import IngestError
 
-__all__ = ["SHEET_SUFFIXES", "SheetRow", "cell_address", "cell_text", "column_letter", "read_sheet"]
+__all__ = [
+    "SHEET_SUFFIXES",
+    "SheetRow",
+    "cell_address",
+    "cell_text",
+    "column_letter",
+    "read_sheet",
+    "workbook_strings",
+]
 
 SHEET_SUFFIXES = (".xlsx", ".xlsm", ".ods")
 _ZIP = b"PK\x03\x04"
+_WORKBOOK_PARTS = re.compile(rb"^xl/(sharedStrings|worksheets/sheet\d*)\.xml$")
+_XML_TEXT = re.compile(rb"<(?:\w+:)?t(?:\s[^>]*)?>([^<]*)</(?:\w+:)?t>")
 _OLE2 = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
 _PLAIN_SHEET_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]*$")
 # The most rows and columns a sheet can hold, in Excel and in LibreOffice Calc. A cell
@@ -233,3 +245,42 @@ def _ods_value(value: object) -> object:
     if isinstance(value, float) and math.isnan(value):
         return None
     return value
+
+
+def workbook_strings(head: bytes) -> list[str]:
+    """The cell texts of the XLSX sheet and shared-string parts found in the first bytes of a file.
+
+    Content sniffing sees only the head of a file and a workbook is a ZIP archive, so the
+    parts that start within ``head`` are inflated as far as they go. Strings come in
+    part order; a part cut off by the end of ``head`` gives the strings before the cut.
+    """
+    strings: list[str] = []
+    start = head.find(_ZIP)
+    while start >= 0 and start + 30 <= len(head):
+        (_, _, flags, method, _, _, _, size, _, name_length, extra_length) = struct.unpack(
+            "<4sHHHHHIIIHH", head[start : start + 30]
+        )
+        name = head[start + 30 : start + 30 + name_length]
+        data_start = start + 30 + name_length + extra_length
+        if _WORKBOOK_PARTS.match(name) and not flags & 0x1:
+            data = head[data_start : data_start + size] if size and not flags & 0x8 else head[data_start:]
+            strings += [
+                _unescape(m.decode("utf-8", "replace")) for m in _XML_TEXT.findall(_inflate(data, method))
+            ]
+        start = head.find(_ZIP, data_start if flags & 0x8 or not size else data_start + size)
+    return strings
+
+
+def _inflate(data: bytes, method: int) -> bytes:
+    if method == 0:
+        return data
+    if method != 8:
+        return b""
+    try:
+        return zlib.decompressobj(-15).decompress(data, 1 << 20)
+    except zlib.error:
+        return b""
+
+
+def _unescape(text: str) -> str:
+    return text.replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", '"').replace("&amp;", "&")

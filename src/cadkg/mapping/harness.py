@@ -23,7 +23,8 @@ from cadkg.ingest.harness.records import (
     HarnessWire,
     WireEnd,
 )
-from cadkg.mapping.core import TripleWriter, map_record, term
+from cadkg.mapping.dispatch import map_record
+from cadkg.mapping.writer import TripleWriter, term
 
 __all__: list[str] = []
 

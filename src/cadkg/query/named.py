@@ -1,4 +1,4 @@
-"""Named SPARQL queries: the ``.rq`` files of ``query/sparql``.
+"""Named SPARQL queries: the ``.rq`` files of ``query/sparql`` and of each use case's ``queries``.
 
 Each file starts with a comment header::
 
@@ -23,10 +23,11 @@ from typing import TYPE_CHECKING, Any
 
 import pyoxigraph as ox
 
+import cadkg.registry as registry
 from cadkg.errors import QueryError
 
 if TYPE_CHECKING:
-    from cadkg.store import KnowledgeGraph, QueryResult
+    from cadkg.store import GraphStore, QueryResult
 
 __all__ = ["NamedQuery", "Param", "coerce_params", "named_queries", "run_named"]
 
@@ -66,14 +67,23 @@ def _parse(name: str, text: str) -> NamedQuery:
 
 @cache
 def named_queries() -> dict[str, NamedQuery]:
-    """Every named query shipped with cadkg, by name."""
-    folder = resources.files("cadkg.query").joinpath("sparql")
-    queries = {}
-    for entry in sorted(folder.iterdir(), key=lambda e: e.name):
-        if entry.name.endswith(".rq"):
-            name = entry.name[:-3]
-            queries[name] = _parse(name, entry.read_text(encoding="utf-8"))
-    return queries
+    """Every named query of cadkg and of its use cases, by name.
+
+    Raises
+    ------
+    QueryError
+        When two folders hold a query of the same name.
+    """
+    folders = [resources.files("cadkg.query").joinpath("sparql"), *registry.query_folders()]
+    queries: dict[str, NamedQuery] = {}
+    for folder in folders:
+        for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+            if entry.name.endswith(".rq"):
+                name = entry.name[:-3]
+                if name in queries:
+                    raise QueryError(f"two named queries are called {name!r} (one in {folder})")
+                queries[name] = _parse(name, entry.read_text(encoding="utf-8"))
+    return dict(sorted(queries.items()))
 
 
 def coerce_params(query: NamedQuery, params: dict[str, Any]) -> dict[str, Any]:
@@ -110,7 +120,7 @@ def coerce_params(query: NamedQuery, params: dict[str, Any]) -> dict[str, Any]:
     return values
 
 
-def run_named(kg: KnowledgeGraph, name: str, **params: Any) -> QueryResult:
+def run_named(kg: GraphStore, name: str, **params: Any) -> QueryResult:
     """Run the named query ``name`` with its parameters.
 
     Raises

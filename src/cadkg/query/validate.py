@@ -13,7 +13,7 @@ from cadkg.errors import format_location
 from cadkg.ontology.terms import ontology_path
 
 if TYPE_CHECKING:
-    from cadkg.store import KnowledgeGraph
+    from cadkg.store import GraphStore
 
 __all__ = ["Finding", "validate"]
 
@@ -69,7 +69,7 @@ ORDER BY ?wire
 """
 
 
-def _where(kg: KnowledgeGraph, node: str) -> str:
+def _where(kg: GraphStore, node: str) -> str:
     import pyoxigraph as ox
 
     result = kg.raw_query(
@@ -82,7 +82,7 @@ def _where(kg: KnowledgeGraph, node: str) -> str:
     return node
 
 
-def _semantic(kg: KnowledgeGraph) -> list[Finding]:
+def _semantic(kg: GraphStore) -> list[Finding]:
     findings = []
     for row in kg.query(_UNKNOWN_LABELS):
         findings.append(
@@ -107,7 +107,7 @@ def _semantic(kg: KnowledgeGraph) -> list[Finding]:
     return findings
 
 
-def _duplicate_wire_numbers(kg: KnowledgeGraph) -> list[Finding]:
+def _duplicate_wire_numbers(kg: GraphStore) -> list[Finding]:
     """Wires sharing a number are fine when they form one chain through shared pins
     (EPLAN numbers potential jumpers that way); each further chain is an error."""
     import networkx as nx
@@ -138,18 +138,16 @@ def _duplicate_wire_numbers(kg: KnowledgeGraph) -> list[Finding]:
     return findings
 
 
-def _shacl(kg: KnowledgeGraph) -> list[Finding]:
+def _shacl(kg: GraphStore) -> list[Finding]:
     import pyshacl
     import rdflib
     from rdflib.namespace import SH
-
-    from cadkg.usecases.iema.extract import source_graphs
 
     # What the files say, not the derived graph: cadkg writes that one from them (its poses
     # checked against these shapes by cadkg's tests), and in a cabinet it holds 70 % of the
     # triples and took 70 % of the SHACL time.
     data = rdflib.Graph()
-    data.parse(data=kg.serialize("nt", graphs=source_graphs(kg)), format="nt")
+    data.parse(data=kg.serialize("nt", graphs=kg.source_graphs()), format="nt")
     shapes = rdflib.Graph().parse(ontology_path("shapes.ttl"), format="turtle")
     ontology = rdflib.Graph().parse(ontology_path("cadkg.ttl"), format="turtle")
     conforms, report, _ = pyshacl.validate(
@@ -177,7 +175,7 @@ def _shacl(kg: KnowledgeGraph) -> list[Finding]:
     return findings
 
 
-def validate(kg: KnowledgeGraph, *, shacl: bool = True) -> list[Finding]:
+def validate(kg: GraphStore, *, shacl: bool = True) -> list[Finding]:
     """All findings, sorted by location: SHACL shapes (on every graph but the derived
     one), unknown labels, duplicate wire numbers (wires of one number that do not form one
     chain through shared pins), pins whose component model has no data for them."""

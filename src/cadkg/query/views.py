@@ -11,7 +11,7 @@ import networkx as nx
 from cadkg.ontology.terms import CK, CK_NS
 
 if TYPE_CHECKING:
-    from cadkg.store import KnowledgeGraph
+    from cadkg.store import GraphStore
 
 __all__ = ["DEFAULT_RELATIONS", "graph_view", "write_graphml"]
 
@@ -38,7 +38,7 @@ DEFAULT_RELATIONS: tuple[str, ...] = (
 """Relations in the default view: structure and connectivity, not literals."""
 
 
-def graph_view(kg: KnowledgeGraph, relations: Iterable[str] | None = None) -> nx.MultiDiGraph:
+def graph_view(kg: GraphStore, relations: Iterable[str] | None = None) -> nx.MultiDiGraph:
     """A directed multigraph of the chosen ``ck:`` relations between resources.
 
     Nodes are IRIs with attributes ``type`` (local name of the most specific ck class
@@ -77,6 +77,6 @@ def graph_view(kg: KnowledgeGraph, relations: Iterable[str] | None = None) -> nx
     return graph
 
 
-def write_graphml(kg: KnowledgeGraph, path: str | Path, relations: Iterable[str] | None = None) -> None:
+def write_graphml(kg: GraphStore, path: str | Path, relations: Iterable[str] | None = None) -> None:
     """Write :func:`graph_view` as GraphML (string attributes, stable IRIs as node ids)."""
     nx.write_graphml(graph_view(kg, relations), str(path), named_key_ids=True)

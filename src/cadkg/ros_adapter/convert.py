@@ -17,9 +17,9 @@ import re
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
+from cadkg.errors import QueryError
 from cadkg.geometry.frames import normalize_quaternion
 from cadkg.geometry.poses import Pose
-from cadkg.errors import QueryError
 
 __all__ = [
     "FIELDS",
@@ -80,7 +80,8 @@ def _texts(values: Iterable[str]) -> list[str]:
 
 
 def cad_pin(value: Any) -> Data:
-    """A :class:`~cadkg.usecases.iema.cabinet.CadPin` as ``cadkg_interfaces/CadPin``; ``None`` as an empty pin."""
+    """A cabinet pin (:class:`~cadkg.usecases.iema.cabinet.CadPin`) as ``cadkg_interfaces/CadPin``;
+    ``None`` as an empty pin."""
     if value is None:
         return {
             "label": "",

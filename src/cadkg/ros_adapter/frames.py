@@ -13,7 +13,8 @@ Frame names (``child`` of each static transform):
   the two pins of a double pin), as the ``pin_frames`` service gives them.
 
 The component frames (original, corner, target, rails) are the cabinet's, published for the
-iema profile only.
+iema profile only. Each use case gives its own frames and markers through its declaration's
+``frames`` and ``markers`` (:class:`cadkg.usecase.UseCase`).
 
 Markers: one ``MESH_RESOURCE`` per scene item with a mesh, in the item's own frame, with a
 ``file://`` URI under the store's files directory; one ``ARROW`` per pin with a screw pose,
@@ -23,89 +24,53 @@ for elvez one ``MESH_RESOURCE`` per platform element with its model's STL, in it
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-from cadkg.geometry.poses import Pose, Vec3
+import cadkg.registry as registry
+from cadkg.errors import QueryError
+from cadkg.services.display import Frame, MarkerSpec
+from cadkg.services.session import Session
 
 if TYPE_CHECKING:
-    from cadkg.usecases.iema.cabinet import CellModel
     from cadkg.usecases.iema.extract import Placements
-    from cadkg.usecases.iema.cursors import Session
 
 __all__ = ["ARROW_LENGTH", "Frame", "MarkerSpec", "marker_specs", "static_frames"]
 
 ARROW_LENGTH = 0.02
 
 
-@dataclass(frozen=True)
-class Frame:
-    parent: str
-    child: str
-    pose: Pose
-
-
-@dataclass(frozen=True)
-class MarkerSpec:
-    kind: str  # "mesh" | "arrow"
-    ns: str
-    id: int
-    frame_id: str
-    pose: Pose = field(default_factory=Pose)
-    mesh_uri: str = ""
-    points: tuple[Vec3, ...] = ()
-    text: str = ""
-
-
 def static_frames(
-    placed: Placements, model: CellModel, profile: str = "iema", session: Session | None = None
+    placed: Placements, model: Any, profile: str = "iema", session: Session | None = None
 ) -> list[Frame]:
     """One transform per frame of the cell; a name given twice keeps its first placement.
 
-    ``session`` (with its graph) gives the profile's own frames (elvez, elimco).
+    ``session`` (with its graph) gives the use case's own frames (its ``frames`` hook).
     """
     frames: dict[str, Frame] = {}
 
-    def add(parent: str, child: str, pose: Pose | None) -> None:
-        if pose is not None and child not in frames and child != parent:
-            frames[child] = Frame(parent, child, pose)
+    def add(frame: Frame) -> None:
+        if frame.child not in frames and frame.child != frame.parent:
+            frames[frame.child] = frame
 
     for name, (parent, pose) in placed.frames.items():
-        add(parent, name, pose)
-    if session is not None:
-        for parent, child, pose in _profile_frames(profile, session):
-            add(parent, child, pose)
-    if (profile or "iema") != "iema":
-        return list(frames.values())
-    for label, geometry in sorted(model.components.items()):
-        add(geometry.frame, f"{label}/original", geometry.original)
-        add(geometry.frame, f"{label}/corner", geometry.corner)
-        add(geometry.frame, f"{label}/target", geometry.target)
-        if geometry.terminal_block:
-            add(geometry.frame, f"{label}/terminal_start", geometry.terminal_start)
-    for rail in model.rails:
-        add(model.frame, f"{rail.label}/start", rail.start)
+        if pose is not None:
+            add(Frame(parent, name, pose))
+    hook = registry.use_case(profile).frames
+    if hook is not None:
+        try:
+            for frame in hook(session if session is not None else Session(model)):
+                add(frame)
+        except QueryError:
+            if session is not None:
+                raise
+            # Without a graph, a use case whose frames are read from it has none to give.
     return list(frames.values())
-
-
-def _profile_frames(profile: str, session: Session) -> list[tuple[str, str, Pose]]:
-    if profile == "elvez":
-        from cadkg.usecases.elvez.services import model_of as elvez_model
-
-        return list(elvez_model(session).platforms.tree.transforms())
-    if profile == "elimco":
-        from cadkg.usecases.elimco.services import model_of as elimco_model
-        from cadkg.usecases.elimco.services import pin_frames
-
-        result = pin_frames(elimco_model(session))
-        return [(f.parent, f.name, f.pose) for f in result.frames]
-    return []
 
 
 def marker_specs(
     placed: Placements,
-    model: CellModel,
+    model: Any,
     files_dir: Path,
     profile: str = "iema",
     session: Session | None = None,
@@ -115,15 +80,9 @@ def marker_specs(
     for index, (item, rel) in enumerate(sorted(placed.meshes.items())):
         uri = "file://" + str((Path(files_dir) / rel).resolve())
         specs.append(MarkerSpec("mesh", "meshes", index, item, mesh_uri=uri, text=item))
-    if profile == "elvez" and session is not None:
-        from cadkg.usecases.elvez.services import model_of as elvez_model
-
-        elements = sorted(elvez_model(session).platforms.elements.values(), key=lambda e: e.label)
-        for index, element in enumerate(e for e in elements if e.mesh):
-            uri = "file://" + str((Path(files_dir) / str(element.mesh)).resolve())
-            specs.append(
-                MarkerSpec("mesh", "elements", index, element.frame, mesh_uri=uri, text=element.label)
-            )
+    hook = registry.use_case(profile).markers
+    if hook is not None and session is not None:
+        specs += hook(session, Path(files_dir))
     index = 0
     for label, geometry in sorted(model.components.items()):
         for name, pin in sorted(geometry.pins.items()):

@@ -27,25 +27,27 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
-from cadkg.usecases.iema.cabinet import CellModel, derive_cell
-from cadkg.usecases.iema.extract import Placements, extract, placements
+import cadkg.registry as registry
+import cadkg.services.table as services
 from cadkg.errors import CadkgError
-from cadkg.services import table as services
-from cadkg.usecases.iema.cursors import Session
+from cadkg.graph import KnowledgeGraph
 from cadkg.ros_adapter import convert
 from cadkg.ros_adapter.frames import marker_specs, static_frames
-from cadkg.store import KnowledgeGraph
+from cadkg.services.session import Session
+from cadkg.usecases.iema.cabinet import CellModel, derive_cell
+from cadkg.usecases.iema.extract import Placements, extract, placements
 
-__all__ = ["NAMESPACES", "CadkgNode", "Loaded", "load", "main", "srv_type"]
+__all__ = ["CadkgNode", "Loaded", "default_namespace", "load", "main", "srv_type"]
 
-NAMESPACES = {
-    "iema": "/gearbox_handler",
-    "elvez": "/elvez",
-    "elimco": "/elimco",
-    "vw": "/vw_harness",
-    "enki": "/enki",
-}
 DEFAULT_NAMESPACE = "/cadkg"
+
+
+def default_namespace(profile: str) -> str:
+    """Where a use case's services are served unless the node is told otherwise."""
+    try:
+        return registry.use_case(profile).ros_namespace or DEFAULT_NAMESPACE
+    except KeyError:
+        return DEFAULT_NAMESPACE
 
 
 def srv_type(name: str) -> Any:
@@ -141,7 +143,7 @@ class CadkgNode:
         self.loaded = load(self.source, self.approach_distance)
         self.profile = str(node.get_parameter("profile").value) or self.loaded.profile
         self.namespace = (
-            str(node.get_parameter("namespace").value) or NAMESPACES.get(self.profile, DEFAULT_NAMESPACE)
+            str(node.get_parameter("namespace").value) or default_namespace(self.profile)
         ).rstrip("/")
         if not self.namespace.startswith("/"):
             self.namespace = "/" + self.namespace

@@ -25,12 +25,13 @@ from starlette.responses import Response
 
 from cadkg.errors import CadkgError, NotFound, QueryError
 from cadkg.query.named import coerce_params, named_queries
-from cadkg.services.table import SERVICES, call, to_jsonable
 from cadkg.server.context import Answer, Endpoint, ProtocolError, json_response, status_of
 from cadkg.server.holder import Served
 from cadkg.server.limits import Deadline
 from cadkg.server.protocol import _FORM, evaluate, fail, read_body
 from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, NotAcceptableError, negotiate
+from cadkg.services.service import to_jsonable
+from cadkg.services.table import SERVICES, call
 from cadkg.store import PREFIXES
 
 __all__ = [

@@ -21,8 +21,8 @@ from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
+import cadkg.server.api as api
 from cadkg.errors import StoreError
-from cadkg.server import api
 from cadkg.server.context import Endpoint, Settings
 from cadkg.server.holder import GraphHolder
 from cadkg.server.protocol import graph_store, sparql
@@ -119,7 +119,7 @@ def create_app(
     """The endpoint's ASGI app over a graph, or over a loader that opens it (then ``/reload``
     and the store watch can open it again).
 
-    ``graph_or_loader`` is a :class:`~cadkg.store.KnowledgeGraph`, a remote graph with the same
+    ``graph_or_loader`` is a :class:`~cadkg.graph.KnowledgeGraph`, a remote graph with the same
     read methods, or a function returning one.
     """
     settings = settings or Settings()

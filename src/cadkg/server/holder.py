@@ -13,7 +13,7 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
-from cadkg.usecases.iema.cursors import Session
+from cadkg.services.session import Session
 
 __all__ = ["GraphHolder", "Served"]
 

@@ -22,6 +22,7 @@ from starlette.requests import Request
 from starlette.responses import Response
 
 from cadkg.errors import CadkgError, QueryError, StoreError
+from cadkg.graph import KnowledgeGraph
 from cadkg.server.context import (
     TRUNCATED_HEADER,
     Answer,
@@ -45,7 +46,6 @@ from cadkg.server.results import (
     write_graph,
     write_table,
 )
-from cadkg.store import KnowledgeGraph
 
 __all__ = ["Operation", "evaluate", "graph_store", "read_body", "read_operation", "sparql"]
 

@@ -31,8 +31,8 @@ def close(actual: tuple[float, ...], expected: tuple[float, ...]) -> bool:
 
 
 def test_every_service_is_advertised_with_its_type(ros: Any, server: Server) -> None:
-    from cadkg.services.table import services_for
     from cadkg.ros_adapter.convert import srv_type_name
+    from cadkg.services.table import services_for
 
     expected = {
         f"{NAMESPACE}/{n}": [f"cadkg_interfaces/srv/{srv_type_name(n)}"]

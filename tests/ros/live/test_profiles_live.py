@@ -72,8 +72,8 @@ def close(actual: tuple[float, ...], expected: tuple[float, ...], tol: float = 1
 
 
 def test_every_service_of_the_profile_answers(ros: Any, profile: tuple[str, Server]) -> None:
-    from cadkg.services.table import services_for
     from cadkg.ros_adapter.convert import srv_type_name
+    from cadkg.services.table import services_for
 
     name, server = profile
     namespace = NAMESPACES[name]

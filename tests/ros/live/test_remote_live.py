@@ -33,9 +33,9 @@ def remote_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Se
 def _serve_pushed_store(
     tmp_path_factory: pytest.TempPathFactory, directory: Path, env: dict[str, str]
 ) -> Iterator[tuple[Server, Any]]:
-    from cadkg.usecases.iema.cursors import Session
+    from cadkg.graph import KnowledgeGraph
+    from cadkg.services.session import Session
     from cadkg.services.table import call
-    from cadkg.store import KnowledgeGraph
 
     credentials = f"{env['VIRTUOSO_USER']}:{env['VIRTUOSO_PASSWORD']}"
     store = tmp_path_factory.mktemp("iema") / "store"

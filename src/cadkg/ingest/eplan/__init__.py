@@ -1,0 +1,1 @@
+"""EPLAN exports: device tags and pin references (``labels``), connection lists."""

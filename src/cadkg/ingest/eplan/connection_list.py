@@ -25,7 +25,13 @@ from cadkg.errors import IngestError
 from cadkg.ingest.eplan.labels import PinRef, PinSyntaxError, normalize_label, parse_pin_ref
 from cadkg.ingest.text import Row, find_header, parse_decimal, read_text
 
-__all__ = ["Connection", "ConnectionListInfo", "iter_connection_list", "read_connection_list"]
+__all__ = [
+    "Connection",
+    "ConnectionListInfo",
+    "iter_connection_list",
+    "looks_like_connection_list",
+    "read_connection_list",
+]
 
 _EXPECTED = (
     "a header row naming 'Componente:pin' (origin and destination), 'Numero filo', "
@@ -396,3 +402,9 @@ class _RowConverter:
         if key != "section" and (found_unit or unit) == "mm":
             return value / 1000
         return value
+
+
+def looks_like_connection_list(head: bytes) -> bool:
+    """Whether the first bytes hold a connection list's pin column (``Componente:pin`` ...)."""
+    text = head.decode("utf-8", errors="replace").lower()
+    return "componente:pin" in text or "component:pin" in text or "device:pin" in text

@@ -12,11 +12,10 @@ import re
 from pathlib import Path
 
 from cadkg.errors import IngestError
-from cadkg.ingest.scene.records import SceneItem
-from cadkg.ingest.scene.graph import MAX_NESTING, Field, Node, ParsedFile, read_scene
+from cadkg.ingest.scene.nodes import MAX_NESTING, Field, Node, ParsedFile
 from cadkg.ingest.text import read_text
 
-__all__ = ["parse_vrml", "read_vrml"]
+__all__ = ["looks_like_vrml97", "parse_vrml"]
 
 HEADER = "#VRML V2.0 utf8"
 _EXPECTED = f"a VRML97 file starting with {HEADER!r}"
@@ -37,20 +36,6 @@ _KEYWORDS = frozenset(
 )
 
 Token = tuple[str, str, int]
-
-
-def read_vrml(path: str | Path) -> list[SceneItem]:
-    """Read a VRML97 scene (and its Inline files) as items with frames, boxes and meshes.
-
-    Raises
-    ------
-    IngestError
-        On unreadable, empty or binary files, a header other than ``#VRML V2.0 utf8``, syntax
-        errors (unexpected token, unterminated string, bracket or brace), bad numbers,
-        duplicate DEF names, a USE of an item, and Inline urls that are remote, absolute,
-        outside the scene's directory, missing or cyclic.
-    """
-    return read_scene(path, parse_vrml)
 
 
 def parse_vrml(path: Path) -> ParsedFile:
@@ -279,3 +264,8 @@ class _Parser:
 
     def scalar(self, token: Token) -> str:
         return _ESCAPE.sub(r"\1", token[1][1:-1]) if token[0] == "string" else token[1]
+
+
+def looks_like_vrml97(head: bytes) -> bool:
+    """Whether a file starts with the VRML97 header."""
+    return head.removeprefix(b"\xef\xbb\xbf").startswith(b"#VRML V2.0")

@@ -13,12 +13,11 @@ from typing import Any
 from lxml import etree
 
 from cadkg.errors import IngestError
-from cadkg.ingest.scene.records import SceneItem
-from cadkg.ingest.scene.graph import MAX_NESTING, Field, Node, ParsedFile, read_scene
+from cadkg.ingest.scene.nodes import MAX_NESTING, Field, Node, ParsedFile
 from cadkg.ingest.text import xml_document
 from cadkg.ingest.xml_input import parse_untrusted_xml
 
-__all__ = ["X3D_NAMESPACE", "parse_x3d", "read_x3d"]
+__all__ = ["X3D_NAMESPACE", "parse_x3d"]
 
 X3D_NAMESPACE = "http://www.web3d.org/specifications/x3d-namespace"
 _EXPECTED = "an X3D document: <X3D> holding a <Scene>"
@@ -36,19 +35,6 @@ _DEFAULT_CONTAINER = {
     "ColorRGBA": "color",
     "TextureCoordinate": "texCoord",
 }
-
-
-def read_x3d(path: str | Path) -> list[SceneItem]:
-    """Read an X3D scene (and its Inline files) as items with frames, boxes and meshes.
-
-    Raises
-    ------
-    IngestError
-        On unreadable, empty or binary files, malformed XML, entity declarations, a missing
-        ``<Scene>``, bad numbers, duplicate DEF names, a USE of an item, and Inline urls that
-        are remote, absolute, outside the scene's directory, missing or cyclic.
-    """
-    return read_scene(path, parse_x3d)
 
 
 def parse_x3d(path: Path) -> ParsedFile:

@@ -1,0 +1,67 @@
+"""ELIMCO: routing aeronautic harnesses on a pin workbench (D3.1 section 4.2).
+
+An Excel cable list and the three XML files of a route-design application (pins on the 2D
+drawing, cables, routes over the pins) are read into one graph; the services swap the files
+online (``load_files``), give pin positions in the drawing frame or around the pins'
+centroid, the pins as tf frames, the cables and each cable's path.
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+
+from cadkg.ingest.reader import Reader
+from cadkg.usecase import UseCase
+from cadkg.usecases.elimco import mapping as _mapping  # noqa: F401  (registers the record mappings)
+from cadkg.usecases.elimco.cable_list import looks_like_cable_list, read_elimco_cable_list
+from cadkg.usecases.elimco.route_design import (
+    looks_like_cable_info,
+    looks_like_path_info,
+    looks_like_pin_info,
+    read_cable_info,
+    read_path_info,
+    read_pin_info,
+)
+from cadkg.usecases.elimco.services import SERVICES, bench_frames
+
+__all__ = ["USE_CASE"]
+
+USE_CASE = UseCase(
+    name="elimco",
+    title="aeronautic harness routing on a pin workbench (D3.1 section 4.2)",
+    section="4.2",
+    readers=(
+        Reader(
+            "elimco-cable-list",
+            (".csv", ".tsv", ".xlsx", ".ods"),
+            read_elimco_cable_list,
+            "ELIMCO cable list (Figure 11): PN, REP, ZONA_A, BORNIA_A, HILO, CABLE, LONGITUD, ZONA_B ...",
+            looks_like_cable_list,
+        ),
+        Reader(
+            "pin-info",
+            (".xml",),
+            read_pin_info,
+            "Route design pin_info.xml (<pin_info>): bench pins, drawing position, role, double pins",
+            looks_like_pin_info,
+        ),
+        Reader(
+            "cable-info",
+            (".xml",),
+            read_cable_info,
+            "Route design cable_info.xml (<cable_info>): cables, initial and final connector, length",
+            looks_like_cable_info,
+        ),
+        Reader(
+            "path-info",
+            (".xml",),
+            read_path_info,
+            "Route design path_info.xml (<path_info>): route of each cable over the bench pins",
+            looks_like_path_info,
+        ),
+    ),
+    services=SERVICES,
+    queries=resources.files(__name__).joinpath("queries"),
+    ros_namespace="/elimco",
+    frames=bench_frames,
+)

@@ -212,7 +212,7 @@ def consistency_problems(
 
 
 def elimco_model(kg: Any) -> ElimcoModel:
-    """Read the bench pins, cables and routes of a graph (a :class:`~cadkg.store.KnowledgeGraph`).
+    """Read the bench pins, cables and routes of a graph (a :class:`~cadkg.graph.KnowledgeGraph`).
 
     Raises
     ------

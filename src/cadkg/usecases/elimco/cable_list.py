@@ -18,9 +18,7 @@ A shield has one or more rows that must agree on the one contact it ends at.
 from __future__ import annotations
 
 import re
-import struct
 import warnings
-import zlib
 from collections.abc import Sequence
 from dataclasses import dataclass
 from decimal import Decimal
@@ -28,8 +26,15 @@ from pathlib import Path
 from typing import NoReturn
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.sheet import SHEET_SUFFIXES, cell_address, cell_text, read_sheet
+from cadkg.ingest.sheet import SHEET_SUFFIXES, cell_address, cell_text, read_sheet, workbook_strings
 from cadkg.ingest.text import first_line, iter_rows, parse_decimal, read_text
+from cadkg.usecases.elimco.cable_list_records import (
+    CableListEnd,
+    CableListHarness,
+    CableListRecord,
+    CableListWire,
+    ShieldTermination,
+)
 
 __all__ = [
     "CableListEnd",
@@ -39,7 +44,6 @@ __all__ = [
     "ShieldTermination",
     "looks_like_cable_list",
     "read_elimco_cable_list",
-    "workbook_strings",
 ]
 
 # Column key -> what it holds; the keys are the header names of Figure 11, upper case,
@@ -73,80 +77,6 @@ _EXPECTED = "a header row naming " + ", ".join(_REQUIRED) + " (the columns of D3
 _SNIFF_KEYS = {"HILO", "ZONA_A", "BORNIA_A"}
 _EMPTY = {"", "-"}
 _SHIELD = re.compile(r"SH$", re.IGNORECASE)
-_ZIP_ENTRY = b"PK\x03\x04"
-_WORKBOOK_PARTS = re.compile(rb"^xl/(sharedStrings|worksheets/sheet\d*)\.xml$")
-_XML_TEXT = re.compile(rb"<(?:\w+:)?t(?:\s[^>]*)?>([^<]*)</(?:\w+:)?t>")
-
-
-@dataclass(frozen=True, slots=True)
-class CableListEnd:
-    """One end of a wire: connector (``ZONA``), contact (``BORNIA``) and contact part (``CNX``)."""
-
-    connector: str
-    contact: str | None
-    contact_part: str | None
-
-
-@dataclass(frozen=True, slots=True)
-class CableListHarness:
-    """The harness the list describes (``PN``, ``REV``, ``IND`` of its first row)."""
-
-    part_number: str
-    revision: str | None
-    index: str | None
-    line: int
-    location: str
-
-
-@dataclass(frozen=True, slots=True)
-class CableListWire:
-    """A conductor between two contacts, merged from its one or two rows.
-
-    ``rows`` are the spreadsheet rows (or CSV lines) that list it, the one giving its
-    direction first; ``length_m`` is ``LONGITUD`` converted from millimetres.
-    """
-
-    harness: str
-    name: str
-    cable: str
-    wire_type: str | None
-    length_m: Decimal | None
-    origin: CableListEnd
-    destination: CableListEnd
-    symbol: str | None
-    order: str | None
-    gauge: str | None
-    construction: str | None
-    route: str | None
-    remark: str | None
-    check: str | None
-    rows: tuple[int, ...]
-    location: str
-
-
-@dataclass(frozen=True, slots=True)
-class ShieldTermination:
-    """Where the screen of a cable is terminated: one contact of one connector.
-
-    ``cable`` is the part of the shield group (``SH``, e.g. ``A4351-1669/1``) before the
-    slash, or the row's ``CABLE`` when no row names a shield group. ``length_m`` is the
-    row's ``LONGITUD`` as read (the cable's or the drain wire's length).
-    """
-
-    harness: str
-    name: str
-    shield: str | None
-    cable: str
-    connector: str
-    contact: str
-    wire_type: str | None
-    length_m: Decimal | None
-    rows: tuple[int, ...]
-    location: str
-
-
-CableListRecord = CableListHarness | CableListWire | ShieldTermination
-"""Any record :func:`read_elimco_cable_list` returns."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -191,49 +121,10 @@ def looks_like_cable_list(head: bytes) -> bool:
     Text exports are checked on their first non-empty line; XLSX workbooks on the
     strings of the sheet parts that lie in ``head`` (see :func:`workbook_strings`).
     """
-    if head.startswith(_ZIP_ENTRY):
+    if head.startswith(b"PK\x03\x04"):  # a workbook
         return {_key(s) for s in workbook_strings(head)} >= _SNIFF_KEYS
     first = first_line(head)
     return any({_key(c) for c in first.split(d)} >= _SNIFF_KEYS for d in ("\t", ";", ","))
-
-
-def workbook_strings(head: bytes) -> list[str]:
-    """The cell texts of the XLSX sheet and shared-string parts found in the first bytes of a file.
-
-    Content sniffing sees only the head of a file and a workbook is a ZIP archive, so the
-    parts that start within ``head`` are inflated as far as they go. Strings come in
-    part order; a part cut off by the end of ``head`` gives the strings before the cut.
-    """
-    strings: list[str] = []
-    start = head.find(_ZIP_ENTRY)
-    while start >= 0 and start + 30 <= len(head):
-        (_, _, flags, method, _, _, _, size, _, name_length, extra_length) = struct.unpack(
-            "<4sHHHHHIIIHH", head[start : start + 30]
-        )
-        name = head[start + 30 : start + 30 + name_length]
-        data_start = start + 30 + name_length + extra_length
-        if _WORKBOOK_PARTS.match(name) and not flags & 0x1:
-            data = head[data_start : data_start + size] if size and not flags & 0x8 else head[data_start:]
-            strings += [
-                _unescape(m.decode("utf-8", "replace")) for m in _XML_TEXT.findall(_inflate(data, method))
-            ]
-        start = head.find(_ZIP_ENTRY, data_start if flags & 0x8 or not size else data_start + size)
-    return strings
-
-
-def _inflate(data: bytes, method: int) -> bytes:
-    if method == 0:
-        return data
-    if method != 8:
-        return b""
-    try:
-        return zlib.decompressobj(-15).decompress(data, 1 << 20)
-    except zlib.error:
-        return b""
-
-
-def _unescape(text: str) -> str:
-    return text.replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", '"').replace("&amp;", "&")
 
 
 def _key(cell: object) -> str:

@@ -1,4 +1,4 @@
-"""ELIMCO and ENKI records → triples: cable list, route design files, hose products.
+"""ELIMCO records → triples: cable list and route design files.
 
 IRIs join across the files: ``cable/A4351-1669`` is the same node whether the cable list
 names it (as the cable of its cores), cable_info.xml (with its connectors and length)
@@ -10,19 +10,11 @@ are poses in the frame ``drawing`` (the 2D drawing's origin), in metres.
 
 from __future__ import annotations
 
-from cadkg.usecases.elimco.cable_list import CableListHarness, CableListWire, ShieldTermination
 from cadkg.ingest.eplan.labels import PinRef
-from cadkg.usecases.enki.hose import HoseProduct
-from cadkg.mapping.core import (
-    TripleWriter,
-    cable_node,
-    connector_node,
-    frame_node,
-    map_record,
-    pin_node,
-    term,
-    write_pose,
-)
+from cadkg.mapping.dispatch import map_record
+from cadkg.mapping.nodes import cable_node, connector_node, frame_node, pin_node
+from cadkg.mapping.writer import TripleWriter, term, write_pose
+from cadkg.usecases.elimco.cable_list import CableListHarness, CableListWire, ShieldTermination
 from cadkg.usecases.elimco.route_design import BenchPinSpec, RouteCable, RoutePathSpec
 
 __all__ = ["DRAWING_FRAME"]
@@ -147,18 +139,3 @@ def _(record: RoutePathSpec, w: TripleWriter, source_slug: str) -> None:
         w.add(stop, t("role"), w.text(role))
         if position > 1 and record.segment_lengths_m:
             w.add(stop, t("lengthM"), w.typed(record.segment_lengths_m[position - 2]))
-
-
-@map_record.register
-def _(record: HoseProduct, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("hose", record.product)
-    w.add(node, t("type"), t("Hose"))
-    w.add(node, t("label"), w.text(record.product))
-    w.add(node, t("diameterM"), w.typed(record.diameter_m))
-    if record.length_m is not None:
-        w.add(node, t("lengthM"), w.typed(record.length_m))
-    if record.material is not None:
-        w.add(node, t("material"), w.text(record.material))
-    if record.bend_radius_m is not None:
-        w.add(node, t("bendRadiusM"), w.typed(record.bend_radius_m))
-    w.add(node, t("sourceLine"), w.typed(record.line))

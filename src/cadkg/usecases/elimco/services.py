@@ -14,11 +14,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from cadkg.geometry.poses import Pose
 from cadkg.errors import CadkgError
-from cadkg.ingest.registry import reader_for, sniff_kind
-from cadkg.usecases.elimco.route_design import BenchPinSpec, RouteCable, RoutePathSpec
-from cadkg.usecases.iema.cursors import Session
+from cadkg.geometry.poses import Pose
+from cadkg.registry import reader_for, sniff_kind
+from cadkg.services.display import Frame
+from cadkg.services.service import Service, model_services
+from cadkg.services.session import Session
 from cadkg.usecases.elimco.bench import (
     CENTROID_FRAME,
     DRAWING_FRAME,
@@ -27,10 +28,11 @@ from cadkg.usecases.elimco.bench import (
     elimco_model,
     frame_id,
 )
-from cadkg.services.table import Service, model_services, register
+from cadkg.usecases.elimco.route_design import BenchPinSpec, RouteCable, RoutePathSpec
 
 __all__ = [
     "ELIMCO_KINDS",
+    "SERVICES",
     "BenchCable",
     "CableListResult",
     "LoadFilesResult",
@@ -39,6 +41,7 @@ __all__ = [
     "PinFramesResult",
     "PinPosition",
     "PinPositionsResult",
+    "bench_frames",
     "get_cable_list",
     "get_path_positions",
     "get_pin_positions",
@@ -345,7 +348,7 @@ def model_of(session: Session) -> ElimcoModel:
 
 _service = model_services("elimco", model_of)
 
-register(
+SERVICES: tuple[Service, ...] = (
     Service(
         "load_files",
         "replace the ELIMCO files (pin_info, cable_info, path_info, cable list) online, atomically",
@@ -379,3 +382,8 @@ register(
         get_path_positions,
     ),
 )
+
+
+def bench_frames(session: Session) -> list[Frame]:
+    """``pins_centroid`` and a frame per bench pin, as the ``pin_frames`` service gives them."""
+    return [Frame(f.parent, f.name, f.pose) for f in pin_frames(model_of(session)).frames]

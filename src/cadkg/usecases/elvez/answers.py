@@ -17,10 +17,10 @@ from typing import Any
 
 import networkx as nx
 
-from cadkg.geometry.poses import Pose
-from cadkg.usecases.elvez.platform import PlatformElement
 from cadkg.errors import CadkgError
+from cadkg.geometry.poses import Pose
 from cadkg.usecases.elvez.model import BranchInfo, ElvezModel, OperationInfo, build_model
+from cadkg.usecases.elvez.platform import PlatformElement
 
 __all__ = [
     "AllOpResult",

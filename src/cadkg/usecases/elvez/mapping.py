@@ -13,27 +13,26 @@ ck:Branch``, ``ck:containsCable ck:Cable``, a cable's ends ``ck:fromPin`` (main 
 
 from __future__ import annotations
 
-from cadkg.usecases.elvez.action_plan import PlannedOperation
-from cadkg.usecases.elvez.element_models import ElementModel
-from cadkg.usecases.elvez.tools import ToolSpec
 from cadkg.ingest.eplan.labels import PinRef
-from cadkg.usecases.elvez.harness_components import HarnessComponent
-from cadkg.usecases.elvez.harness_structure import HarnessSpec
-from cadkg.mapping.core import (
-    TripleWriter,
+from cadkg.mapping.dispatch import map_record
+from cadkg.mapping.nodes import (
     cable_node,
     component_node,
     connector_node,
     dimensions,
     frame_node,
-    map_record,
     mesh_node,
     model_frame,
     model_node,
     pin_node,
     placement_pose,
-    term,
 )
+from cadkg.mapping.writer import TripleWriter, term
+from cadkg.usecases.elvez.action_plan import PlannedOperation
+from cadkg.usecases.elvez.element_models import ElementModel
+from cadkg.usecases.elvez.harness_components import HarnessComponent
+from cadkg.usecases.elvez.harness_structure import HarnessSpec
+from cadkg.usecases.elvez.tools import ToolSpec
 
 __all__ = ["OPERATION_CLASSES"]
 

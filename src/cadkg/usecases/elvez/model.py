@@ -15,11 +15,11 @@ from urllib.parse import unquote
 import networkx as nx
 
 from cadkg.geometry.poses import Pose
-from cadkg.usecases.elvez.platform import PlatformModel, platform_model
 from cadkg.query.views import graph_view
+from cadkg.usecases.elvez.platform import PlatformModel, platform_model
 
 if TYPE_CHECKING:
-    from cadkg.store import KnowledgeGraph
+    from cadkg.graph import KnowledgeGraph
 
 __all__ = ["BranchInfo", "ElvezModel", "OperationInfo", "build_model"]
 

@@ -20,11 +20,11 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from cadkg.geometry.poses import IDENTITY, Pose, Vec3
 from cadkg.errors import NotFound, QueryError
+from cadkg.geometry.poses import IDENTITY, Pose, Vec3
 
 if TYPE_CHECKING:
-    from cadkg.store import KnowledgeGraph
+    from cadkg.graph import KnowledgeGraph
 
 __all__ = [
     "ELEMENT_TYPES",

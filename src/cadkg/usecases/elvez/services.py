@@ -5,11 +5,14 @@ Each service answers from the session's ELVEZ model, built from the graph on fir
 
 from __future__ import annotations
 
-from cadkg.usecases.elvez import answers as elvez
-from cadkg.usecases.iema.cursors import Session
-from cadkg.services.table import model_services, register
+from pathlib import Path
 
-__all__: list[str] = []
+import cadkg.usecases.elvez.answers as elvez
+from cadkg.services.display import Frame, MarkerSpec
+from cadkg.services.service import Service, model_services
+from cadkg.services.session import Session
+
+__all__ = ["SERVICES", "element_meshes", "platform_frames"]
 
 PROFILE = "elvez"
 
@@ -21,7 +24,7 @@ def model_of(session: Session) -> elvez.ElvezModel:
 
 _service = model_services(PROFILE, model_of)
 
-register(
+SERVICES: tuple[Service, ...] = (
     _service(
         "guide_info",
         "a guide's CAD ID, dimensions, origin, key and key corner frames (robot base or 'frame'), key size",
@@ -68,3 +71,25 @@ register(
         elvez.wh_routes,
     ),
 )
+
+
+def platform_frames(session: Session) -> list[Frame]:
+    """Every platform element under its CAD id and each point of interest (``G4_key``,
+    ``G4_key_corner`` ...) in its element, as the reference's Figure 25 orders them."""
+    return [Frame(*transform) for transform in model_of(session).platforms.tree.transforms()]
+
+
+def element_meshes(session: Session, files_dir: Path) -> list[MarkerSpec]:
+    """One mesh per platform element with its model's STL, in the element's own frame."""
+    elements = sorted(model_of(session).platforms.elements.values(), key=lambda e: e.label)
+    return [
+        MarkerSpec(
+            "mesh",
+            "elements",
+            index,
+            element.frame,
+            mesh_uri="file://" + str((Path(files_dir) / str(element.mesh)).resolve()),
+            text=element.label,
+        )
+        for index, element in enumerate(e for e in elements if e.mesh)
+    ]

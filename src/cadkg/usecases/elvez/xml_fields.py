@@ -19,7 +19,7 @@ from pathlib import Path
 from lxml import etree
 
 from cadkg.errors import IngestError
-from cadkg.usecases.iema.component_model import Placement
+from cadkg.ingest.placement import Placement
 from cadkg.ingest.text import read_text
 from cadkg.ingest.xml_input import element_children, parse_untrusted_xml
 

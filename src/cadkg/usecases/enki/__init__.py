@@ -1,0 +1,33 @@
+"""ENKI: handling hoses (D3.1 section 4.5).
+
+The cell needs the diameter of the hose in hand, and later more product parameters:
+``hose_info(product)`` answers diameter, length, material and bend radius from a hose
+product table.
+"""
+
+from __future__ import annotations
+
+from cadkg.ingest.reader import Reader
+from cadkg.usecase import UseCase
+from cadkg.usecases.enki import mapping as _mapping  # noqa: F401  (registers the record mappings)
+from cadkg.usecases.enki.hose import looks_like_hose_table, read_hoses
+from cadkg.usecases.enki.services import SERVICES
+
+__all__ = ["USE_CASE"]
+
+USE_CASE = UseCase(
+    name="enki",
+    title="hose handling (D3.1 section 4.5)",
+    section="4.5",
+    readers=(
+        Reader(
+            "hose",
+            (".csv",),
+            read_hoses,
+            "Hose products: product, diameter_mm, optional length_m, material, bend_radius_mm",
+            looks_like_hose_table,
+        ),
+    ),
+    services=SERVICES,
+    ros_namespace="/enki",
+)

@@ -11,10 +11,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from cadkg.usecases.iema.cursors import Session
-from cadkg.services.table import Service, on_model, register
+from cadkg.services.service import Service, on_model
+from cadkg.services.session import Session
 
-__all__ = ["HoseInfoResult", "HoseRecord", "hose_info", "hose_model"]
+__all__ = ["SERVICES", "HoseInfoResult", "HoseRecord", "hose_info", "hose_model"]
 
 
 @dataclass(frozen=True)
@@ -93,12 +93,11 @@ def _hoses(session: Session) -> dict[str, HoseRecord]:
     return session.profile_model("enki", hose_model)
 
 
-register(
+SERVICES: tuple[Service, ...] = (
     Service(
         "hose_info",
         "diameter, length, material and bend radius of a hose product",
         {"product": str},
         on_model(hose_info, _hoses),
-        profile="enki",
-    )
+    ),
 )

@@ -1,0 +1,72 @@
+"""IEMA: wiring a switchgear cabinet (D3.1 section 4.1, services of Table 1).
+
+A robot mounts components on DIN rails and wires them from an EPLAN connection list. The
+cabinet is described by the WRI ID table, the connection list, the component models (where
+each pin's screw and hole sit), the component list, the terminal block schema and the CAD
+scene; cadkg derives each component's pose, corner and target, each pin's screw and hole,
+the rails, the clusters of connector points and the wires' routing keypoints, and serves the
+component data and the cursors that hand the robot its next wire and rail.
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+
+from cadkg.ingest.reader import Reader
+from cadkg.usecase import Derivation, UseCase
+from cadkg.usecases.iema import mapping as _mapping  # noqa: F401  (registers the record mappings)
+from cadkg.usecases.iema.cabinet import derive_cell
+from cadkg.usecases.iema.collect import InputCollector
+from cadkg.usecases.iema.component_list import looks_like_component_list, read_component_list
+from cadkg.usecases.iema.component_model import looks_like_component_models, read_component_models
+from cadkg.usecases.iema.emit import derived_graph, derived_ntriples
+from cadkg.usecases.iema.extract import extract
+from cadkg.usecases.iema.persist import dump_model, load_model
+from cadkg.usecases.iema.services import SERVICES, cabinet_frames
+from cadkg.usecases.iema.terminal_schema import looks_like_terminal_schema, read_terminal_schema
+
+__all__ = ["CABINET", "USE_CASE"]
+
+CABINET = Derivation(
+    collector=InputCollector,
+    extract=extract,
+    derive=derive_cell,
+    graph=derived_graph,
+    ntriples=derived_ntriples,
+    dump=dump_model,
+    load=load_model,
+)
+
+USE_CASE = UseCase(
+    name="iema",
+    title="switchgear cabinet wiring (D3.1 section 4.1, Table 1)",
+    section="4.1",
+    readers=(
+        Reader(
+            "component-model",
+            (".xml",),
+            read_component_models,
+            "Component models XML (<data><code>): size, screw and hole of each pin, children",
+            looks_like_component_models,
+        ),
+        Reader(
+            "component-list",
+            (".csv", ".tsv"),
+            read_component_list,
+            "Component list: Component ID, Description, Part Number, Quantity, XML Data",
+            looks_like_component_list,
+        ),
+        Reader(
+            "terminal-schema",
+            (".csv", ".xlsx", ".ods"),
+            read_terminal_schema,
+            "Terminal block schema: terminal items in order along each block, and their levels",
+            looks_like_terminal_schema,
+        ),
+    ),
+    services=SERVICES,
+    queries=resources.files(__name__).joinpath("queries"),
+    ros_namespace="/gearbox_handler",
+    derivation=CABINET,
+    frames=cabinet_frames,
+)

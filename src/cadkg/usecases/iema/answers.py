@@ -11,9 +11,9 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from cadkg.usecases.iema.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, WireStep
 from cadkg.geometry.poses import Pose, Vec3
 from cadkg.ingest.eplan.labels import normalize_label
+from cadkg.usecases.iema.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, WireStep
 
 __all__ = [
     "CadConnection",

@@ -15,9 +15,9 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
-from cadkg.usecases.iema.extract import CellInputs, ModelInfo, PinInfo, WireInfo
 from cadkg.geometry.poses import IDENTITY, Pose, Vec3, bounds, box_corners, closest_point_on_segment
-from cadkg.mapping.core import node_iri
+from cadkg.mapping.writer import node_iri
+from cadkg.usecases.iema.extract import CellInputs, ModelInfo, PinInfo, WireInfo
 
 __all__ = ["CadPin", "CellModel", "Cluster", "ComponentGeometry", "Rail", "WireStep", "derive_cell"]
 

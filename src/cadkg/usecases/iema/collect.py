@@ -14,19 +14,21 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from typing import Any
 
-from cadkg.usecases.iema.extract import CellInputs, ModelInfo, PinInfo, WireInfo
 from cadkg.geometry.frames import quaternion_from_rpy
 from cadkg.geometry.poses import Pose
 from cadkg.ingest.assignments import Assignment
-from cadkg.usecases.iema.component_list import ComponentListEntry
-from cadkg.usecases.iema.component_model import ComponentModel, Placement
 from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo
 from cadkg.ingest.eplan.labels import PinRef
 from cadkg.ingest.manifest import Manifest
-from cadkg.mapping.core import graph_iri, item_mesh_file, node_iri, pin_iri, wire_iri
+from cadkg.ingest.placement import Placement
 from cadkg.ingest.scene.records import SceneItem
-from cadkg.usecases.iema.terminal_schema import TerminalSlot
 from cadkg.ingest.wri import IdEntry
+from cadkg.mapping.nodes import item_mesh_file, pin_iri, wire_iri
+from cadkg.mapping.writer import graph_iri, node_iri
+from cadkg.usecases.iema.component_list import ComponentListEntry
+from cadkg.usecases.iema.component_model import ComponentModel
+from cadkg.usecases.iema.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.usecases.iema.terminal_schema import TerminalSlot
 
 __all__ = ["InputCollector"]
 

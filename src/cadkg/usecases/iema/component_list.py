@@ -12,9 +12,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cadkg.errors import IngestError
-from cadkg.usecases.iema.component_model import ComponentModel, parse_models_fragment
 from cadkg.ingest.eplan.labels import normalize_label
 from cadkg.ingest.text import Row, find_header, read_text, small_integer
+from cadkg.usecases.iema.component_model import ComponentModel, parse_models_fragment
 
 __all__ = ["ComponentListEntry", "looks_like_component_list", "read_component_list"]
 

@@ -16,6 +16,7 @@ from pathlib import Path
 from lxml import etree
 
 from cadkg.errors import IngestError
+from cadkg.ingest.placement import Placement
 from cadkg.ingest.text import read_text
 from cadkg.ingest.xml_input import element_children, parse_untrusted_xml
 
@@ -23,7 +24,6 @@ __all__ = [
     "ChildPlacement",
     "ComponentModel",
     "Couple",
-    "Placement",
     "looks_like_component_models",
     "parse_models_fragment",
     "read_component_models",
@@ -37,15 +37,6 @@ _SUBITEMS = {"couple": ("screw", "hole"), "child": ("relative",)}
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 # Checked on the text before parsing: even with entity expansion off, a DOCTYPE can
 # pull in external subsets or declare entities whose meaning we would silently drop.
-
-
-@dataclass(frozen=True, slots=True)
-class Placement:
-    """A pose relative to a model's origin: metres and roll-pitch-yaw radians."""
-
-    xyz: tuple[float, float, float]
-    rpy: tuple[float, float, float]
-    line: int
 
 
 @dataclass(frozen=True, slots=True)

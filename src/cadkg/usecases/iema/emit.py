@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from cadkg.usecases.iema.cabinet import CellModel
 from cadkg.geometry.poses import Pose
-from cadkg.mapping.core import TripleWriter, dimensions, pose_lines, term
+from cadkg.mapping.nodes import dimensions
+from cadkg.mapping.writer import TripleWriter, pose_lines, term
+from cadkg.usecases.iema.cabinet import CellModel
 
 __all__ = ["derived_graph", "derived_ntriples"]
 

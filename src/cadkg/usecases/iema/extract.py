@@ -20,7 +20,7 @@ from cadkg.ontology.terms import CK_NS
 from cadkg.sparql_text import term_value
 
 if TYPE_CHECKING:
-    from cadkg.store import KnowledgeGraph
+    from cadkg.graph import KnowledgeGraph
 
 __all__ = [
     "CellInputs",
@@ -30,7 +30,6 @@ __all__ = [
     "WireInfo",
     "extract",
     "placements",
-    "source_graphs",
 ]
 
 _RDF_TYPE = "http://www.w3.org/1999/02/22-rdf-syntax-ns#type"
@@ -124,16 +123,8 @@ def _settings(kg: KnowledgeGraph) -> dict[str, Any]:
     return {**cell[0], "base": cell[0]["cell"].removesuffix("cell/this")} if cell else {}
 
 
-def source_graphs(kg: KnowledgeGraph, base: str | None = None) -> list[str]:
-    """The named graphs of ``kg`` but the derived one: what the files, the manifest and the
-    assignments say (``base`` is the cell's base IRI, read from the graph when not given)."""
-    if base is None:
-        base = _settings(kg).get("base", "")
-    return [g for g in kg.named_graphs() if g != base + "derived"]
-
-
 def _source_tables(kg: KnowledgeGraph, base: str) -> _Tables:
-    return _Tables(kg, source_graphs(kg, base))
+    return _Tables(kg, kg.source_graphs(base))
 
 
 def extract(kg: KnowledgeGraph) -> CellInputs:

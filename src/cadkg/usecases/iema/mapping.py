@@ -8,26 +8,19 @@ keyed by the commercial code the WRI uses, and terminal pins are
 
 from __future__ import annotations
 
-from cadkg.ingest.assignments import Assignment
-from cadkg.usecases.iema.component_list import ComponentListEntry
-from cadkg.usecases.iema.component_model import ComponentModel
 from cadkg.ingest.eplan.labels import PinRef
-from cadkg.mapping.core import (
-    TripleWriter,
+from cadkg.mapping.dispatch import map_record
+from cadkg.mapping.nodes import (
     component_node,
     dimensions,
-    frame_node,
-    item_mesh_file,
-    map_record,
-    mesh_node,
     model_frame,
     model_node,
     pin_node,
     placement_pose,
-    term,
-    write_pose,
 )
-from cadkg.ingest.scene.records import SceneItem
+from cadkg.mapping.writer import TripleWriter, term
+from cadkg.usecases.iema.component_list import ComponentListEntry
+from cadkg.usecases.iema.component_model import ComponentModel
 from cadkg.usecases.iema.terminal_schema import TerminalSlot
 
 __all__: list[str] = []
@@ -112,36 +105,3 @@ def _(record: TerminalSlot, w: TripleWriter, source_slug: str) -> None:
             w, PinRef(record.block, record.terminal, level, f"{record.block}:{record.terminal}:{level}")
         )
         w.add(pin, t("onItem"), item)
-
-
-@map_record.register
-def _(record: SceneItem, w: TripleWriter, source_slug: str) -> None:
-    item = w.iri("item", record.item_id)
-    w.add(item, t("type"), t("CadItem"))
-    w.add(item, t("cadId"), w.text(record.item_id))
-    frame = frame_node(w, record.item_id)
-    w.add(item, t("hasFrame"), frame)
-    parent = frame_node(w, record.parent_id or w.root_frame)
-    pose = w.iri("pose", record.item_id)
-    w.add(frame, t("hasPose"), write_pose(w, pose, record.translation, record.rotation, parent))
-    w.add(pose, t("sourceLine"), w.typed(record.line))
-    if record.bbox_min is not None and record.bbox_max is not None:
-        for name, value in zip(
-            ("minX", "minY", "minZ", "maxX", "maxY", "maxZ"),
-            (*record.bbox_min, *record.bbox_max),
-            strict=True,
-        ):
-            w.add(item, t(name), w.typed(float(value)))
-    if record.mesh is not None:
-        rel = item_mesh_file(record.item_id)
-        w.meshes[rel] = record.mesh
-        mesh_node(w, item, w.iri("mesh", record.item_id), rel)
-
-
-@map_record.register
-def _(record: Assignment, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("assignment", record.kind, record.ident)
-    w.add(node, t("type"), t("Assignment"))
-    w.add(node, t("assignmentOf"), w.iri(record.kind, record.ident))
-    w.add(node, t("assignedTo"), t(record.performer))
-    w.add(node, t("sourceLine"), w.typed(record.line))

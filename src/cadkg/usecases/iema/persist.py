@@ -17,11 +17,14 @@ import json
 import sys
 from array import array
 from collections.abc import Sequence
+from importlib.metadata import version
 from typing import Any
 
-from cadkg import __version__
-from cadkg.usecases.iema.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, Rail, WireStep
 from cadkg.geometry.poses import Pose, Vec3
+from cadkg.usecases.iema.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, Rail, WireStep
+
+# A kept model is read back only by the cadkg version that wrote it.
+_VERSION = version("cadkg")
 
 __all__ = ["dump_model", "load_model"]
 
@@ -99,7 +102,7 @@ def dump_model(model: CellModel) -> bytes:
     }
     document = {
         "format": _FORMAT,
-        "cadkg": __version__,
+        "cadkg": _VERSION,
         "frame": model.frame,
         "approach_distance": model.approach_distance,
         "base": model.base,
@@ -117,7 +120,7 @@ def load_model(data: bytes) -> CellModel | None:
     """The model written by :func:`dump_model`, or None when ``data`` is anything else."""
     try:
         document = json.loads(data)
-        if document["format"] != _FORMAT or document["cadkg"] != __version__:
+        if document["format"] != _FORMAT or document["cadkg"] != _VERSION:
             return None
         return _Reader(document).model()
     except _READ_ERRORS:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from cadkg.errors import IngestError
 from cadkg.ingest.eplan.labels import normalize_label
-from cadkg.ingest.sheet import SHEET_SUFFIXES, cell_address, cell_text, read_sheet
+from cadkg.ingest.sheet import SHEET_SUFFIXES, cell_address, cell_text, read_sheet, workbook_strings
 from cadkg.ingest.text import first_line, iter_rows, read_text, small_integer, split_cells
 
 __all__ = ["TerminalSlot", "looks_like_terminal_schema", "read_terminal_schema"]
@@ -88,9 +88,12 @@ def read_terminal_schema(path: str | Path) -> list[TerminalSlot]:
 def looks_like_terminal_schema(head: bytes) -> bool:
     """Whether the first non-empty line names a terminal block and a CAD ID column.
 
-    Workbooks are compressed, so their first bytes say nothing: an XLSX or ODS whose
-    suffix another kind also claims needs its kind in the manifest.
+    An XLSX workbook is compressed: its header is looked for among the strings of the sheet
+    parts that start in the head. An ODS whose suffix another kind also claims needs its
+    kind in the manifest.
     """
+    if head.startswith(b"PK\x03\x04"):
+        head = "\t".join(workbook_strings(head)).encode("utf-8")
     meanings = {_meaning(c) for c in split_cells(first_line(head))}
     return {"block", "cad_id"} <= meanings
 

@@ -1,0 +1,47 @@
+"""Volkswagen: the harness state a detection system starts from (D3.1 section 4.4).
+
+A harness description (KBL, or a small text form) is read into the graph's harness terms
+and exported as GraphML in two views: the topology (connectors, branch points and fixings
+as nodes; segments with their wires as edges) and the wires (cavities as nodes, wires as
+edges), by ``cadkg export --view`` and the ``harness_topology`` service.
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+from typing import Any
+
+from cadkg.ingest.reader import Reader
+from cadkg.usecase import UseCase
+from cadkg.usecases.vw.graphml import write_harness_graphml
+from cadkg.usecases.vw.harness_text import looks_like_harness_text, read_harness_text
+from cadkg.usecases.vw.services import SERVICES
+
+__all__ = ["USE_CASE"]
+
+
+def _view(name: str) -> Any:
+    def write(kg: Any, output: str, harness: str | None) -> None:
+        write_harness_graphml(kg, output, name, harness)
+
+    return write
+
+
+USE_CASE = UseCase(
+    name="vw",
+    title="harness state for a detection system (D3.1 section 4.4)",
+    section="4.4",
+    readers=(
+        Reader(
+            "harness-text",
+            (".harness",),
+            read_harness_text,
+            "Harness text description: connectors, nodes, segments, wires with cavities",
+            looks_like_harness_text,
+        ),
+    ),
+    services=SERVICES,
+    queries=resources.files(__name__).joinpath("queries"),
+    ros_namespace="/vw_harness",
+    views={"topology": _view("topology"), "wires": _view("wires")},
+)

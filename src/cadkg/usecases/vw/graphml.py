@@ -19,7 +19,7 @@ from cadkg.errors import QueryError
 from cadkg.usecases.vw.views import topology_graph, wire_graph
 
 if TYPE_CHECKING:
-    from cadkg.store import KnowledgeGraph
+    from cadkg.graph import KnowledgeGraph
 
 __all__ = ["VIEWS", "graphml_text", "harness_graph", "harness_graphml", "write_harness_graphml"]
 

@@ -21,18 +21,13 @@ the shortest chain of segments between its connectors' nodes. See docs/formats/h
 
 from __future__ import annotations
 
-import re
-import shlex
-from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from decimal import Decimal, InvalidOperation
 from itertools import pairwise
 from pathlib import Path
 
 import networkx as nx
 
-from cadkg.errors import IngestError
 from cadkg.ingest.harness.records import (
     Harness,
     HarnessCable,
@@ -45,37 +40,10 @@ from cadkg.ingest.harness.records import (
     HarnessWire,
     WireEnd,
 )
-from cadkg.ingest.text import read_text, small_integer
+from cadkg.ingest.text import read_text
+from cadkg.usecases.vw.harness_statements import EXPECTED, FILE_FORMAT, Statement, StatementReader
 
 __all__ = ["FILE_FORMAT", "looks_like_harness_text", "read_harness_text"]
-
-FILE_FORMAT = "cadkg harness text 1"
-_EXPECTED = (
-    "a harness description: a first statement 'harness NAME', then connector, node, segment, wire ... lines"
-)
-_NAME = re.compile(r"^[^\s:,=#\"']+$")
-_CAVITY = re.compile(r"^[^\s,=#\"']+$")
-_LENGTH = re.compile(r"^(?P<number>\d+(?:\.\d*)?|\.\d+)(?P<unit>mm|cm|m)$")
-_SECTION = re.compile(r"^(?P<number>\d+(?:\.\d*)?|\.\d+)(?:mm2|mm²)?$")
-_RANGE = re.compile(r"^(?P<first>\d+)-(?P<last>\d+)$")
-_METRES = {"mm": Decimal("0.001"), "cm": Decimal("0.01"), "m": Decimal(1)}
-# Cavities of one connector: the largest connectors have a few hundred.
-_MAX_CAVITIES = 1000
-# Statement → (number of positional words after the keyword, required keys, optional keys).
-_GRAMMAR: dict[str, tuple[tuple[str, ...], frozenset[str], frozenset[str]]] = {
-    "harness": (("name",), frozenset(), frozenset({"description"})),
-    "connector": (("name",), frozenset({"cavities"}), frozenset({"at", "description"})),
-    "node": (("name",), frozenset(), frozenset()),
-    "segment": (("name", "from-node", "to-node"), frozenset({"length"}), frozenset({"diameter", "section"})),
-    "wire": (
-        ("name", "from connector:cavity", "to connector:cavity"),
-        frozenset(),
-        frozenset({"section", "colour", "length", "diameter", "route", "cable", "signal"}),
-    ),
-    "cable": (("name",), frozenset(), frozenset({"length", "diameter"})),
-    "fixing": (("name",), frozenset({"on"}), frozenset({"description"})),
-    "protection": (("name",), frozenset({"on"}), frozenset({"length", "description"})),
-}
 
 
 def looks_like_harness_text(head: bytes) -> bool:
@@ -100,16 +68,8 @@ def read_harness_text(path: str | Path) -> list[HarnessRecord]:
         lead from one end of its wire to the other, and connectors no segments join; located
         at file:line.
     """
-    text = read_text(path, expected=_EXPECTED)
+    text = read_text(path, expected=EXPECTED)
     return _Parser(path).parse(text)
-
-
-@dataclass
-class _Statement:
-    keyword: str
-    words: list[str]
-    options: dict[str, str]
-    line: int
 
 
 @dataclass
@@ -117,29 +77,20 @@ class _Harness:
     name: str = ""
     description: str | None = None
     line: int = 0
-    connectors: dict[str, _Statement] = field(default_factory=dict)
+    connectors: dict[str, Statement] = field(default_factory=dict)
     nodes: dict[str, int] = field(default_factory=dict)
-    segments: dict[str, _Statement] = field(default_factory=dict)
-    wires: dict[str, _Statement] = field(default_factory=dict)
-    cables: dict[str, _Statement] = field(default_factory=dict)
-    fixings: dict[str, _Statement] = field(default_factory=dict)
-    protections: dict[str, _Statement] = field(default_factory=dict)
+    segments: dict[str, Statement] = field(default_factory=dict)
+    wires: dict[str, Statement] = field(default_factory=dict)
+    cables: dict[str, Statement] = field(default_factory=dict)
+    fixings: dict[str, Statement] = field(default_factory=dict)
+    protections: dict[str, Statement] = field(default_factory=dict)
 
 
-class _Parser:
-    def __init__(self, path: str | Path) -> None:
-        self.path = path
-
-    def error(
-        self, reason: str, line: int, found: object | None = None, expected: str | None = None
-    ) -> IngestError:
-        return IngestError(self.path, reason, line=line, found=found, expected=expected)
-
-    # -- statements ---------------------------------------------------------------------------------
+class _Parser(StatementReader):
     def parse(self, text: str) -> list[HarnessRecord]:
         statements = [s for s in (self.statement(raw, n) for n, raw in enumerate(text.split("\n"), 1)) if s]
         if not statements:
-            raise self.error("no statements in the file", 1, expected=_EXPECTED)
+            raise self.error("no statements in the file", 1, expected=EXPECTED)
         first = statements[0]
         if first.keyword != "harness":
             raise self.error(
@@ -153,56 +104,7 @@ class _Parser:
             self.declare(h, statement)
         return self.records(h)
 
-    def statement(self, raw: str, line: int) -> _Statement | None:
-        lexer = shlex.shlex(raw.rstrip("\r"), posix=True)
-        lexer.whitespace_split = True
-        lexer.commenters = "#"
-        try:
-            tokens = list(lexer)
-        except ValueError as err:
-            raise self.error(
-                f"cannot split the line into words: {err}", line, expected="closed quotes"
-            ) from None
-        if not tokens:
-            return None
-        keyword, rest = tokens[0], tokens[1:]
-        if keyword not in _GRAMMAR:
-            raise self.error("unknown statement", line, found=keyword, expected=" | ".join(_GRAMMAR))
-        positional, required, optional = _GRAMMAR[keyword]
-        words = [w for w in rest if "=" not in w]
-        options: dict[str, str] = {}
-        for token in rest:
-            key, sep, value = token.partition("=")
-            if not sep:
-                continue
-            if key not in required | optional:
-                known = ", ".join(sorted(required | optional)) or "none"
-                raise self.error(f"unknown key of '{keyword}'", line, found=key, expected=f"one of: {known}")
-            if key in options:
-                raise self.error(f"key given twice in '{keyword}'", line, found=key, expected="each key once")
-            if not value:
-                raise self.error(f"empty value of {key}=", line, expected=f"{key}=VALUE")
-            options[key] = value
-        if len(words) != len(positional):
-            raise self.error(
-                f"'{keyword}' takes {len(positional)} word(s) before its options",
-                line,
-                found=" ".join(words) or "none",
-                expected=f"{keyword} {' '.join(p.upper() for p in positional)}",
-            )
-        missing = sorted(required - set(options))
-        if missing:
-            raise self.error(f"'{keyword}' needs {missing[0]}=", line, expected=f"{missing[0]}=VALUE")
-        if not _NAME.match(words[0]):
-            raise self.error(
-                f"malformed {keyword} name",
-                line,
-                found=words[0],
-                expected="a name without blanks, : , = # or quotes",
-            )
-        return _Statement(keyword, words, options, line)
-
-    def declare(self, h: _Harness, s: _Statement) -> None:
+    def declare(self, h: _Harness, s: Statement) -> None:
         name = s.words[0]
         if s.keyword == "harness":
             raise self.error(
@@ -237,83 +139,6 @@ class _Parser:
             h.nodes[name] = s.line
 
     # -- values ---------------------------------------------------------------------------------------
-    def length(self, s: _Statement, key: str) -> Decimal | None:
-        raw = s.options.get(key)
-        if raw is None:
-            return None
-        match = _LENGTH.match(raw)
-        if match is None or Decimal(match["number"]) == 0:
-            raise self.error(
-                f"malformed {key}",
-                s.line,
-                found=raw,
-                expected="a positive number with mm, cm or m, e.g. 250mm",
-            )
-        return Decimal(match["number"]) * _METRES[match["unit"]]
-
-    def section(self, s: _Statement) -> Decimal | None:
-        raw = s.options.get("section")
-        if raw is None:
-            return None
-        match = _SECTION.match(raw)
-        try:
-            value = Decimal(match["number"]) if match else Decimal(0)
-        except InvalidOperation:
-            value = Decimal(0)
-        if value <= 0:
-            raise self.error(
-                "malformed section",
-                s.line,
-                found=raw,
-                expected="a positive number of mm², e.g. 0.35 or 0.35mm2",
-            )
-        return value
-
-    def names(self, s: _Statement, key: str) -> list[str]:
-        names = s.options.get(key, "").split(",") if key in s.options else []
-        for name in names:
-            if not _NAME.match(name):
-                raise self.error(
-                    f"malformed name in {key}=",
-                    s.line,
-                    found=name or "an empty name",
-                    expected="names separated by commas",
-                )
-        return names
-
-    def cavities(self, s: _Statement) -> tuple[str, ...]:
-        names: list[str] = []
-        for item in s.options["cavities"].split(","):
-            match = _RANGE.match(item)
-            if match:
-                first, last = small_integer(match["first"]), small_integer(match["last"])
-                if first is None or last is None or not 0 <= last - first < _MAX_CAVITIES:
-                    raise self.error(
-                        "bad cavity range",
-                        s.line,
-                        found=item,
-                        expected=f"FIRST-LAST with FIRST <= LAST, at most {_MAX_CAVITIES}",
-                    )
-                names.extend(str(n) for n in range(first, last + 1))
-            elif _CAVITY.match(item):
-                names.append(item)
-            else:
-                raise self.error(
-                    "malformed cavity list",
-                    s.line,
-                    found=item or "an empty name",
-                    expected="names or ranges like 1-4, separated by commas",
-                )
-            if len(names) > _MAX_CAVITIES:
-                raise self.error(
-                    "too many cavities", s.line, found=len(names), expected=f"at most {_MAX_CAVITIES}"
-                )
-        twice = sorted(n for n, count in Counter(names).items() if count > 1)
-        if twice:
-            raise self.error("cavity listed twice", s.line, found=twice[0], expected="each cavity once")
-        return tuple(names)
-
-    # -- checks and records ---------------------------------------------------------------------------
     def records(self, h: _Harness) -> list[HarnessRecord]:
         cavities = {name: self.cavities(s) for name, s in h.connectors.items()}
         located: dict[str, str] = {}
@@ -379,11 +204,11 @@ class _Parser:
         shown = ", ".join(names[:12]) + (" ..." if len(names) > 12 else "")
         return f"one of: {shown}" if names else "a declared name (none is declared)"
 
-    def diameter(self, s: _Statement) -> float | None:
+    def diameter(self, s: Statement) -> float | None:
         value = self.length(s, "diameter")
         return float(value) if value is not None else None
 
-    def segment(self, h: _Harness, s: _Statement) -> HarnessSegment:
+    def segment(self, h: _Harness, s: Statement) -> HarnessSegment:
         name, start, end = s.words
         for node in (start, end):
             if node not in h.nodes:
@@ -409,7 +234,7 @@ class _Parser:
             s.line,
         )
 
-    def end(self, s: _Statement, word: str, cavities: dict[str, tuple[str, ...]]) -> WireEnd:
+    def end(self, s: Statement, word: str, cavities: dict[str, tuple[str, ...]]) -> WireEnd:
         connector, sep, cavity = word.partition(":")
         if not sep or not connector or not cavity:
             raise self.error(
@@ -437,7 +262,7 @@ class _Parser:
     def wire(
         self,
         h: _Harness,
-        s: _Statement,
+        s: Statement,
         cavities: dict[str, tuple[str, ...]],
         located: dict[str, str],
         segments: dict[str, HarnessSegment],
@@ -500,7 +325,7 @@ class _Parser:
         )
 
     def placement(
-        self, h: _Harness, s: _Statement, *, allow_nodes: bool
+        self, h: _Harness, s: Statement, *, allow_nodes: bool
     ) -> tuple[tuple[str, ...], tuple[str, ...]]:
         nodes: list[str] = []
         on_segments: list[str] = []

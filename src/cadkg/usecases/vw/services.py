@@ -17,15 +17,16 @@ from typing import TYPE_CHECKING
 import networkx as nx
 
 from cadkg.errors import NotFound, QueryError
-from cadkg.usecases.iema.cursors import Session
+from cadkg.services.service import Service, on_model
+from cadkg.services.session import Session
 from cadkg.usecases.vw.graphml import VIEWS, graphml_text
 from cadkg.usecases.vw.views import LIST_SEPARATOR, HarnessRef, harnesses, topology_graph, wire_graph
-from cadkg.services.table import Service, on_model, register
 
 if TYPE_CHECKING:
-    from cadkg.store import KnowledgeGraph
+    from cadkg.graph import KnowledgeGraph
 
 __all__ = [
+    "SERVICES",
     "HarnessTopologyResult",
     "TopologyNode",
     "TopologySegment",
@@ -201,7 +202,7 @@ def _model(session: Session) -> VwModel:
     return session.profile_model(PROFILE, build_model)
 
 
-register(
+SERVICES: tuple[Service, ...] = (
     Service(
         "harness_topology",
         "a harness's nodes, segments (length, diameter, wires) and wires (cavities, route), and GraphML",

@@ -25,7 +25,7 @@ import pyoxigraph as ox
 from cadkg.errors import NotFound, QueryError
 
 if TYPE_CHECKING:
-    from cadkg.store import KnowledgeGraph
+    from cadkg.graph import KnowledgeGraph
 
 __all__ = [
     "LIST_SEPARATOR",

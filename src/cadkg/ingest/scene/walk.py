@@ -1,8 +1,5 @@
-"""The scene graph shared by the X3D and VRML97 readers, and the walk that turns it into items.
-
-Both encodings are parsed into the same :class:`Node` tree (node type, DEF name, field values
-as text, node-valued fields); :func:`read_scene` then walks it, composes the transforms, meshes
-the shapes, follows Inline files and collects the DEF-named groups as :class:`SceneItem`.
+"""The walk that turns a parsed scene graph into items: it composes the transforms, meshes the
+shapes, follows Inline files and collects the DEF-named groups as :class:`SceneItem`.
 """
 
 from __future__ import annotations
@@ -17,6 +14,15 @@ from urllib.parse import unquote
 import numpy as np
 
 from cadkg.errors import IngestError, IngestWarning
+from cadkg.ingest.scene.nodes import (
+    Node,
+    ParsedFile,
+    Parser,
+    floats_of,
+    ints_of,
+    strings_of,
+    vector_of,
+)
 from cadkg.ingest.scene.records import (
     Floats,
     Ints,
@@ -38,22 +44,8 @@ from cadkg.ingest.scene.records import (
     transform_matrix,
 )
 
-__all__ = [
-    "MAX_NESTING",
-    "Field",
-    "Node",
-    "ParsedFile",
-    "Parser",
-    "floats_of",
-    "ints_of",
-    "read_scene",
-    "strings_of",
-    "vector_of",
-]
+__all__ = ["read_scene"]
 
-# Parsers and the walk recurse once per nesting level; this keeps them far from Python's
-# recursion limit on hostile input, and no CAD export nests this deep.
-MAX_NESTING = 100
 _MAX_WALK_DEPTH = 300
 
 _GROUPS = frozenset(
@@ -86,119 +78,7 @@ _NOT_GEOMETRY = frozenset(
     }
 )
 _NOT_GEOMETRY_SUFFIXES = ("Sensor", "Interpolator", "Trigger", "Sequencer", "Filter", "Chaser", "Damper")
-_FLOAT = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?")
-_INT = re.compile(r"[+-]?(?:\d{1,18}|0[xX][0-9a-fA-F]{1,15})")
-_SPLIT = re.compile(r"[\s,]+")
-_QUOTED = re.compile(r'"((?:[^"\\]|\\.)*)"', re.DOTALL)
-_ESCAPE = re.compile(r"\\(.)", re.DOTALL)
 _SCHEME = re.compile(r"^([A-Za-z][A-Za-z0-9+.\-]*):")
-
-
-@dataclass(frozen=True, slots=True)
-class Field:
-    """A field's value as written: an X3D attribute (``str``) or VRML tokens (``list``)."""
-
-    line: int
-    raw: str | list[str]
-
-
-@dataclass(eq=False, slots=True)
-class Node:
-    """One node of a parsed scene file; a USE is a node whose ``use_of`` is the DEF'd node."""
-
-    type: str
-    source: str
-    line: int
-    def_name: str | None = None
-    use_of: Node | None = None
-    fields: dict[str, Field] = field(default_factory=dict)
-    nodes: dict[str, list[Node]] = field(default_factory=dict)
-
-
-@dataclass(frozen=True, slots=True)
-class ParsedFile:
-    """The top-level nodes of one file and its DEF names with their lines."""
-
-    roots: list[Node]
-    defs: dict[str, int]
-
-
-Parser = Callable[[Path], ParsedFile]
-
-
-# --- field values --------------------------------------------------------------------------------------
-
-
-def _tokens(value: Field) -> list[str]:
-    if isinstance(value.raw, str):
-        return [t for t in _SPLIT.split(value.raw) if t]
-    return value.raw
-
-
-def _bad_number(node: Node, name: str, value: Field, token: str, expected: str) -> IngestError:
-    return IngestError(
-        node.source, f"bad number in {name!r} of {node.type}", line=value.line, found=token, expected=expected
-    )
-
-
-def floats_of(node: Node, name: str, default: tuple[float, ...] = ()) -> Floats:
-    """The numbers of a field (all finite); ``default`` when the field is absent."""
-    value = node.fields.get(name)
-    if value is None:
-        return np.array(default, dtype=np.float64)
-    tokens = _tokens(value)
-    expected = "a decimal number such as 0.25 or -1e-3"
-    for token in tokens:
-        if not _FLOAT.fullmatch(token):
-            raise _bad_number(node, name, value, token, expected)
-    numbers = np.array(tokens, dtype=np.float64)
-    finite = np.isfinite(numbers)
-    if not finite.all():
-        raise _bad_number(node, name, value, tokens[int(finite.argmin())], "a finite number")
-    return numbers
-
-
-def vector_of(node: Node, name: str, default: tuple[float, ...]) -> Floats:
-    """A field of exactly ``len(default)`` numbers (an SFVec3f, an SFRotation ...)."""
-    numbers = floats_of(node, name, default)
-    if numbers.size != len(default):
-        value = node.fields[name]
-        found = value.raw if isinstance(value.raw, str) else " ".join(value.raw)
-        raise IngestError(
-            node.source,
-            f"{name!r} of {node.type} has {numbers.size} number(s)",
-            line=value.line,
-            found=found[:60],
-            expected=f"{len(default)} numbers",
-        )
-    return numbers
-
-
-def ints_of(node: Node, name: str) -> Ints:
-    """The integers of a field (an MFInt32); empty when absent."""
-    value = node.fields.get(name)
-    if value is None:
-        return np.empty(0, dtype=np.int64)
-    tokens = _tokens(value)
-    for token in tokens:
-        if not _INT.fullmatch(token):
-            raise _bad_number(node, name, value, token, "an integer such as 3 or -1")
-    if any("x" in t or "X" in t for t in tokens):
-        return np.array([int(t, 16) if "x" in t or "X" in t else int(t) for t in tokens], dtype=np.int64)
-    return np.array(tokens, dtype=np.int64)
-
-
-def strings_of(node: Node, name: str) -> list[str]:
-    """An MFString: VRML string tokens, or an X3D attribute of quoted strings (one bare string allowed)."""
-    value = node.fields.get(name)
-    if value is None:
-        return []
-    if not isinstance(value.raw, str):
-        return list(value.raw)
-    if '"' not in value.raw:
-        bare = value.raw.strip()
-        return [bare] if bare else []
-    return [_ESCAPE.sub(r"\1", m) for m in _QUOTED.findall(value.raw)]
 
 
 # --- the walk ------------------------------------------------------------------------------------------
@@ -522,14 +402,12 @@ def _vec3(values: Floats) -> Vec3:
     return (float(values[0]), float(values[1]), float(values[2]))
 
 
-def read_scene(path: str | Path, parse: Parser) -> list[SceneItem]:
-    """Read the scene file ``path`` with ``parse`` and any Inline files it names, as items."""
-    from cadkg.ingest.scene.vrml import parse_vrml  # the readers import this module
-    from cadkg.ingest.scene.x3d import parse_x3d
-
+def read_scene(path: str | Path, parse: Parser, parsers: dict[str, Parser]) -> list[SceneItem]:
+    """Read the scene file ``path`` with ``parse`` and any Inline files it names with the parser
+    of their suffix in ``parsers``, as items."""
     top = Path(path)
+    walk = _Walk(top, parsers)
     parsed = parse(top)
-    walk = _Walk(top, {".x3d": parse_x3d, ".wrl": parse_vrml})
     walk.add_file(top, parsed)
     walk.chain.append(top.resolve())
     for root in parsed.roots:

@@ -1,0 +1,122 @@
+"""What every ``cadkg`` command shares: the consoles, one-line errors, opening a target,
+``key=value`` parameters and printing query results."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import sys
+from collections.abc import Callable, Sequence
+from datetime import date, datetime
+from decimal import Decimal
+from functools import wraps
+from pathlib import Path
+from typing import Any, TypeVar
+
+import click
+from rich.console import Console
+from rich.table import Table
+
+from cadkg.errors import CadkgError
+from cadkg.graph import KnowledgeGraph
+from cadkg.store import QueryResult
+
+__all__ = ["err", "guarded", "open_target", "out", "parse_params", "print_result", "store_auth"]
+
+F = TypeVar("F", bound=Callable[..., Any])
+err = Console(stderr=True, highlight=False, soft_wrap=True)
+# Piped output is read by scripts and people alike: do not truncate table cells to 80 columns.
+out = Console(highlight=False, soft_wrap=True, width=None if sys.stdout.isatty() else 240)
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, Decimal):
+        return format(value, "f")
+    if isinstance(value, datetime | date):
+        return value.isoformat()
+    return value
+
+
+def guarded(func: F) -> F:
+    """Turn cadkg errors into one line on stderr and exit 2; no traceback without --debug."""
+
+    @wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        debug = click.get_current_context().find_root().params.get("debug", False)
+        try:
+            return func(*args, **kwargs)
+        except (CadkgError, OSError, MemoryError) as error:
+            if debug:
+                raise
+            err.print(f"cadkg: error: {_one_line(error)}", markup=False)
+            sys.exit(2)
+
+    return wrapper  # type: ignore[return-value]
+
+
+def _one_line(err: BaseException) -> str:
+    if isinstance(err, OSError) and err.filename and err.strerror:
+        # As the readers' errors: the file first, then what went wrong ("[Errno 2] ..." is noise).
+        return f"{err.filename}: {err.strerror}"
+    return str(err)
+
+
+def store_auth(auth: str | None = None, auth_digest: str | None = None) -> Any:
+    """Credentials for a remote store: the command's own, else ``cadkg --auth/--auth-digest``."""
+    from cadkg.remote import parse_auth
+
+    if not (auth or auth_digest):
+        root = click.get_current_context().find_root().params
+        auth, auth_digest = root.get("auth"), root.get("auth_digest")
+    if auth_digest:
+        return parse_auth(auth_digest, digest=True)
+    return parse_auth(auth) if auth else None
+
+
+def open_target(target: str) -> KnowledgeGraph:
+    """A store directory is opened read-only; a manifest is built in memory; an http(s) URL is a
+    remote SPARQL endpoint (docs/remote.md)."""
+    from cadkg.remote import RemoteGraph, is_url
+
+    if is_url(target):
+        return RemoteGraph(target, auth=store_auth())
+    path = Path(target)
+    if path.is_dir():
+        return KnowledgeGraph.open(path)
+    if path.is_file():
+        kg = KnowledgeGraph.build(path)
+        for report in kg.reports:
+            for warning in report.warnings:
+                err.print(f"cadkg: warning: {warning}", markup=False)
+        return kg
+    raise click.BadParameter(f"{target!r} is neither a store directory nor a manifest file")
+
+
+def parse_params(pairs: Sequence[str]) -> dict[str, str]:
+    params = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            raise click.BadParameter(f"{pair!r}: parameters are written key=value")
+        params[key] = value
+    return params
+
+
+def print_result(result: QueryResult, fmt: str) -> None:
+    if fmt == "json":
+        rows = [{k: _plain(v) for k, v in row.items()} for row in result.rows]
+        out.print_json(json.dumps({"variables": list(result.variables), "rows": rows}))
+    elif fmt == "csv":
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        writer.writerow(result.variables)
+        for row in result.rows:
+            writer.writerow(["" if row[v] is None else _plain(row[v]) for v in result.variables])
+        sys.stdout.write(buffer.getvalue())
+    else:
+        table = Table(*result.variables, show_lines=False)
+        for row in result.rows:
+            table.add_row(*("" if row[v] is None else str(_plain(row[v])) for v in result.variables))
+        out.print(table)
+        err.print(f"{len(result)} row(s)")

@@ -1,0 +1,160 @@
+"""The commands that serve a cell: over HTTP (serve) and to ROS 2 (ros)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Any
+
+import click
+
+from cadkg.cli.common import err, guarded, open_target, store_auth
+from cadkg.graph import KnowledgeGraph
+
+__all__ = ["ros", "serve"]
+
+
+@click.command()
+@click.argument("target", metavar="STORE_OR_MANIFEST_OR_URL")
+@click.option("--host", default="127.0.0.1", show_default=True, help="Address to listen on.")
+@click.option("--port", type=click.IntRange(0, 65535), default=7878, show_default=True)
+@click.option(
+    "--allow-non-loopback", is_flag=True, help="Allow a --host other machines can reach (see docs/server.md)."
+)
+@click.option(
+    "--allow-update", is_flag=True, help="Accept SPARQL Update and Graph Store writes (needs --token)."
+)
+@click.option(
+    "--token", envvar="CADKG_SERVE_TOKEN", default=None, help="Bearer token for writes and /reload."
+)
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0.1),
+    default=30.0,
+    show_default=True,
+    help="Seconds a request may take.",
+)
+@click.option(
+    "--max-rows",
+    type=click.IntRange(min=1),
+    default=10_000,
+    show_default=True,
+    help="Rows (or triples) per answer.",
+)
+@click.option(
+    "--max-body",
+    type=click.IntRange(min=1),
+    default=1 << 20,
+    show_default=True,
+    help="Bytes per request body.",
+)
+@click.option(
+    "--workers", type=click.IntRange(min=1), default=4, show_default=True, help="Queries evaluated at once."
+)
+@click.option(
+    "--cache-mb", type=click.IntRange(min=0), default=64, show_default=True, help="Answer cache (0: none)."
+)
+@click.option(
+    "--watch",
+    type=click.FloatRange(min=0),
+    default=2.0,
+    show_default=True,
+    help="Seconds between checks for a rebuilt store (0: never).",
+)
+@guarded
+def serve(
+    target: str,
+    host: str,
+    port: int,
+    allow_non_loopback: bool,
+    allow_update: bool,
+    token: str | None,
+    timeout: float,
+    max_rows: int,
+    max_body: int,
+    workers: int,
+    cache_mb: int,
+    watch: float,
+) -> None:
+    """Serve the graph over HTTP: SPARQL 1.1 Protocol at /sparql, services at /api, a web page at /.
+
+    Read-only unless --allow-update with a --token; listens on loopback unless
+    --allow-non-loopback. A rebuilt store directory is picked up without losing requests.
+    """
+    from cadkg.remote import RemoteGraph, is_url
+    from cadkg.server import Limits, Settings
+    from cadkg.server import serve as run_server
+
+    if allow_update and not token:
+        raise click.BadParameter("--allow-update needs --token (or CADKG_SERVE_TOKEN)")
+    credentials = store_auth() if is_url(target) else None
+
+    def load() -> Any:
+        if is_url(target):
+            return RemoteGraph(target, auth=credentials)
+        if allow_update and Path(target).is_dir():
+            return KnowledgeGraph.open(target, read_only=False)
+        return open_target(target)
+
+    limits = Limits(timeout=timeout, max_rows=max_rows, max_body=max_body, workers=workers)
+    settings = Settings(
+        limits=limits, allow_update=allow_update, token=token, cache_bytes=cache_mb << 20, watch_seconds=watch
+    )
+    run_server(load, settings, host, port, allow_non_loopback=allow_non_loopback)
+
+
+def _ros_python() -> str | None:
+    """The Python that has rclpy: $CADKG_ROS_PYTHON, else the checkout's .venv-ros (scripts/ros-setup.sh)."""
+    import os
+
+    configured = os.environ.get("CADKG_ROS_PYTHON")
+    if configured:
+        return configured
+    candidate = Path(__file__).resolve().parents[3] / ".venv-ros" / "bin" / "python"
+    return str(candidate) if candidate.exists() else None
+
+
+@click.command(name="ros", context_settings={"ignore_unknown_options": True})
+@click.argument("source", metavar="STORE_OR_MANIFEST_OR_URL")
+@click.option("--profile", default=None, help="Profile (default: the cell's).")
+@click.option("--namespace", default=None, help="Service namespace (default /gearbox_handler for iema).")
+@click.option("--approach-distance", type=float, default=None, help="Override the manifest's value (m).")
+@click.argument("ros_args", nargs=-1, type=click.UNPROCESSED)
+def ros(
+    source: str,
+    profile: str | None,
+    namespace: str | None,
+    approach_distance: float | None,
+    ros_args: tuple[str, ...],
+) -> None:
+    """Serve a cell to ROS 2 (needs rclpy: runs in .venv-ros, see docs/ros.md)."""
+    import importlib.util
+    import os
+
+    from cadkg.remote import is_url
+
+    args = [] if is_url(source) else [str(Path(source).resolve())]
+    if is_url(source):
+        # Handed to the node's 'source' parameter as is: a positional source is resolved as a path.
+        ros_args = (*ros_args, "--ros-args", "-p", f"source:={source}")
+    elif not Path(source).exists():
+        raise click.BadParameter(f"{source!r} does not exist", param_hint="STORE_OR_MANIFEST_OR_URL")
+    for flag, value in (
+        ("--profile", profile),
+        ("--namespace", namespace),
+        ("--approach-distance", approach_distance),
+    ):
+        if value is not None:
+            args += [flag, str(value)]
+    args += list(ros_args)
+    if importlib.util.find_spec("rclpy") is not None:
+        from cadkg.ros_adapter.node import main as ros_main
+
+        sys.exit(ros_main(args))
+    python = _ros_python()
+    if python is None:
+        err.print(
+            "cadkg: error: no rclpy here and no .venv-ros; run scripts/ros-setup.sh first", markup=False
+        )
+        sys.exit(2)
+    os.execv(python, [python, "-m", "cadkg.ros_adapter", *args])

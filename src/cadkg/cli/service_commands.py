@@ -1,0 +1,87 @@
+"""The commands of the services: call, services, assign."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+from rich.table import Table
+
+from cadkg.cli.common import err, guarded, open_target, out, parse_params
+from cadkg.graph import KnowledgeGraph
+
+__all__ = ["assign", "call_service", "list_services"]
+
+
+def _cursor_file(target: str) -> Path | None:
+    path = Path(target)
+    return path / "cursors.json" if path.is_dir() else None
+
+
+@click.command(name="call")
+@click.argument("target", metavar="STORE_OR_MANIFEST")
+@click.argument("service", metavar="SERVICE")
+@click.argument("params", nargs=-1, metavar="[KEY=VALUE]...")
+@click.option("--client", default="default", show_default=True, help="Cursor owner for the cursor services.")
+@guarded
+def call_service(target: str, service: str, params: tuple[str, ...], client: str) -> None:
+    """Call a service (see 'cadkg services') and print its result as JSON.
+
+    Cursors (connection providers, rail scanner) are kept per client in STORE/cursors.json,
+    so successive calls walk the list; a rebuilt store starts them afresh.
+    """
+    from cadkg.services.service import to_jsonable
+    from cadkg.services.session import Session
+    from cadkg.services.table import call
+
+    kg = open_target(target)
+    session = Session(kg.cell_model(), kg=kg)
+    state_file = _cursor_file(target)
+    generation = kg.generation
+    if state_file is not None and state_file.is_file():
+        try:
+            saved = json.loads(state_file.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            saved = {}
+        if isinstance(saved, dict) and saved.get("generation") == generation:
+            session.load(saved.get("cursors", {}))
+    result = call(session, service, parse_params(params), client=client)
+    if state_file is not None:
+        state = {"generation": generation, "cursors": session.dump()}
+        temporary = state_file.with_suffix(".tmp")
+        temporary.write_text(json.dumps(state, indent=1), encoding="utf-8")
+        temporary.replace(state_file)
+    out.print_json(json.dumps(to_jsonable(result)))
+
+
+@click.command(name="services")
+@guarded
+def list_services() -> None:
+    """List the services 'cadkg call' and the ROS adapter serve."""
+    from cadkg.services.table import SERVICES
+
+    table = Table("profile", "service", "parameters", "answers")
+    for service in sorted(SERVICES.values(), key=lambda s: s.profile):
+        params = ", ".join(
+            f"{k} ({t.__name__.lower()}{', optional' if k in service.optional else ''})"
+            for k, t in service.params.items()
+        )
+        table.add_row(service.profile, service.name, params, service.description)
+    out.print(table)
+
+
+@click.command()
+@click.argument("store_dir", metavar="STORE", type=click.Path(exists=True, file_okay=False))
+@click.argument("kind", type=click.Choice(["wire", "component", "operation"]))
+@click.argument("ident", metavar="ID")
+@click.argument("performer", type=click.Choice(["robot", "human"]))
+@guarded
+def assign(store_dir: str, kind: str, ident: str, performer: str) -> None:
+    """Assign a wire (number), component (label) or operation (list position) to robot or human.
+
+    The choice is kept in its own named graph, so rebuilding the store keeps it.
+    """
+    with KnowledgeGraph.open(store_dir, read_only=False) as kg:
+        target = kg.assign(kind, ident, performer)
+    err.print(f"{kind} {ident} → {performer} ({target})")

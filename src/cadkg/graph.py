@@ -1,0 +1,341 @@
+"""The knowledge graph of a cell: the store, built from a manifest, with what is derived from it.
+
+:class:`KnowledgeGraph` adds to :class:`cadkg.store.GraphStore` the build (files → records →
+triples → store, :mod:`cadkg.building`), the cell model that the registered derivation
+computes from the graph (kept beside an on-disk store, recomputed after every change), the
+robot/human assignments, and the named queries and networkx views.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import gc
+import shutil
+import traceback
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import pyoxigraph as ox
+
+import cadkg.registry as registry
+from cadkg.building import write_graphs
+from cadkg.errors import NotFound, StoreError
+from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
+from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
+from cadkg.loading import BackgroundLoader, paused_gc
+from cadkg.mapping.writer import node_iri
+from cadkg.ontology.terms import CK_NS
+from cadkg.query.named import run_named
+from cadkg.query.views import graph_view, write_graphml
+from cadkg.store import FILES, GraphStore, QueryResult, new_generation, publish_generation, read_pointer
+from cadkg.usecase import Derivation
+
+if TYPE_CHECKING:
+    import networkx as nx
+
+__all__ = ["ASSIGNABLE", "PERFORMERS", "KnowledgeGraph", "build", "open_store"]
+
+_MODEL_FILE = "cell-model.json"
+PERFORMERS = ("robot", "human")
+ASSIGNABLE = ("wire", "component", "operation")
+
+
+def _derivation() -> Derivation:
+    found = registry.derivation()
+    if found is None:
+        raise StoreError("no registered use case derives a cell model")
+    return found
+
+
+class KnowledgeGraph(GraphStore):
+    """The cell's RDF graph, built from a manifest, with its derived cell model.
+
+    Queries see the union of all named graphs as their default graph.
+    """
+
+    def __init__(self, store: ox.Store, directory: Path | None = None, read_only: bool = False) -> None:
+        super().__init__(store, directory, read_only)
+        self._model: Any = None
+
+    @property
+    def _model_file(self) -> Path | None:
+        return self._generation / _MODEL_FILE if self._generation is not None else None
+
+    # -- building -----------------------------------------------------------------
+    @classmethod
+    def build(
+        cls,
+        manifest: str | Path | Manifest,
+        directory: str | Path | None = None,
+        *,
+        on_source: Callable[[SourceSpec], None] | None = None,
+    ) -> KnowledgeGraph:
+        """Build the graph of a manifest, in memory or atomically into ``directory``.
+
+        Raises
+        ------
+        IngestError, ManifestError
+            When any input is malformed; an existing store directory is left unchanged.
+        """
+        if not isinstance(manifest, Manifest):
+            manifest = load_manifest(manifest)
+        with paused_gc():
+            if directory is None:
+                kg = cls.memory()
+                kg._load_sources(manifest, on_source, bulk=False)
+                return kg
+            return cls._build_into(manifest, Path(directory), on_source)
+
+    @classmethod
+    def _build_into(
+        cls, manifest: Manifest, directory: Path, on_source: Callable[[SourceSpec], None] | None
+    ) -> KnowledgeGraph:
+        generation = new_generation(directory)
+        reports: list[SourceReport] = []
+        store: ox.Store | None = None
+        kg: KnowledgeGraph | None = None
+        try:
+            store = ox.Store(str(generation))
+            kg = cls(store, directory)
+            kg._files_dir = generation / FILES
+            kg._generation = generation
+            kg._load_ontology()
+            edits = kg._keep_edits(directory, manifest.cell.base_iri)
+            reports = kg._load_sources(manifest, on_source, bulk=True, edits=edits)
+            model = kg.cell_model()
+            if not (generation / _MODEL_FILE).exists():
+                kg._keep_model(model)
+            store.flush()
+            store.optimize()
+        except BaseException as err:
+            # RocksDB goes on writing (flushes, compactions) until the store is dropped; removed
+            # while open, the generation would come back as debris that blocks the next build.
+            # The failed frames below this one still hold the store: clear them, then drop it.
+            traceback.clear_frames(err.__traceback__)
+            store = kg = None
+            gc.collect()
+            shutil.rmtree(generation, ignore_errors=True)
+            raise
+        store = kg = None
+        publish_generation(directory, generation)
+        opened = cls.open(directory, read_only=False)
+        opened.reports = reports
+        opened._model = model
+        return opened
+
+    def _load_sources(
+        self,
+        manifest: Manifest,
+        on_source: Callable[[SourceSpec], None] | None,
+        *,
+        bulk: bool,
+        edits: Iterable[tuple[str, str]] = (),
+    ) -> list[SourceReport]:
+        """Load every source, derive the cell model and load its graph; the store ends complete."""
+        # A failure anywhere discards the whole store being built, so chunks of a file may be
+        # loaded while the rest of it is still being mapped. On disk, one bulk load per file:
+        # bulk-loading many chunks writes many small tables that cost more to merge.
+        with BackgroundLoader(self._store, bulk=bulk) as loader:
+            model = write_graphs(
+                manifest, loader.put, stream=not bulk, on_source=on_source, on_graph=self._took, edits=edits
+            )
+        if model is None:
+            self.derive()
+        else:
+            self._model = model
+        return list(self.reports)
+
+    def _took(self, data: GraphData) -> None:
+        """Keep what a build read from one source besides its triples: files and report."""
+        self._write_files(data.files)
+        self.reports.append(data.report)
+
+    def _keep_edits(self, directory: Path, base_iri: str) -> list[tuple[str, str]]:
+        """Carry the live generation's hand-edited assignments over; give (target, performer) pairs."""
+        # Assignments edited by hand live in their own graph; a rebuild from the
+        # source files carries them over from the live generation.
+        previous = read_pointer(directory)
+        if previous is None or not (directory / previous).is_dir():
+            return []
+        graph = ox.NamedNode(base_iri + "assignments")
+        try:
+            old = ox.Store.read_only(str(directory / previous))
+        except OSError:
+            return []
+        self._store.extend(list(old.quads_for_pattern(None, None, None, graph)))
+        del old
+        rows = self.query(
+            "SELECT ?g ?target ?who WHERE { GRAPH ?g { ?a ck:assignmentOf ?target ; ck:assignedTo ?who } }",
+            g=graph,
+        )
+        return [(row["target"], row["who"].rsplit("#", 1)[-1]) for row in rows]
+
+    # -- derived model and assignments ----------------------------------------------
+    def cell_model(self) -> Any:
+        """The cell model the registered derivation computes from the graph (the cabinet's
+        geometry, :mod:`cadkg.usecases.iema.cabinet`), once per change.
+
+        An on-disk store keeps a copy of it written with the store and after each change, so
+        opening the store again reads it instead of deriving.
+        """
+        if self._model is None:
+            derivation = _derivation()
+            with paused_gc():
+                self._model = self._kept_model()
+                if self._model is None:
+                    self._model = derivation.derive(derivation.extract(self))
+                    if not self.read_only:
+                        self._keep_model(self._model)
+        return self._model
+
+    def _kept_model(self) -> Any:
+        if self._model_file is None:
+            return None
+        try:
+            data = self._model_file.read_bytes()
+        except OSError:
+            return None
+        return _derivation().load(data)
+
+    def _keep_model(self, model: Any) -> None:
+        if self._model_file is None:
+            return
+        # Written whole and renamed into place, so a reader finds the old copy, none, or this one.
+        partial = self._model_file.with_name(self._model_file.name + ".partial")
+        with contextlib.suppress(OSError):
+            partial.write_bytes(_derivation().dump(model))
+            partial.replace(self._model_file)
+
+    def _forget_model(self) -> None:
+        """Drop the model and its kept copy; called before the graph changes, so no copy outlives it."""
+        self._model = None
+        if self._model_file is not None:
+            self._model_file.unlink(missing_ok=True)
+
+    def derive(self) -> Any:
+        """Recompute the cell model and replace its named graph (``{base}derived``) with it."""
+        self._forget_model()
+        model = self.cell_model()
+        derivation = _derivation()
+        base = derivation.base(model)
+        if base and not self.read_only:
+            graph = ox.NamedNode(derivation.graph(model))
+            if graph in set(self._store.named_graphs()):
+                self._store.remove_graph(graph)
+            with paused_gc():
+                data = derivation.ntriples(model, base, None)
+            self._store.load(data, ox.RdfFormat.N_TRIPLES, to_graph=graph, lenient=True)
+        return model
+
+    def assign(self, kind: str, ident: str, performer: str) -> str:
+        """Decide who makes a wire, handles a component or performs an operation; kept across rebuilds.
+
+        Raises
+        ------
+        StoreError
+            On an unknown kind or performer, or a read-only store.
+        NotFound
+            When no such wire, component or operation is in the graph.
+        """
+        if self.read_only:
+            raise StoreError("the store is open read-only")
+        if kind not in ASSIGNABLE or performer not in PERFORMERS:
+            raise StoreError(
+                f"cannot assign {kind!r} to {performer!r}: kind is one of {', '.join(ASSIGNABLE)}, "
+                f"performer one of {', '.join(PERFORMERS)}"
+            )
+        model = self.cell_model()
+        if not model.base:
+            raise StoreError("the store has no cell; build it from a manifest first")
+        known = {
+            "wire": {s.wire for s in model.steps},
+            "component": set(model.components),
+            "operation": {str(s.position) for s in model.steps},
+        }[kind]
+        if ident not in known:
+            raise NotFound(f"no {kind} {ident!r} in the graph")
+        target = node_iri(model.base, kind, ident)
+        node = node_iri(model.base, "assignment", kind, ident)
+        graph = f"{model.base}assignments"
+        self._forget_model()
+        # One update request: the old decision goes only if the new one lands.
+        self._store.update(
+            f"""DELETE WHERE {{ GRAPH <{graph}> {{ <{node}> ?p ?o }} }} ;
+                INSERT DATA {{ GRAPH <{graph}> {{
+                  <{node}> a <{CK_NS}Assignment> ; <{CK_NS}assignmentOf> <{target}> ;
+                    <{CK_NS}assignedTo> <{CK_NS}{performer}> }} }}"""
+        )
+        self.derive()
+        return target
+
+    def replace_source(
+        self,
+        path: str | Path,
+        rel_path: str,
+        base_iri: str,
+        kind: str | None = None,
+        frame: str | None = None,
+    ) -> SourceReport:
+        """Re-read one input file and replace its named graph, leaving every other graph as is.
+
+        The file is read and mapped before the store is touched, and the swap is one
+        transaction: on a read error the old graph stays.
+
+        Raises
+        ------
+        IngestError
+            When the file is malformed.
+        """
+        if self.read_only:
+            raise StoreError("the store is open read-only")
+        with paused_gc():
+            data = read_source(Path(path), rel_path, kind, base_iri, frame)
+        self._write_files(data.files)
+        # One update request is one transaction: the old graph goes only if the new one lands.
+        # The graph IRI is minted by us and every term of the data is escaped by the mapping.
+        inserts = data.ntriples.decode("utf-8")
+        self._forget_model()
+        self._store.update(
+            f"DROP SILENT GRAPH <{data.graph}> ; INSERT DATA {{ GRAPH <{data.graph}> {{ {inserts} }} }}"
+        )
+        self.derive()
+        self.reports.append(data.report)
+        return data.report
+
+    def _changing(self) -> None:
+        self._forget_model()
+
+    def _changed(self) -> None:
+        # The derived graph follows what it is derived from, as after a rebuild.
+        self.derive()
+
+    # -- views and exports ----------------------------------------------------------
+    def export(self, path: str | Path, fmt: str | None = None) -> Path:
+        """Write the graph to ``path``; the format comes from ``fmt`` or the suffix
+        (``.ttl .nt .nq .trig .jsonld .graphml``)."""
+        path = Path(path)
+        fmt = fmt or path.suffix.lstrip(".").lower()
+        if fmt == "graphml":
+            write_graphml(self, path)
+            return path
+        path.write_bytes(self.serialize(fmt))
+        return path
+
+    def graph_view(self, relations: Iterable[str] | None = None) -> nx.MultiDiGraph:
+        """A networkx view of the selected relations (see :func:`cadkg.query.views.graph_view`)."""
+        return graph_view(self, relations)
+
+    def named_query(self, name: str, **params: Any) -> QueryResult:
+        """Run a named query (see :func:`cadkg.query.named.run_named`)."""
+        return run_named(self, name, **params)
+
+
+def build(manifest: str | Path, store: str | Path | None = None) -> KnowledgeGraph:
+    """Build the graph of a manifest: in memory, or into a store directory (atomically)."""
+    return KnowledgeGraph.build(manifest, store)
+
+
+def open_store(directory: str | Path, *, read_only: bool = True) -> KnowledgeGraph:
+    """Open a store directory written by :func:`build`."""
+    return KnowledgeGraph.open(directory, read_only=read_only)

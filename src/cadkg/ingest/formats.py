@@ -1,0 +1,63 @@
+"""The formats no single use case owns: WRI tables, EPLAN connection lists, X3D and VRML
+scenes, KBL harnesses, robot/human assignments. Use cases add their own (see cadkg.usecase)."""
+
+from __future__ import annotations
+
+from cadkg.ingest.assignments import looks_like_assignments, read_assignments
+from cadkg.ingest.eplan.connection_list import (
+    iter_connection_list,
+    looks_like_connection_list,
+    read_connection_list,
+)
+from cadkg.ingest.harness.kbl import looks_like_kbl, read_kbl
+from cadkg.ingest.reader import Reader
+from cadkg.ingest.scene.read import read_vrml, read_x3d
+from cadkg.ingest.scene.vrml import looks_like_vrml97
+from cadkg.ingest.wri import iter_wri, read_wri
+
+__all__ = ["READERS"]
+
+READERS: tuple[Reader, ...] = (
+    Reader(
+        kind="wri",
+        suffixes=(".wri",),
+        read=read_wri,
+        stream=iter_wri,
+        description="WRI ID table: CAD item ID, label, commercial code (tab separated)",
+    ),
+    Reader(
+        kind="connection-list",
+        suffixes=(".csv", ".tsv", ".txt"),
+        read=read_connection_list,
+        stream=iter_connection_list,
+        description="EPLAN connection list (Figure 3 form, Lista cablaggio, machine exports)",
+        sniff=looks_like_connection_list,
+    ),
+    Reader(
+        kind="x3d",
+        suffixes=(".x3d",),
+        read=read_x3d,
+        description="X3D scene (XML encoding): DEF-named Transforms and Groups, poses, boxes, meshes",
+    ),
+    Reader(
+        kind="vrml",
+        suffixes=(".wrl",),
+        read=read_vrml,
+        description="VRML97 scene (#VRML V2.0 utf8): DEF-named Transforms and Groups, poses, boxes, meshes",
+        sniff=looks_like_vrml97,
+    ),
+    Reader(
+        kind="assignments",
+        suffixes=(".csv",),
+        read=read_assignments,
+        description="robot/human assignment overlay: kind,id,performer (wire, component or operation)",
+        sniff=looks_like_assignments,
+    ),
+    Reader(
+        kind="kbl",
+        suffixes=(".kbl",),
+        read=read_kbl,
+        description="KBL harness (VDA 4964) 2.3 SR-1, 2.4: connectors, topology, wires",
+        sniff=looks_like_kbl,
+    ),
+)

@@ -1,0 +1,155 @@
+"""The nodes several mappings share: components, pins, wires, frames, models, meshes.
+
+Each is described once per graph (:meth:`TripleWriter.once`), whichever record meets it first,
+and gets the same IRI in every graph, so that files join on it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from decimal import Decimal
+
+from cadkg.geometry.frames import quaternion_from_rpy
+from cadkg.ingest.eplan.labels import PinRef
+from cadkg.ingest.placement import Placement
+from cadkg.mapping.writer import TYPE, XSD, TripleWriter, literal, node_iri, term, write_pose
+
+__all__ = [
+    "cable_node",
+    "component_node",
+    "connector_node",
+    "dimensions",
+    "frame_node",
+    "item_mesh_file",
+    "mesh_node",
+    "model_frame",
+    "model_node",
+    "pin_iri",
+    "pin_node",
+    "placement_pose",
+    "wire_iri",
+]
+
+
+def component_node(w: TripleWriter, label: str, kind: str = "Component") -> str:
+    """The component ``label``, labelled once per graph and typed ``kind`` when this graph
+    describes it first."""
+    node = w.components.get(label)
+    if node is not None:
+        return node  # described, or found described, by its first call
+    node = w.components[label] = w.iri("component", label)
+    if w.once(node):
+        w.add(node, TYPE, term(kind))
+        w.add(node, term("label"), w.text(label))
+    return node
+
+
+def pin_iri(base_iri: str, ref: PinRef) -> str:
+    """The IRI of the pin ``ref`` names: component, pin and, on a terminal, its level."""
+    if ref.level is None:
+        return node_iri(base_iri, "pin", ref.component, ref.pin)
+    return node_iri(base_iri, "pin", ref.component, ref.pin, ref.level)
+
+
+def wire_iri(base_iri: str, number: str, taken: set[str]) -> str:
+    """The IRI of the wire ``number`` not in ``taken`` (the wires of its file so far), added to it.
+
+    A number a list repeats gets ``~2``, ``~3`` ... so that no row is lost.
+    """
+    iri = node_iri(base_iri, "wire", number)
+    occurrence = 1
+    while iri in taken:
+        occurrence += 1
+        iri = node_iri(base_iri, "wire", f"{number}~{occurrence}")
+    taken.add(iri)
+    return iri
+
+
+def item_mesh_file(item_id: str) -> str:
+    """Where the STL mesh of scene item ``item_id`` is kept, relative to the store's files."""
+    return f"meshes/{item_id}.stl"
+
+
+_PIN, _PIN_NAME, _LEVEL, _PIN_OF, _HAS_PIN = (term(n) for n in ("Pin", "pinName", "level", "pinOf", "hasPin"))
+
+
+def pin_node(w: TripleWriter, ref: PinRef) -> str:
+    """The pin ``ref`` names, with its component, described once per graph."""
+    key = (ref.component, ref.pin, ref.level)
+    node = w.pins.get(key)
+    if node is not None:
+        return node
+    node = w.pins[key] = f"<{pin_iri(w.base, ref)}>"
+    if w.once(node):
+        component = component_node(w, ref.component)
+        level = "" if ref.level is None else f"{node} {_LEVEL} {literal(ref.level)} .\n"
+        w.add_block(
+            f"{node} {TYPE} {_PIN} .\n{node} {_PIN_NAME} {literal(ref.pin)} .\n{level}"
+            f"{node} {_PIN_OF} {component} .\n{component} {_HAS_PIN} {node} .\n",
+            4 if ref.level is None else 5,
+        )
+    return node
+
+
+def frame_node(w: TripleWriter, name: str) -> str:
+    """The frame called ``name`` (a ROS frame id), described once per graph."""
+    node = w.iri("frame", name)
+    if w.once(node):
+        w.add(node, TYPE, term("Frame"))
+        w.add(node, term("label"), w.text(name))
+    return node
+
+
+def placement_pose(w: TripleWriter, node: str, placement: Placement, parent: str) -> str:
+    """A pose read from a file (roll, pitch, yaw) in frame ``parent``, with its line."""
+    pose = write_pose(w, node, placement.xyz, quaternion_from_rpy(*placement.rpy), parent)
+    w.add(pose, term("sourceLine"), w.typed(placement.line))
+    return pose
+
+
+def model_node(w: TripleWriter, key: str) -> str:
+    """The commercial model ``key`` (a component model, a WRI commercial code, a model number)."""
+    node = w.iri("model", key)
+    if w.once(node):
+        w.add(node, TYPE, term("CommercialModel"))
+        w.add(node, term("commercialCode"), w.text(key))
+    return node
+
+
+def model_frame(w: TripleWriter, model: str, key: str) -> str:
+    """The frame of the commercial model ``key`` (node ``model``), in which its poses are given."""
+    frame = w.iri("model", key, "frame")
+    w.add(frame, TYPE, term("Frame"))
+    w.add(frame, term("label"), w.text(f"model {key}"))
+    w.add(model, term("hasFrame"), frame)
+    return frame
+
+
+def dimensions(w: TripleWriter, node: str, sizes: Sequence[float | Decimal]) -> None:
+    """Size along x, y, z in metres."""
+    for name, value in zip(("xDim", "yDim", "zDim"), sizes, strict=True):
+        w.add(node, term(name), w.typed(float(value)))
+
+
+def mesh_node(w: TripleWriter, owner: str, mesh: str, rel: str) -> None:
+    """``owner`` has the mesh node ``mesh`` whose STL file is ``rel`` in the store's files."""
+    w.add(owner, term("hasMesh"), mesh)
+    w.add(mesh, TYPE, term("Mesh"))
+    w.add(mesh, term("meshUri"), f'"{rel}"^^<{XSD}anyURI>')
+
+
+def connector_node(w: TripleWriter, label: str) -> str:
+    """The component ``label``, typed a connector."""
+    node = component_node(w, label)
+    if w.once(node + "#connector"):
+        w.add(node, TYPE, term("Connector"))
+    return node
+
+
+def cable_node(w: TripleWriter, name: str) -> str:
+    """The cable ``name``, one node whichever file mentions it."""
+    node = w.iri("cable", name)
+    if w.once(node):
+        w.add(node, TYPE, term("Cable"))
+        w.add(node, term("label"), w.text(name))
+    return node

@@ -1,0 +1,196 @@
+"""The one registry: every format cadkg reads and every use case it serves.
+
+The formats no use case owns come from :mod:`cadkg.ingest.formats`; use cases, with their own
+readers, services, named queries, ROS names and derivation, from the ``cadkg.usecases``
+entry-point group (see :mod:`cadkg.usecase`). The five use cases cadkg ships are found there
+like any other package's, so adding a use case is adding a folder (or a package) and one
+entry-point line. Everything is loaded on first use, once.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable
+from importlib.metadata import EntryPoint, entry_points
+from importlib.resources.abc import Traversable
+from pathlib import Path
+
+from cadkg.errors import IngestError, RegistryError
+from cadkg.ingest.formats import READERS
+from cadkg.ingest.reader import Reader
+from cadkg.ingest.text import sniffable_head
+from cadkg.services.service import Service
+from cadkg.usecase import Derivation, UseCase
+
+__all__ = [
+    "DEFAULT_PROFILE",
+    "ENTRY_POINT_GROUP",
+    "add_use_case",
+    "derivation",
+    "kinds",
+    "query_folders",
+    "reader_for",
+    "register",
+    "services",
+    "sniff_kind",
+    "use_case",
+    "use_cases",
+]
+
+ENTRY_POINT_GROUP = "cadkg.usecases"
+# The profile of a cell whose manifest names none: the cabinet of D3.1's first use case.
+DEFAULT_PROFILE = "iema"
+
+
+class _Table:
+    def __init__(self) -> None:
+        self.readers: dict[str, Reader] = {}
+        self.use_cases: dict[str, UseCase] = {}
+        self.services: dict[str, Service] = {}
+        self.derivation: tuple[str, Derivation] | None = None
+
+
+_TABLE: _Table | None = None
+
+
+def _table() -> _Table:
+    global _TABLE
+    if _TABLE is None:
+        table = _Table()
+        for reader in READERS:
+            _add_reader(table, reader)
+        for entry in sorted(entry_points(group=ENTRY_POINT_GROUP), key=lambda e: e.name):
+            _add(table, _load(entry))
+        _TABLE = table
+    return _TABLE
+
+
+def _load(entry: EntryPoint) -> UseCase:
+    try:
+        found = entry.load()
+    except Exception as err:  # a third party's package: say which one failed, and how
+        raise RegistryError(f"use case {entry.name!r} ({entry.value}) cannot be loaded: {err}") from err
+    if not isinstance(found, UseCase):
+        raise RegistryError(f"use case {entry.name!r} ({entry.value}) is not a cadkg.usecase.UseCase")
+    return found
+
+
+def _add_reader(table: _Table, reader: Reader) -> None:
+    if reader.kind in table.readers:
+        raise RegistryError(f"reader kind {reader.kind!r} is already registered")
+    table.readers[reader.kind] = reader
+
+
+def _add(table: _Table, case: UseCase) -> None:
+    if case.name in table.use_cases:
+        raise RegistryError(f"use case {case.name!r} is already registered")
+    for reader in case.readers:
+        _add_reader(table, reader)
+    for service in case.services:
+        if service.name in table.services:
+            owner = table.services[service.name].profile
+            raise RegistryError(f"service {service.name!r} of {case.name} is already one of {owner}'s")
+        table.services[service.name] = dataclasses.replace(service, profile=case.name)
+    if case.derivation is not None:
+        if table.derivation is not None:
+            raise RegistryError(
+                f"use cases {table.derivation[0]} and {case.name} both derive the cell model; one may"
+            )
+        table.derivation = (case.name, case.derivation)
+    table.use_cases[case.name] = case
+
+
+def add_use_case(case: UseCase) -> None:
+    """Register a use case that no entry point names (a notebook's, a test's)."""
+    _add(_table(), case)
+
+
+def register(reader: Reader) -> Reader:
+    """Add a reader of a format outside any use case; a kind may be registered once."""
+    _add_reader(_table(), reader)
+    return reader
+
+
+def use_cases() -> list[UseCase]:
+    """Every registered use case: those of D3.1 in the order of its sections, then the others by name."""
+    return sorted(_table().use_cases.values(), key=lambda c: (not c.section, c.section, c.name))
+
+
+def use_case(profile: str) -> UseCase:
+    """The use case of a cell's profile (``""``: :data:`DEFAULT_PROFILE`).
+
+    Raises
+    ------
+    KeyError
+        With the known profiles.
+    """
+    cases = _table().use_cases
+    try:
+        return cases[profile or DEFAULT_PROFILE]
+    except KeyError:
+        raise KeyError(f"unknown profile {profile!r}; known: {', '.join(sorted(cases))}") from None
+
+
+def services() -> dict[str, Service]:
+    """Every service of every use case, by name."""
+    return dict(_table().services)
+
+
+def derivation() -> Derivation | None:
+    """The derivation of the cell model, run for every cell (the cabinet geometry: components
+    at their items, pins at their couples, wires as the robot's steps)."""
+    found = _table().derivation
+    return found[1] if found is not None else None
+
+
+def query_folders() -> list[Traversable | Path]:
+    """The folders of the use cases' named queries."""
+    return [c.queries for c in use_cases() if c.queries is not None]
+
+
+def kinds() -> list[Reader]:
+    """Every registered reader, sorted by kind."""
+    return sorted(_table().readers.values(), key=lambda r: r.kind)
+
+
+def reader_for(kind: str) -> Reader:
+    """The reader registered for ``kind``; raises KeyError with the known kinds."""
+    readers = _table().readers
+    try:
+        return readers[kind]
+    except KeyError:
+        raise KeyError(f"unknown kind {kind!r}; known kinds: {', '.join(sorted(readers))}") from None
+
+
+def sniff_kind(path: str | Path, head: bytes | None = None) -> str:
+    """The kind of a file from its suffix, or from its first bytes when the suffix is shared.
+
+    Raises
+    ------
+    IngestError
+        When no reader claims the file.
+    """
+    readers: Iterable[Reader] = _table().readers.values()
+    suffix = Path(path).suffix.lower()
+    candidates = [r for r in readers if suffix in r.suffixes]
+    if len(candidates) == 1:
+        return candidates[0].kind
+    if head is None:
+        try:
+            with Path(path).open("rb") as handle:
+                head = handle.read(16384)
+        except OSError as err:
+            raise IngestError(path, f"cannot read the file: {err.strerror}") from err
+        except ValueError:  # a NUL byte in a path given by a service caller
+            raise IngestError(repr(str(path)), "cannot read the file: a NUL byte in its name") from None
+    head = sniffable_head(head)
+    sniffed = [r for r in candidates or readers if r.sniff is not None and r.sniff(head)]
+    if len(sniffed) == 1:
+        return sniffed[0].kind
+    names = ", ".join(r.kind for r in kinds())
+    raise IngestError(
+        path,
+        "cannot tell the kind of this file from its suffix or content",
+        found=suffix or "no suffix",
+        expected=f"a 'kind' in the manifest, one of: {names}",
+    )

@@ -1,0 +1,142 @@
+"""A service as every transport calls it: name, parameters with their types, and what runs.
+
+Parameters arrive as text from the command line and over HTTP, and are converted here, so
+every transport gets the same checks and messages; answers leave as JSON-ready data
+(:func:`to_jsonable`) or, in the ROS adapter, as typed response fields.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from cadkg.errors import QueryError
+from cadkg.geometry.frames import normalize_quaternion, quaternion_from_rpy
+from cadkg.geometry.poses import Pose
+
+if TYPE_CHECKING:
+    from cadkg.services.session import Session
+
+__all__ = ["CONVERT", "Service", "model_services", "on_model", "parse_pose", "to_jsonable"]
+
+
+@dataclass(frozen=True)
+class Service:
+    """``run(session, client=..., **params)``; ``optional`` parameters may be left out."""
+
+    name: str
+    description: str
+    params: Mapping[str, type]
+    run: Callable[..., Any]
+    profile: str = ""
+    optional: frozenset[str] = frozenset()
+
+
+def parse_pose(text: str) -> Pose:
+    """``x,y,z,qx,qy,qz,qw`` or ``x,y,z,roll,pitch,yaw`` (metres, radians)."""
+    try:
+        values = [float(v) for v in text.replace(" ", ",").split(",") if v]
+    except ValueError:
+        raise QueryError(
+            f"not a pose: {text!r}; expected x,y,z,qx,qy,qz,qw or x,y,z,roll,pitch,yaw"
+        ) from None
+    if len(values) not in (6, 7) or not all(math.isfinite(v) for v in values):
+        raise QueryError(f"not a pose: {text!r}; expected 6 or 7 finite numbers")
+    xyz = (values[0], values[1], values[2])
+    if len(values) == 6:
+        return Pose(xyz, quaternion_from_rpy(*values[3:]))
+    try:
+        return Pose(xyz, normalize_quaternion(values[3:]))
+    except ValueError as err:
+        raise QueryError(f"not a pose: {text!r}: {err}") from None
+
+
+def _bool(text: str) -> bool:
+    lowered = text.strip().lower()
+    if lowered in ("true", "1", "yes"):
+        return True
+    if lowered in ("false", "0", "no"):
+        return False
+    raise QueryError(f"not a boolean: {text!r}; expected true or false")
+
+
+def _float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise QueryError(f"not a number: {text!r}") from None
+    if not math.isfinite(value):
+        raise QueryError(f"not a finite number: {text!r}")
+    return value
+
+
+def _int(text: str) -> int:
+    try:
+        return int(text.strip())
+    except ValueError:
+        raise QueryError(f"not an integer: {text!r}") from None
+
+
+CONVERT: dict[type, Callable[[str], Any]] = {
+    str: str,
+    bool: _bool,
+    float: _float,
+    int: _int,
+    Pose: parse_pose,
+}
+
+
+def on_model(fn: Callable[..., Any], model_of: Callable[[Session], Any]) -> Callable[..., Any]:
+    """The ``run`` of a service answered by ``fn(model, **params)`` without cursors: ``model_of``
+    picks the model from the session (the cabinet's, or a profile's built on first use)."""
+
+    def run(session: Session, client: str = "default", **params: Any) -> Any:
+        return fn(model_of(session), **params)
+
+    return run
+
+
+def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable[..., Service]:
+    """The maker of ``profile``'s services answered from its model:
+    ``make(name, description, params, answer, optional=())`` (see :func:`on_model`)."""
+
+    def make(
+        name: str,
+        description: str,
+        params: Mapping[str, type],
+        answer: Callable[..., Any],
+        optional: Iterable[str] = (),
+    ) -> Service:
+        return Service(
+            name,
+            description,
+            params,
+            on_model(answer, model_of),
+            profile=profile,
+            optional=frozenset(optional),
+        )
+
+    return make
+
+
+def to_jsonable(value: Any, annotation: str = "") -> Any:
+    """A service result as JSON-ready data: poses as position/orientation objects, vectors
+    (fields annotated ``Vec3``) as x/y/z objects, other sequences as lists."""
+    if isinstance(value, Pose):
+        x, y, z = value.position
+        qx, qy, qz, qw = value.orientation
+        return {"position": {"x": x, "y": y, "z": z}, "orientation": {"x": qx, "y": qy, "z": qz, "w": qw}}
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        data = {f.name: to_jsonable(getattr(value, f.name), str(f.type)) for f in dataclasses.fields(value)}
+        if hasattr(value, "missing") and "missing" not in data:
+            data["missing"] = value.missing
+        return data
+    if isinstance(value, tuple | list):
+        if annotation.startswith("Vec3") and len(value) == 3:
+            return {"x": value[0], "y": value[1], "z": value[2]}
+        inner = annotation.removeprefix("tuple[").removeprefix("list[") if "[" in annotation else ""
+        return [to_jsonable(v, inner) for v in value]
+    return value

@@ -1,0 +1,81 @@
+"""What the services of one served cell share: the graph, its derived model, the models each
+use case builds from the graph on first use, and every client's cursors.
+
+A cursor (the next wire, the next operation) belongs to one client (a ROS node, a CLI user,
+an HTTP caller) and one use case; :meth:`Session.dump` and :meth:`Session.load` carry them
+between processes (``cadkg call`` keeps them beside the store).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from typing import Any, TypeVar, cast
+
+from cadkg.errors import QueryError
+
+__all__ = ["Session"]
+
+T = TypeVar("T")
+S = TypeVar("S")
+
+
+class Session:
+    """``model`` is the cell's derived model (see :func:`cadkg.registry.derivation`); ``kg`` the graph."""
+
+    def __init__(self, model: Any, kg: Any = None) -> None:
+        self.model = model
+        self.kg = kg
+        self._memo: dict[str, Any] = {}
+        self._cursors: dict[str, dict[str, Any]] = {}
+        # Cursors read by load() and not asked for yet: their type is known only on first use.
+        self._saved: dict[str, dict[str, dict[str, Any]]] = {}
+
+    def memo(self, key: str, build: Callable[[], T]) -> T:
+        """``build()``, computed once per session (so once per reload of the graph)."""
+        if key not in self._memo:
+            self._memo[key] = build()
+        return cast(T, self._memo[key])
+
+    def profile_model(self, key: str, build: Callable[[Any], T]) -> T:
+        """The model ``build(kg)`` of a use case, built once per session.
+
+        Raises
+        ------
+        QueryError
+            When the session has no graph to build it from.
+        """
+        if key not in self._memo and self.kg is None:
+            raise QueryError(f"the {key} services need a graph; this session has none")
+        return self.memo(key, lambda: build(self.kg))
+
+    def forget(self, key: str) -> None:
+        """Drop what :meth:`memo` keeps under ``key``, so the next call rebuilds it from the graph."""
+        self._memo.pop(key, None)
+
+    def cursor(self, key: str, client: str, new: Callable[..., S]) -> S:
+        """The cursor of ``client`` for the use case ``key``: ``new()`` when it has none, or
+        ``new(**fields)`` with what :meth:`load` read for it."""
+        cursors = self._cursors.setdefault(key, {})
+        if client not in cursors:
+            saved = self._saved.get(key, {}).pop(client, None) or {}
+            try:
+                cursors[client] = new(**saved)
+            except (TypeError, ValueError):  # written by another version: start afresh
+                cursors[client] = new()
+        return cast(S, cursors[client])
+
+    def dump(self) -> dict[str, dict[str, dict[str, Any]]]:
+        """Every client's cursors (dataclasses) as JSON-ready data: use case → client → fields."""
+        data = {key: dict(clients) for key, clients in self._saved.items()}
+        for key, clients in self._cursors.items():
+            data.setdefault(key, {}).update(
+                {client: dataclasses.asdict(state) for client, state in clients.items()}
+            )
+        return data
+
+    def load(self, data: dict[str, Any]) -> None:
+        """Take cursors written by :meth:`dump`; malformed entries are ignored."""
+        for key, clients in data.items():
+            if isinstance(clients, dict):
+                self._saved[key] = {c: v for c, v in clients.items() if isinstance(v, dict)}

@@ -1,0 +1,85 @@
+"""What one use case brings to cadkg, declared in one place.
+
+A use case is a product and its robot cell (IEMA's switchgear cabinet, ELVEZ's harness
+assembly ...). It lives in a folder of ``cadkg/usecases`` or in a package of its own, declares
+one :class:`UseCase`, and names it in the ``cadkg.usecases`` entry-point group::
+
+    [project.entry-points."cadkg.usecases"]
+    mycell = "mycell:USE_CASE"
+
+:mod:`cadkg.registry` finds it there; the five use cases cadkg ships are declared the same
+way. Importing the use case's package registers the mappings of its records
+(``@map_record.register`` in its ``mapping`` module), so the declaration is all the core needs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from importlib.resources.abc import Traversable
+from pathlib import Path
+from typing import Any, Protocol
+
+from cadkg.ingest.reader import Reader
+from cadkg.services.display import Frame, MarkerSpec
+from cadkg.services.service import Service
+from cadkg.services.session import Session
+
+__all__ = ["Collector", "Derivation", "ExportView", "UseCase"]
+
+
+class Collector(Protocol):
+    """Sees a build's records as they are mapped, and gathers what the derivation needs."""
+
+    complete: bool
+
+    def add_edits(self, edits: Iterable[tuple[str, str]]) -> None: ...
+
+    def source(self, rel: str) -> Callable[[object], None]: ...
+
+    def inputs(self) -> Any: ...
+
+
+@dataclass(frozen=True)
+class Derivation:
+    """A model of the cell derived from its source graphs, written into a named graph of its own
+    and kept as a file beside an on-disk store, so that reopening the store skips deriving.
+
+    A build hands every record to ``collector(manifest)`` and derives from what it gathered
+    while the store is still loading; after a change to the store the inputs are read back
+    with ``extract(graph)``. Both must give the same inputs.
+    """
+
+    collector: Callable[[Any], Collector]
+    extract: Callable[[Any], Any]
+    derive: Callable[[Any], Any]
+    graph: Callable[[Any], str]
+    ntriples: Callable[[Any, str, Callable[[bytes], None] | None], bytes]
+    dump: Callable[[Any], bytes]
+    load: Callable[[bytes], Any]
+    base: Callable[[Any], str] = lambda model: str(getattr(model, "base", ""))
+
+
+ExportView = Callable[[Any, str, str | None], None]
+"""``view(graph, output, harness)``: writes one view of the graph (``cadkg export --view``)."""
+
+
+@dataclass(frozen=True)
+class UseCase:
+    """A use case: the profile a manifest names (``[cell] profile``) and all it adds."""
+
+    name: str
+    title: str
+    # The section of D3.1 that describes it ("4.1"); use cases are listed in this order.
+    section: str = ""
+    readers: tuple[Reader, ...] = ()
+    services: tuple[Service, ...] = ()
+    # A folder of named SPARQL queries (``.rq``, see cadkg.query.named).
+    queries: Traversable | Path | None = None
+    # Where the ROS node serves the services by default (``/gearbox_handler``).
+    ros_namespace: str = ""
+    derivation: Derivation | None = None
+    # The use case's own static frames and markers, from a session on its graph.
+    frames: Callable[[Session], Iterable[Frame]] | None = None
+    markers: Callable[[Session, Path], Iterable[MarkerSpec]] | None = None
+    views: Mapping[str, ExportView] = field(default_factory=dict)

@@ -1,0 +1,115 @@
+"""The services of Table 1 of D3.1 (profile ``iema``): the cabinet's components, terminal blocks
+and clusters, and the cursors that hand the robot its next wire and rail."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import cadkg.usecases.iema.answers as answers
+import cadkg.usecases.iema.cursors as cursors
+from cadkg.geometry.poses import Pose
+from cadkg.services.display import Frame
+from cadkg.services.service import Service, on_model
+from cadkg.services.session import Session
+
+__all__ = ["SERVICES", "cabinet_frames"]
+
+
+def _cabinet(session: Session) -> Any:
+    return session.model
+
+
+def _label(fn: Callable[..., Any]) -> Callable[..., Any]:
+    return on_model(fn, _cabinet)
+
+
+SERVICES: tuple[Service, ...] = (
+    Service(
+        "cad_service",
+        "pose, corner, target, dimensions and pins of a component",
+        {"label": str},
+        _label(answers.cad_service),
+    ),
+    Service(
+        "full_cad_service",
+        "as cad_service, with the component's connections",
+        {"label": str},
+        _label(answers.full_cad_service),
+    ),
+    Service(
+        "get_item_screw_service",
+        "screws and holes re-expressed from a detected component pose",
+        {"label": str, "detected_pose": Pose},
+        on_model(answers.get_item_screw_service, _cabinet),
+    ),
+    Service(
+        "get_terminal_data",
+        "pins, start, length and height of a terminal block",
+        {"label": str},
+        _label(answers.get_terminal_data),
+    ),
+    Service(
+        "cluster_service",
+        "horizontal and vertical clusters of a component's connector points",
+        {"label": str},
+        _label(answers.cluster_service),
+    ),
+    Service(
+        "cad_reference",
+        "target and corner pose of a component",
+        {"label": str},
+        _label(answers.cad_reference),
+    ),
+    Service(
+        "full_connection_provider",
+        "next wire end to handle (occupancy: the gripper holds the wire's first end)",
+        {"occupancy": bool},
+        cursors.full_connection_provider,
+    ),
+    Service(
+        "group_connection_provider",
+        "next wire with both ends, path and keypoints",
+        {},
+        cursors.group_connection_provider,
+    ),
+    Service(
+        "reset_connection_list",
+        "rewind the connection cursor",
+        {},
+        cursors.reset_connection_list,
+    ),
+    Service(
+        "reset_to_connection_list",
+        "move the connection cursor to a wire number (or list position) of a source",
+        {"data": float, "source": str},
+        cursors.reset_to_connection_list,
+        optional=frozenset({"source"}),
+    ),
+    Service(
+        "rail_scanner",
+        "the components along the next rail",
+        {},
+        cursors.rail_scanner,
+    ),
+    Service(
+        "reset_rail_scanner",
+        "rewind the rail cursor",
+        {},
+        cursors.reset_rail_scanner,
+    ),
+)
+
+
+def cabinet_frames(session: Session) -> list[Frame]:
+    """Per component ``LABEL/original``, ``LABEL/corner``, ``LABEL/target`` (and
+    ``LABEL/terminal_start`` on a terminal block) in its frame; per rail ``LABEL/start``."""
+    model = session.model
+    frames = []
+    for label, geometry in sorted(model.components.items()):
+        named = [("original", geometry.original), ("corner", geometry.corner), ("target", geometry.target)]
+        if geometry.terminal_block:
+            named.append(("terminal_start", geometry.terminal_start))
+        frames += [Frame(geometry.frame, f"{label}/{name}", pose) for name, pose in named if pose is not None]
+    frames += [Frame(model.frame, f"{rail.label}/start", rail.start) for rail in model.rails]
+    return frames

@@ -1,0 +1,194 @@
+"""The statements of the harness text description: one per line, checked against the grammar,
+and the values they hold (names, lengths, sections, cavity lists)."""
+
+from __future__ import annotations
+
+import re
+import shlex
+from collections import Counter
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from pathlib import Path
+
+from cadkg.errors import IngestError
+from cadkg.ingest.text import small_integer
+
+__all__ = ["EXPECTED", "FILE_FORMAT", "GRAMMAR", "Statement", "StatementReader"]
+
+FILE_FORMAT = "cadkg harness text 1"
+EXPECTED = (
+    "a harness description: a first statement 'harness NAME', then connector, node, segment, wire ... lines"
+)
+_NAME = re.compile(r"^[^\s:,=#\"']+$")
+_CAVITY = re.compile(r"^[^\s,=#\"']+$")
+_LENGTH = re.compile(r"^(?P<number>\d+(?:\.\d*)?|\.\d+)(?P<unit>mm|cm|m)$")
+_SECTION = re.compile(r"^(?P<number>\d+(?:\.\d*)?|\.\d+)(?:mm2|mm²)?$")
+_RANGE = re.compile(r"^(?P<first>\d+)-(?P<last>\d+)$")
+_METRES = {"mm": Decimal("0.001"), "cm": Decimal("0.01"), "m": Decimal(1)}
+# Cavities of one connector: the largest connectors have a few hundred.
+_MAX_CAVITIES = 1000
+# Statement → (number of positional words after the keyword, required keys, optional keys).
+GRAMMAR: dict[str, tuple[tuple[str, ...], frozenset[str], frozenset[str]]] = {
+    "harness": (("name",), frozenset(), frozenset({"description"})),
+    "connector": (("name",), frozenset({"cavities"}), frozenset({"at", "description"})),
+    "node": (("name",), frozenset(), frozenset()),
+    "segment": (("name", "from-node", "to-node"), frozenset({"length"}), frozenset({"diameter", "section"})),
+    "wire": (
+        ("name", "from connector:cavity", "to connector:cavity"),
+        frozenset(),
+        frozenset({"section", "colour", "length", "diameter", "route", "cable", "signal"}),
+    ),
+    "cable": (("name",), frozenset(), frozenset({"length", "diameter"})),
+    "fixing": (("name",), frozenset({"on"}), frozenset({"description"})),
+    "protection": (("name",), frozenset({"on"}), frozenset({"length", "description"})),
+}
+
+
+@dataclass
+class Statement:
+    """One statement: its keyword, positional words, ``key=value`` options and line."""
+
+    keyword: str
+    words: list[str]
+    options: dict[str, str]
+    line: int
+
+
+class StatementReader:
+    """Reads statements and their values, with errors located at their line."""
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = path
+
+    def error(
+        self, reason: str, line: int, found: object | None = None, expected: str | None = None
+    ) -> IngestError:
+        return IngestError(self.path, reason, line=line, found=found, expected=expected)
+
+    # -- statements ---------------------------------------------------------------------------------
+    def statement(self, raw: str, line: int) -> Statement | None:
+        lexer = shlex.shlex(raw.rstrip("\r"), posix=True)
+        lexer.whitespace_split = True
+        lexer.commenters = "#"
+        try:
+            tokens = list(lexer)
+        except ValueError as err:
+            raise self.error(
+                f"cannot split the line into words: {err}", line, expected="closed quotes"
+            ) from None
+        if not tokens:
+            return None
+        keyword, rest = tokens[0], tokens[1:]
+        if keyword not in GRAMMAR:
+            raise self.error("unknown statement", line, found=keyword, expected=" | ".join(GRAMMAR))
+        positional, required, optional = GRAMMAR[keyword]
+        words = [w for w in rest if "=" not in w]
+        options: dict[str, str] = {}
+        for token in rest:
+            key, sep, value = token.partition("=")
+            if not sep:
+                continue
+            if key not in required | optional:
+                known = ", ".join(sorted(required | optional)) or "none"
+                raise self.error(f"unknown key of '{keyword}'", line, found=key, expected=f"one of: {known}")
+            if key in options:
+                raise self.error(f"key given twice in '{keyword}'", line, found=key, expected="each key once")
+            if not value:
+                raise self.error(f"empty value of {key}=", line, expected=f"{key}=VALUE")
+            options[key] = value
+        if len(words) != len(positional):
+            raise self.error(
+                f"'{keyword}' takes {len(positional)} word(s) before its options",
+                line,
+                found=" ".join(words) or "none",
+                expected=f"{keyword} {' '.join(p.upper() for p in positional)}",
+            )
+        missing = sorted(required - set(options))
+        if missing:
+            raise self.error(f"'{keyword}' needs {missing[0]}=", line, expected=f"{missing[0]}=VALUE")
+        if not _NAME.match(words[0]):
+            raise self.error(
+                f"malformed {keyword} name",
+                line,
+                found=words[0],
+                expected="a name without blanks, : , = # or quotes",
+            )
+        return Statement(keyword, words, options, line)
+
+    def length(self, s: Statement, key: str) -> Decimal | None:
+        raw = s.options.get(key)
+        if raw is None:
+            return None
+        match = _LENGTH.match(raw)
+        if match is None or Decimal(match["number"]) == 0:
+            raise self.error(
+                f"malformed {key}",
+                s.line,
+                found=raw,
+                expected="a positive number with mm, cm or m, e.g. 250mm",
+            )
+        return Decimal(match["number"]) * _METRES[match["unit"]]
+
+    def section(self, s: Statement) -> Decimal | None:
+        raw = s.options.get("section")
+        if raw is None:
+            return None
+        match = _SECTION.match(raw)
+        try:
+            value = Decimal(match["number"]) if match else Decimal(0)
+        except InvalidOperation:
+            value = Decimal(0)
+        if value <= 0:
+            raise self.error(
+                "malformed section",
+                s.line,
+                found=raw,
+                expected="a positive number of mm², e.g. 0.35 or 0.35mm2",
+            )
+        return value
+
+    def names(self, s: Statement, key: str) -> list[str]:
+        names = s.options.get(key, "").split(",") if key in s.options else []
+        for name in names:
+            if not _NAME.match(name):
+                raise self.error(
+                    f"malformed name in {key}=",
+                    s.line,
+                    found=name or "an empty name",
+                    expected="names separated by commas",
+                )
+        return names
+
+    def cavities(self, s: Statement) -> tuple[str, ...]:
+        names: list[str] = []
+        for item in s.options["cavities"].split(","):
+            match = _RANGE.match(item)
+            if match:
+                first, last = small_integer(match["first"]), small_integer(match["last"])
+                if first is None or last is None or not 0 <= last - first < _MAX_CAVITIES:
+                    raise self.error(
+                        "bad cavity range",
+                        s.line,
+                        found=item,
+                        expected=f"FIRST-LAST with FIRST <= LAST, at most {_MAX_CAVITIES}",
+                    )
+                names.extend(str(n) for n in range(first, last + 1))
+            elif _CAVITY.match(item):
+                names.append(item)
+            else:
+                raise self.error(
+                    "malformed cavity list",
+                    s.line,
+                    found=item or "an empty name",
+                    expected="names or ranges like 1-4, separated by commas",
+                )
+            if len(names) > _MAX_CAVITIES:
+                raise self.error(
+                    "too many cavities", s.line, found=len(names), expected=f"at most {_MAX_CAVITIES}"
+                )
+        twice = sorted(n for n, count in Counter(names).items() if count > 1)
+        if twice:
+            raise self.error("cavity listed twice", s.line, found=twice[0], expected="each cavity once")
+        return tuple(names)
+
+    # -- checks and records ---------------------------------------------------------------------------

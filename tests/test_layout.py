@@ -1,0 +1,125 @@
+"""The package layout keeps its rules: no import cycle (counting imports inside functions and
+under ``TYPE_CHECKING``), no module over 500 lines, no folder over 15 modules, each use case
+in its own folder importing no other use case, and only the ROS adapter importing rclpy."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import networkx as nx
+import pytest
+
+from tests.conftest import ROOT
+
+PACKAGE = ROOT / "src" / "cadkg"
+USE_CASES = ("iema", "elimco", "elvez", "vw", "enki")
+
+
+def _modules() -> dict[str, Path]:
+    found = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts.pop()
+        found[".".join(parts)] = path
+    return found
+
+
+def _imports(name: str, path: Path, known: set[str]) -> set[str]:
+    """The modules of the package that ``name`` imports, wherever the import statement stands."""
+    targets: set[str] = set()
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            targets.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join([*anchor, *([base] if base else [])])
+            targets.add(base)
+            targets.update(f"{base}.{alias.name}" for alias in node.names)
+        elif (
+            isinstance(node, ast.Call)
+            and getattr(node.func, "id", getattr(node.func, "attr", None)) == "import_module"
+            and node.args
+            and isinstance(node.args[0], ast.Constant)
+        ):
+            targets.add(str(node.args[0].value))
+    return {t for t in targets if t in known and t != name}
+
+
+def _graph() -> nx.DiGraph:
+    modules = _modules()
+    graph = nx.DiGraph()
+    for name, path in modules.items():
+        graph.add_node(name)
+        graph.add_edges_from((name, target) for target in _imports(name, path, set(modules)))
+    return graph
+
+
+def test_the_source_has_no_import_cycle() -> None:
+    cycles = [sorted(c) for c in nx.strongly_connected_components(_graph()) if len(c) > 1]
+    assert cycles == []
+
+
+def test_the_cycle_check_finds_a_cycle() -> None:
+    graph = _graph()
+    graph.add_edge("cadkg.store", "cadkg.graph")  # the store importing the derivation's facade
+    assert any(len(c) > 1 for c in nx.strongly_connected_components(graph))
+
+
+def test_no_module_is_over_500_lines() -> None:
+    long = {name: n for name, path in _modules().items() if (n := len(path.read_text().splitlines())) > 500}
+    assert long == {}
+
+
+def test_no_folder_holds_over_15_modules() -> None:
+    folders = {path.parent for path in PACKAGE.rglob("*.py")}
+    crowded = {str(f.relative_to(PACKAGE)): n for f in folders if (n := len(list(f.glob("*.py")))) > 15}
+    assert crowded == {}
+
+
+@pytest.mark.parametrize("case", USE_CASES)
+def test_a_use_case_is_one_folder_that_imports_no_other(case: str) -> None:
+    graph = _graph()
+    prefix = f"cadkg.usecases.{case}"
+    members = [m for m in graph if m == prefix or m.startswith(prefix + ".")]
+    assert len(members) > 1
+    others = {
+        target
+        for member in members
+        for target in graph.successors(member)
+        if target.startswith("cadkg.usecases.") and not target.startswith(prefix)
+    }
+    assert others == set()
+
+
+def test_the_core_imports_no_use_case_but_through_the_registry() -> None:
+    # Transports (CLI, server, ROS adapter) may call into a use case; the layers below them
+    # (ingest, mapping, store, build, query, services, registry) find use cases only as plug-ins.
+    graph = _graph()
+    core = [
+        m
+        for m in graph
+        if not m.startswith(("cadkg.usecases", "cadkg.cli", "cadkg.server", "cadkg.ros_adapter"))
+        and m not in ("cadkg", "cadkg.remote", "cadkg.push")
+    ]
+    reaching = {m: sorted(t for t in graph.successors(m) if t.startswith("cadkg.usecases")) for m in core}
+    assert {m: t for m, t in reaching.items() if t} == {}
+
+
+def test_only_the_ros_adapter_imports_rclpy() -> None:
+    importers = {
+        name
+        for name, path in _modules().items()
+        if any(
+            isinstance(node, ast.Import | ast.ImportFrom)
+            and any(
+                (getattr(node, "module", None) or alias.name).split(".")[0] == "rclpy" for alias in node.names
+            )
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+        )
+    }
+    assert importers and all(name.startswith("cadkg.ros_adapter") for name in importers)
