@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.query.test_iema_services import MINI
+from tests.usecases.iema.test_services import MINI
 from tests.test_cli import run
 
 

@@ -278,7 +278,7 @@ def test_an_update_is_followed_by_the_derivation(tmp_path: Path) -> None:
     mini = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"
     target_z = 'SELECT DISTINCT ?z WHERE { ?c ck:label "K1" ; ck:targetPose/ck:tz ?z }'
     with cadkg.KnowledgeGraph.build(mini, tmp_path / "store") as kg:
-        # tests/query/test_iema_services.py: K1's target is 0.15 m (the approach) over its top.
+        # tests/usecases/iema/test_services.py: K1's target is 0.15 m (the approach) over its top.
         assert [round(r["z"], 9) for r in kg.query(target_z)] == [0.1875]
         kg.execute(
             """DELETE { GRAPH ?g { ?c ck:approachDistance ?d } }

@@ -62,7 +62,7 @@ def test_a_wire_from_a_pin_to_itself_is_found_at_its_line(tmp_path: Path) -> Non
 
 
 def test_wire_ends_without_model_data_are_found() -> None:
-    from tests.query.test_iema_services import MINI
+    from tests.usecases.iema.test_services import MINI
 
     findings = [f for f in validate(cadkg.build(MINI), shacl=False) if f.check == "pin-without-data"]
     assert [(f.location, f.severity) for f in findings] == [("connections.tsv:5", "error")]

@@ -65,7 +65,7 @@ def test_the_launch_command_line_serves_the_cell(ros: Any, tmp_path: Path) -> No
         wait_for(ros, future.done, 30.0, server)
         answer = future.result()
         assert answer.success
-        # tests/query/test_iema_services.py: K1's corner in the mini cabinet.
+        # tests/usecases/iema/test_services.py: K1's corner in the mini cabinet.
         corner = answer.corner_pose.position
         assert (round(corner.x, 9), round(corner.y, 9), round(corner.z, 9)) == (0.15, 0.5, 0.0675)
     finally:

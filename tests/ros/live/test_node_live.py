@@ -1,6 +1,6 @@
 """The node on the mini cell, called through real rclpy clients from another process.
 
-Expected values: tests/query/test_iema_services.py (hand-computed for the mini cabinet).
+Expected values: tests/usecases/iema/test_services.py (hand-computed for the mini cabinet).
 """
 
 from __future__ import annotations

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 
 from cadkg.errors import IngestError
@@ -17,8 +15,9 @@ from cadkg.usecases.iema.component_model import (
     parse_models_fragment,
     read_component_models,
 )
+from tests.conftest import ROOT
 
-READERS = Path(__file__).resolve().parents[1] / "data" / "readers"
+READERS = ROOT / "tests" / "data" / "readers"
 SAMPLE = READERS / "models-sample.xml"
 OLD = READERS / "models-old.xml"
 

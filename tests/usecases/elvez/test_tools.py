@@ -11,8 +11,9 @@ import pytest
 from cadkg.errors import IngestError
 from cadkg.usecases.elvez.tools import read_tools
 from cadkg.usecases.elvez.xml_fields import Placement
+from tests.conftest import ROOT
 
-TOOLS = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell" / "tools.xml"
+TOOLS = ROOT / "examples" / "elvez-cell" / "tools.xml"
 
 Write = Callable[[str, str | bytes], Path]
 

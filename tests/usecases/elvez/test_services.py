@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
 
@@ -18,8 +17,9 @@ from cadkg.services.session import Session
 from cadkg.services.table import SERVICES, call, services_for
 from cadkg.usecases.elvez import answers as elvez
 from cadkg.usecases.elvez.answers import BranchInfo, CableRoute, ElvezModel, OperationInfo
+from tests.conftest import ROOT
 
-ELVEZ = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell" / "manifest.toml"
+ELVEZ = ROOT / "examples" / "elvez-cell" / "manifest.toml"
 TABLE_2 = ("guide_info", "cable_info", "con_info", "wh_info", "all_tools", "tool_info", "all_op", "index_op")
 
 

@@ -16,8 +16,9 @@ from cadkg.graph import KnowledgeGraph
 from cadkg.services.session import Session
 from cadkg.services.table import call
 from cadkg.usecases.elvez.platform import FrameTree, element_type
+from tests.conftest import ROOT
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell"
+EXAMPLE = ROOT / "examples" / "elvez-cell"
 
 
 def yaw(degrees: float) -> tuple[float, float, float, float]:

@@ -11,9 +11,10 @@ import pytest
 from cadkg.errors import IngestError
 from cadkg.ingest.sheet import read_sheet
 from cadkg.usecases.iema.terminal_schema import TerminalSlot, looks_like_terminal_schema, read_terminal_schema
+from tests.conftest import ROOT
 from tests.ingest.workbooks import replace_in_member, write_ods, write_xlsx
 
-SAMPLE = Path(__file__).resolve().parents[1] / "data" / "readers" / "terminal-schema.csv"
+SAMPLE = ROOT / "tests" / "data" / "readers" / "terminal-schema.csv"
 HEADER = ["Terminal block", "Position", "Terminal", "Cad ID", "Commercial", "Levels"]
 
 

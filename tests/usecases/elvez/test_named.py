@@ -4,16 +4,16 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from decimal import Decimal
-from pathlib import Path
 
 import pyoxigraph as ox
 import pytest
 
 from cadkg.graph import KnowledgeGraph
 from cadkg.query.named import named_queries
+from tests.conftest import ROOT
 
 CK = "https://w3id.org/cadkg#"
-ELVEZ = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell" / "manifest.toml"
+ELVEZ = ROOT / "examples" / "elvez-cell" / "manifest.toml"
 
 
 @pytest.fixture(scope="module")

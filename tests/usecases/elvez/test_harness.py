@@ -11,8 +11,9 @@ import pytest
 from cadkg.errors import IngestError
 from cadkg.usecases.elvez.harness_components import HarnessComponent, read_harness_components
 from cadkg.usecases.elvez.harness_structure import CableSpec, read_harness_structure
+from tests.conftest import ROOT
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell"
+EXAMPLE = ROOT / "examples" / "elvez-cell"
 
 Write = Callable[[str, str | bytes], Path]
 

@@ -9,8 +9,9 @@ import pytest
 
 from cadkg.errors import IngestError
 from cadkg.usecases.elvez.action_plan import PlannedOperation, read_action_plan
+from tests.conftest import ROOT
 
-PLAN = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell" / "action-plan.csv"
+PLAN = ROOT / "examples" / "elvez-cell" / "action-plan.csv"
 
 Write = Callable[[str, str | bytes], Path]
 

@@ -14,8 +14,9 @@ from cadkg.usecases.iema.component_list import (
     looks_like_component_list,
     read_component_list,
 )
+from tests.conftest import ROOT
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = ROOT
 READERS = REPO / "tests" / "data" / "readers"
 FIG4 = READERS / "component-list-fig4.tsv"
 EXAMPLE = REPO / "examples" / "iema-switchgear"

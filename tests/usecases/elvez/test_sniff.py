@@ -9,8 +9,9 @@ import pytest
 from cadkg.errors import IngestError
 from cadkg.registry import kinds, sniff_kind
 from cadkg.usecases.elvez.xml_fields import first_element_name
+from tests.conftest import ROOT
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+EXAMPLES = ROOT / "examples"
 ELVEZ = EXAMPLES / "elvez-cell"
 IEMA = EXAMPLES / "iema-switchgear"
 ELVEZ_KINDS = ("element-models", "tools", "harness-structure", "harness-components", "action-plan")

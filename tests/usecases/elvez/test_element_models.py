@@ -11,8 +11,9 @@ import pytest
 from cadkg.errors import IngestError
 from cadkg.usecases.elvez.element_models import ElementModel, KeySize, read_element_models
 from cadkg.usecases.elvez.xml_fields import Placement
+from tests.conftest import ROOT
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "elvez-cell"
+EXAMPLE = ROOT / "examples" / "elvez-cell"
 ASSEMBLY = EXAMPLE / "assembly" / "assembly-models.xml"
 
 Write = Callable[[str, str | bytes], Path]
