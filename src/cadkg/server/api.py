@@ -31,7 +31,7 @@ from cadkg.server.holder import Served
 from cadkg.server.limits import Deadline
 from cadkg.server.protocol import _FORM, evaluate, fail, read_body
 from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, NotAcceptableError, negotiate
-from cadkg.server.workbench import WRITING_SERVICES
+from cadkg.server.workbench import WRITING_SERVICES, find_named
 from cadkg.store import PREFIXES
 
 __all__ = [
@@ -175,10 +175,7 @@ async def named(request: Request) -> Response:
     text = ""
     try:
         name = request.path_params["name"]
-        known = named_queries()
-        if name not in known:
-            raise NotFound(f"no named query {name!r}; known: {', '.join(known)}")
-        query = known[name]
+        query = find_named(name)
         text = query.text
         params = dict(parse_qsl(request.url.query, keep_blank_values=True))
         fmt = params.pop("format", None)

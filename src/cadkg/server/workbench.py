@@ -18,7 +18,7 @@ from starlette.requests import Request
 from starlette.responses import Response
 
 from cadkg.errors import CadkgError, NotFound
-from cadkg.query.named import coerce_params, named_queries
+from cadkg.query.named import NamedQuery, coerce_params, named_queries
 from cadkg.server.context import Answer, Endpoint, json_response, status_of
 from cadkg.server.holder import Served
 from cadkg.server.limits import Deadline
@@ -26,7 +26,7 @@ from cadkg.server.scene import cell_scene, mesh_path
 from cadkg.server.terms import completion_terms
 from cadkg.sparql_text import bind_values, values_clause
 
-__all__ = ["WRITING_SERVICES", "bound", "mesh", "scene", "terms"]
+__all__ = ["WRITING_SERVICES", "bound", "find_named", "mesh", "scene", "terms"]
 
 # Services that change the served graph: they need the endpoint's token like any write.
 WRITING_SERVICES = frozenset({"load_files"})
@@ -62,15 +62,25 @@ async def scene(request: Request) -> Response:
         return _error(err)
 
 
+def find_named(name: str) -> NamedQuery:
+    """The named query ``name``.
+
+    Raises
+    ------
+    NotFound
+        When there is none of that name.
+    """
+    known = named_queries()
+    if name not in known:
+        raise NotFound(f"no named query {name!r}; known: {', '.join(known)}")
+    return known[name]
+
+
 async def bound(request: Request) -> Response:
     """``GET /api/queries/<name>/bound?param=value``: the named query's text with its
     parameters bound, and the ``VALUES`` block alone (JSON ``{"text", "values"}``)."""
     try:
-        name = request.path_params["name"]
-        known = named_queries()
-        if name not in known:
-            raise NotFound(f"no named query {name!r}; known: {', '.join(known)}")
-        query = known[name]
+        query = find_named(request.path_params["name"])
         bindings = coerce_params(query, dict(parse_qsl(request.url.query, keep_blank_values=True)))
         return json_response({"text": bind_values(query.text, bindings), "values": values_clause(bindings)})
     except CadkgError as err:
