@@ -3,8 +3,8 @@ bound as shown, ``SELECT *`` columns, the favicon, the page without its bundle, 
 every example (and of a remote store), the mesh files, and the token a writing service needs.
 
 Expected values come from the examples' files: IEMA's ``ids.wri`` places 110 items with a mesh
-(55 distinct boxes) and ``lista-cablaggio.csv`` has 110 wires; ``F1500.1`` has 8 wire ends
-(14 pins in ``components.xml``); ELVEZ has 8 + 6 guides with a key and a key corner each, and
+(55 distinct boxes) and ``lista-cablaggio.csv`` has 110 wires; ``F1500.1`` has 8 wire ends;
+ELVEZ has 8 + 6 guides with a key and a key corner each, and
 ``action-plan.csv`` tapes at G1 (operations 4, 9), G4 (9, 14) and G7 (14); ELIMCO's
 ``pin_info.xml`` has 6 pins, one double, and ``path_info.xml`` 3 routes; the KBL has 31 nodes
 and 30 segments.

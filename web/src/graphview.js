@@ -127,16 +127,24 @@ export class GraphView {
     this.canvas.setAttribute("viewBox", `${box.x} ${box.y} ${box.w} ${box.h}`);
   }
 
+  /** Show the whole graph: nodes and edges first, then with the labels placed around them. */
   fit() {
     const content = this.canvas.querySelector("g.content");
     if (!content) return;
-    const b = content.getBBox();
-    const margin = 40;
-    const aspect = HOME.w / HOME.h;
-    let w = b.width + 2 * margin;
-    let h = b.height + 2 * margin;
-    if (w / h > aspect) h = w / aspect; else w = h * aspect;
-    this.setBox({ x: b.x + b.width / 2 - w / 2, y: b.y + b.height / 2 - h / 2, w, h });
+    const frame = (b, margin) => {
+      const aspect = HOME.w / HOME.h;
+      let w = b.width + 2 * margin;
+      let h = b.height + 2 * margin;
+      if (w / h > aspect) h = w / aspect; else w = h * aspect;
+      this.setBox({ x: b.x + b.width / 2 - w / 2, y: b.y + b.height / 2 - h / 2, w, h });
+    };
+    const shapes = [content.querySelector("g.nodes"), content.querySelector("g.edges")].map((g) => g.getBBox());
+    const x = Math.min(...shapes.map((b) => b.x));
+    const y = Math.min(...shapes.map((b) => b.y));
+    frame({ x, y, width: Math.max(...shapes.map((b) => b.x + b.width)) - x,
+      height: Math.max(...shapes.map((b) => b.y + b.height)) - y }, 40);
+    this.placeLabels();
+    frame(content.getBBox(), 12); // labels left out (display: none) do not count
     this.placeLabels();
   }
 
@@ -149,8 +157,10 @@ export class GraphView {
     const taken = this.nodeBoxes.map((n) => ({ x: n.x - n.r, y: n.y - n.r, w: 2 * n.r, h: 2 * n.r }));
     for (const label of this.labels) {
       const size = (label.edge ? EDGE_FONT : NODE_FONT) * scale;
-      const w = label.text.length * size * 0.58;
-      const h = size * 1.1;
+      label.element.setAttribute("font-size", size);
+      label.element.classList.remove("crowded");
+      const w = label.element.getComputedTextLength() + size * 0.3; // the halo drawn around it
+      const h = size * 1.15;
       let spot = null;
       for (const [x, y] of label.candidates(w, h, size)) {
         const box = { x: x - w / 2, y: y - h * 0.8, w, h };
@@ -159,7 +169,6 @@ export class GraphView {
           break;
         }
       }
-      label.element.setAttribute("font-size", size);
       if (spot) {
         taken.push(spot.box);
         label.element.setAttribute("x", spot.x);

@@ -201,6 +201,7 @@ function start() {
       named.describe();
     },
   });
+  $("query").editorView = editor; // for the browser tests
   $("run").addEventListener("click", run);
   $("examples").addEventListener("change", async () => {
     const name = $("examples").value;

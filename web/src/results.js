@@ -225,7 +225,10 @@ export class ResultView {
     const ys = $("chart-y");
     xs.replaceChildren(new Option("(row number)", "-1"), ...vars.map((v, i) => new Option(v, String(i))));
     ys.replaceChildren(...numeric.map((i) => new Option(vars[i], String(i))));
-    const label = vars.findIndex((_, i) => !numeric.includes(i));
+    // x: the first text column whose values tell the rows apart (not one repeating a parameter).
+    const distinct = (i) => new Set(this.answer.rows.map((r) => (r[i] ? r[i].value : ""))).size;
+    const texts = vars.map((_, i) => i).filter((i) => !numeric.includes(i));
+    const label = texts.find((i) => distinct(i) > 1) ?? texts[0] ?? -1;
     xs.value = String(label >= 0 ? label : -1);
     if (numeric.length) ys.value = String(numeric[numeric.length > 1 && label < 0 ? 1 : 0]);
   }

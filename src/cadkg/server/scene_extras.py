@@ -22,6 +22,7 @@ from cadkg.server.harness_layout import layout
 __all__ = ["profile_extras"]
 
 _KEY_SUFFIXES = ("_key", "_key_corner")
+_HARNESS_GAP = 0.3  # metres between harnesses laid out in one plane
 _TAPED = """
 SELECT DISTINCT ?spot ?label ?index WHERE {
   ?op a ck:TapeOperation ; ck:atSpot ?spot . ?spot ck:label ?label .
@@ -99,6 +100,7 @@ def _harnesses(graph: Any, session: Any, out: dict[str, list[Any]]) -> None:
     base = str(graph.query("SELECT ?c WHERE { ?c a ck:Cell } LIMIT 1").rows[0]["c"]).removesuffix("cell/this")
     posed = {row["node"]: row for row in graph.query(_NODE_POSES).rows}
     seen: set[str] = set()
+    offset = 0.0  # harnesses laid out side by side, not on top of each other
     for ref in refs:
         if ref["h"] in seen:
             continue
@@ -127,7 +129,8 @@ def _harnesses(graph: Any, session: Any, out: dict[str, list[Any]]) -> None:
             frame, coordinates = stated[0]["frame"] if stated[0] else None, "graph"
         else:
             planar = layout(len(nodes), [(s["from"], s["to"], s["length"]) for s in segments])
-            positions, frame, coordinates = [[x, y, 0.0] for x, y in planar], None, "layout"
+            positions, frame, coordinates = [[x + offset, y, 0.0] for x, y in planar], None, "layout"
+            offset = max((p[0] for p in positions), default=offset) + _HARNESS_GAP
         out["harnesses"].append(
             {
                 "label": result["harness"],

@@ -197,7 +197,8 @@ export function balls(points, radius, name) {
   mesh.count = points.length;
   const matrix = new THREE.Matrix4();
   points.forEach((p, i) => {
-    matrix.compose(p.position, new THREE.Quaternion(), new THREE.Vector3(radius, radius, radius));
+    const r = radius * (p.scale || 1);
+    matrix.compose(p.position, new THREE.Quaternion(), new THREE.Vector3(r, r, r));
     mesh.setMatrixAt(i, matrix);
     mesh.setColorAt(i, p.colour);
   });

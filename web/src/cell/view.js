@@ -91,10 +91,19 @@ export class CellView {
     this.size = this.extent();
     const points = data.points.map((p) => ({ ...p, position: new THREE.Vector3().setFromMatrixPosition(this.matrixOf(p.frame) || new THREE.Matrix4()) }));
     this.points = points;
-    this.pointMesh = balls(points.map((p) => ({ position: p.position, colour: COLOURS[p.kind] || COLOURS.key })),
-      this.size * 0.006, "points");
-    this.root.add(this.pointMesh);
-    this.pickables.push(this.pointMesh);
+    const radius = this.size * 0.006;
+    const solid = points.filter((p) => p.kind !== "tape-spot");
+    const halos = points.filter((p) => p.kind === "tape-spot");
+    this.pointMesh = balls(solid.map((p) => ({ position: p.position, colour: COLOURS[p.kind] || COLOURS.key,
+      scale: p.kind === "key-corner" ? 0.7 : 1 })), radius, "points");
+    this.pointMesh.userData.points = solid;
+    // A taping spot: a see-through halo around its guide's key, so the key shows inside it.
+    this.haloMesh = balls(halos.map((p) => ({ position: p.position, colour: COLOURS[p.kind] })), radius * 2.2, "halos");
+    Object.assign(this.haloMesh.material, { transparent: true, opacity: 0.45, depthWrite: false });
+    this.haloMesh.userData.points = halos;
+    this.haloMesh.userData.halo = radius * 2.2;
+    this.root.add(this.pointMesh, this.haloMesh);
+    this.pickables.push(this.pointMesh, this.haloMesh);
     this.harnesses = data.harnesses.map((h) => buildHarness(h, this.matrixOf, Math.max(this.size, 0.2) * 0.008));
     for (const h of this.harnesses) {
       this.root.add(h.group);
@@ -178,6 +187,8 @@ export class CellView {
   render() {
     this.renderer.render(this.scene, this.camera);
     this.labels.update(this.camera, this.root, this.container);
+    this.frames = (this.frames || 0) + 1;
+    this.container.dataset.frames = String(this.frames); // the tests wait for the view to settle
   }
 
   /** Everything drawn (not the frame axes, which reach to the world's origin), in world coordinates. */
@@ -185,7 +196,7 @@ export class CellView {
     const box = new THREE.Box3();
     this.root.updateMatrixWorld(true);
     const parts = [this.objects.group, this.routes.lines, ...this.harnesses.map((h) => h.group)];
-    if (this.points.length) parts.push(this.pointMesh);
+    if (this.points.length) parts.push(this.pointMesh, this.haloMesh);
     for (const part of parts) {
       part.traverse((object) => {
         if (!object.geometry || !object.visible || (object.isInstancedMesh && object.count === 0)) return;
@@ -284,8 +295,12 @@ export class CellView {
       raycaster.params.Line.threshold = this.camera.position.distanceTo(this.controls.target) * 0.006;
       const visible = this.pickables.filter((o) => o.visible && (!o.parent || o.parent.visible));
       const hits = raycaster.intersectObjects(visible, false);
-      // A pin sits inside its component's box: a ray through both means the pin.
-      const hit = hits.find((h) => h.object.userData.pinList) || hits[0];
+      // A pin sits inside its component's box: a ray through both means the pin. A ray
+      // through a halo's middle means the key inside it.
+      let hit = hits.find((h) => h.object.userData.pinList) || hits[0];
+      if (hit && hit.object.userData.halo && hits[1] && hits[1].distance - hit.distance < 2 * hit.object.userData.halo) {
+        hit = hits[1];
+      }
       this.select(hit ? this.whatIs(hit) : null);
     });
   }
@@ -297,8 +312,8 @@ export class CellView {
       const route = this.data.routes[this.routes.pick(hit.index)];
       return route && { kind: "wire", label: `wire ${route.label}`, iri: route.iri, route };
     }
-    if (object === this.pointMesh) {
-      const p = this.points[hit.instanceId];
+    if (object.userData.points) {
+      const p = object.userData.points[hit.instanceId];
       return p && { kind: p.kind, label: p.label, iri: p.iri };
     }
     if (object.userData.pinList) {
@@ -468,7 +483,7 @@ export class CellView {
     const layer = (id, apply) => $(id).addEventListener("change", () => { apply($(id).checked); this.requestRender(); });
     layer("layer-objects", (on) => { this.objects.group.visible = on; });
     layer("layer-routes", (on) => { this.routes.lines.visible = on; });
-    layer("layer-points", (on) => { this.pointMesh.visible = on; });
+    layer("layer-points", (on) => { this.pointMesh.visible = on; this.haloMesh.visible = on; });
     layer("layer-harness", (on) => { for (const h of this.harnesses) h.group.visible = on; });
     layer("layer-axes", (on) => { this.axes.visible = on; });
     layer("layer-labels", () => this.setLabels());
