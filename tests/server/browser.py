@@ -113,6 +113,15 @@ def editor_text(driver: Any) -> str:
     return text
 
 
+def set_editor(driver: Any, text: str) -> None:
+    """Replace the editor's text (as a paste would)."""
+    driver.execute_script(
+        "const v = document.getElementById('query').editorView;"
+        "v.dispatch({changes: {from: 0, to: v.state.doc.length, insert: arguments[0]}})",
+        text,
+    )
+
+
 def editor(driver: Any) -> Any:
     from selenium.webdriver.common.by import By
 

@@ -25,6 +25,7 @@ from tests.server.browser import (
     health,
     keys,
     open_page,
+    set_editor,
     text_of,
     wait,
 )
@@ -151,12 +152,8 @@ def test_results_sort_filter_chart_and_download(browser: Any, iema_site: str) ->
     driver = browser
     open_page(driver, f"{iema_site}/")
     driver.find_element(By.ID, "tab-add").click()
-    set_text = (
-        "const v = document.getElementById('query').editorView;"
-        "v.dispatch({changes: {from: 0, to: v.state.doc.length, insert: arguments[0]}})"
-    )
-    driver.execute_script(
-        set_text,
+    set_editor(
+        driver,
         "SELECT ?colour (COUNT(?w) AS ?wires) WHERE { ?w a ck:Wire ; ck:colour ?colour }\n"
         "GROUP BY ?colour ORDER BY DESC(?wires) ?colour",
     )
@@ -193,15 +190,13 @@ def test_results_sort_filter_chart_and_download(browser: Any, iema_site: str) ->
     assert lines[0] == "colour,wires" and len(lines) == len(colours) + 1
 
     # SELECT * keeps the query's column order; a CONSTRUCT answers triples, saved as Turtle.
-    driver.execute_script(set_text, "SELECT * WHERE { ?wire ck:wireNumber ?number ; ck:colour ?c } LIMIT 3")
+    set_editor(driver, "SELECT * WHERE { ?wire ck:wireNumber ?number ; ck:colour ?c } LIMIT 3")
     run_and_wait(driver)
     names = [th.text for th in driver.find_elements(By.CSS_SELECTOR, "#results thead th")]
     assert names == ["wire", "number", "c"]
     cell = driver.find_element(By.CSS_SELECTOR, "#results tbody td")
     assert cell.value_of_css_property("white-space") == "nowrap"
-    driver.execute_script(
-        set_text, "CONSTRUCT { ?w ck:wireNumber ?n } WHERE { ?w ck:wireNumber ?n } ORDER BY ?n LIMIT 5"
-    )
+    set_editor(driver, "CONSTRUCT { ?w ck:wireNumber ?n } WHERE { ?w ck:wireNumber ?n } ORDER BY ?n LIMIT 5")
     assert "5 triple(s)" in run_and_wait(driver, "triple(s)")
     assert column(driver, 2) == ["ck:wireNumber"] * 5
     formats = [

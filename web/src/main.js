@@ -21,7 +21,9 @@ const state = { running: false, cell: null, cellLoading: null, labels: new Map()
 async function cellView() {
   if (!state.cellLoading) {
     state.cellLoading = import("./cell/view.js").then(({ CellView }) => {
-      state.cell = new CellView($("cell-view"), { onIri: (iri) => graph.show({ node: iri }) });
+      // ?instancing=0 draws one mesh per object: the baseline of benchmarks/bench_page.py.
+      const instanced = new URLSearchParams(location.search).get("instancing") !== "0";
+      state.cell = new CellView($("cell-view"), { onIri: (iri) => graph.show({ node: iri }), instanced });
       return state.cell.load();
     });
   }

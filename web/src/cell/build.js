@@ -11,7 +11,9 @@ const MARK = new THREE.BoxGeometry(0.01, 0.01, 0.01);
 const BALL = new THREE.SphereGeometry(1, 12, 8);
 export const COLOURS = {
   item: new THREE.Color("#9aa8bf"),
-  highlight: new THREE.Color("#f2a541"),
+  highlight: new THREE.Color("#f7c873"),
+  screw: new THREE.Color("#dc2626"),
+  hole: new THREE.Color("#1d4ed8"),
   picked: new THREE.Color("#e0457b"),
   robot: new THREE.Color("#d97706"),
   human: new THREE.Color("#7c8799"),

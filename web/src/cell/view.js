@@ -267,6 +267,13 @@ export class CellView {
     const show = $("layer-labels").checked;
     const entries = [];
     if (show) {
+      this.harnesses.forEach((h, i) => {
+        // The harness's name over the middle of its top edge.
+        if (!h.positions.length) return;
+        const box = new THREE.Box3().setFromPoints(h.positions);
+        const position = new THREE.Vector3((box.min.x + box.max.x) / 2, box.max.y + this.size * 0.05, box.max.z);
+        entries.push({ text: `harness ${this.data.harnesses[i].label}`, position, className: "title" });
+      });
       for (const h of this.harnesses) {
         h.positions.forEach((position, i) => {
           const node = this.data.harnesses[this.harnesses.indexOf(h)].nodes[i];
@@ -353,6 +360,8 @@ export class CellView {
       return;
     }
     panel.hidden = false;
+    this.picked = what;
+    $("pick-zoom").hidden = !what.component;
     $("pick-title").textContent = `${what.label}`;
     $("pick-iri").textContent = what.iri || "";
     panel.dataset.iri = what.iri || "";
@@ -425,9 +434,12 @@ export class CellView {
         if (pose) list.push({ position: vector(pose).applyMatrix4(frame), pin });
       }
     }
-    for (const [list, colour, kind] of [[screws, COLOURS.highlight, "screw"], [holes, COLOURS.key, "hole"]]) {
+    for (const [list, colour, kind] of [[screws, COLOURS.screw, "screw"], [holes, COLOURS.hole, "hole"]]) {
       if (!list.length) continue;
       const mesh = balls(list.map((p) => ({ position: p.position, colour })), radius, `${kind}s`);
+      // Screws and holes lie inside their component's box: drawn over it, as markers.
+      Object.assign(mesh.material, { depthTest: false, transparent: true });
+      mesh.renderOrder = 10;
       mesh.userData.pinList = list;
       mesh.userData.kind = kind;
       this.extras.add(mesh);
@@ -445,17 +457,26 @@ export class CellView {
       $("cell-status").textContent = `${named.label} is not placed in the 3D scene`;
       return;
     }
-    const box = new THREE.Box3();
-    for (const index of component.objects) {
-      const m = this.matrixOf(this.data.objects[index].frame);
-      if (m) box.expandByPoint(new THREE.Vector3().setFromMatrixPosition(m));
-    }
-    if (!box.isEmpty()) {
-      box.expandByScalar(this.size * 0.04);
-      box.applyMatrix4(this.root.matrixWorld);
-      this.fit(box);
-    }
+    this.zoomTo(component);
     await this.select({ kind: "component", label: component.label, iri: component.iri, component });
+  }
+
+  /** Bring the camera close to a component, with some of its neighbourhood around it. */
+  zoomTo(component) {
+    const box = new THREE.Box3();
+    const corner = new THREE.Vector3();
+    for (const index of component.objects) {
+      const object = this.data.objects[index];
+      const m = this.matrixOf(object.frame);
+      if (!m) continue;
+      const [x0, y0, z0, x1, y1, z1] = object.box || [0, 0, 0, 0, 0, 0];
+      for (const x of [x0, x1]) for (const y of [y0, y1]) for (const z of [z0, z1]) box.expandByPoint(corner.set(x, y, z).applyMatrix4(m));
+    }
+    if (box.isEmpty()) return;
+    const size = box.getSize(new THREE.Vector3()).length();
+    box.expandByScalar(Math.max(size * 0.3, this.size * 0.01));
+    box.applyMatrix4(this.root.matrixWorld);
+    this.fit(box);
   }
 
   /** The next wire of group_connection_provider: its path as a tube, its ends as the pins. */
@@ -472,6 +493,8 @@ export class CellView {
     const path = result.path_keypoints.map((p) => vector(p).applyMatrix4(frame));
     await this.select({ kind: "wire", label: `wire ${result.wire} (list position ${result.list_position})`, iri: route ? route.iri : null });
     this.addRoute(path);
+    const box = new THREE.Box3().setFromPoints(path).expandByScalar(this.size * 0.03);
+    this.fit(box.applyMatrix4(this.root.matrixWorld)); // the wire, end to end
     this.extraLabels = [
       { text: `${result.origin.label}:${result.origin.pin}`, position: path[0] },
       { text: `${result.destination.label}:${result.destination.pin}`, position: path[path.length - 1] },
@@ -488,6 +511,9 @@ export class CellView {
     layer("layer-axes", (on) => { this.axes.visible = on; });
     layer("layer-labels", () => this.setLabels());
     $("cell-fit").addEventListener("click", () => this.fit());
+    $("pick-zoom").addEventListener("click", () => {
+      if (this.picked && this.picked.component) this.zoomTo(this.picked.component);
+    });
     $("cell-show").addEventListener("click", () => {
       const label = $("cell-component").value.trim();
       if (label) this.locate({ label });
@@ -500,21 +526,45 @@ export class CellView {
 
   // -- for tests and the benchmark ---------------------------------------------------------
 
-  /** Where a component's first object is on the screen (client coordinates), or null. */
+  /** Where a component's first object (or a harness node of that label or connector) is on the
+   * screen, in client coordinates; null when there is none. */
   screenPosition(label) {
-    const component = this.data.components.find((c) => c.label === label);
-    if (!component || !component.objects.length) return null;
-    const object = this.data.objects[component.objects[0]];
     const centre = new THREE.Vector3();
-    if (object.box) {
-      const [x0, y0, z0, x1, y1, z1] = object.box;
-      centre.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
+    const component = this.data.components.find((c) => c.label === label);
+    if (component && component.objects.length) {
+      const object = this.data.objects[component.objects[0]];
+      if (object.box) {
+        const [x0, y0, z0, x1, y1, z1] = object.box;
+        centre.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
+      }
+      centre.applyMatrix4(this.matrixOf(object.frame));
+    } else {
+      const found = this.harnesses.flatMap((h, i) => this.data.harnesses[i].nodes.map((n, j) => [n, h.positions[j]]))
+        .find(([n]) => n.label === label || n.connectors.includes(label));
+      if (!found) return null;
+      centre.copy(found[1]);
     }
-    centre.applyMatrix4(this.matrixOf(object.frame));
     this.root.localToWorld(centre);
     centre.project(this.camera);
     const rect = this.renderer.domElement.getBoundingClientRect();
     return { x: rect.left + ((centre.x + 1) / 2) * rect.width, y: rect.top + ((1 - centre.y) / 2) * rect.height };
+  }
+
+  /** Milliseconds to pick what is under `count` points across the view (median), as a click does. */
+  measurePick(count = 20) {
+    const raycaster = new THREE.Raycaster();
+    raycaster.params.Line.threshold = this.camera.position.distanceTo(this.controls.target) * 0.006;
+    const visible = this.pickables.filter((o) => o.visible);
+    const times = [];
+    let hits = 0;
+    for (let i = 0; i < count; i++) {
+      const start = performance.now();
+      raycaster.setFromCamera(new THREE.Vector2(-0.8 + (1.6 * i) / count, 0.1), this.camera);
+      hits += raycaster.intersectObjects(visible, false).length > 0;
+      times.push(performance.now() - start);
+    }
+    times.sort((a, b) => a - b);
+    return { median: times[Math.floor(count / 2)], hits };
   }
 
   /** Milliseconds per frame (median of `frames`) while the camera turns around the cell. */
