@@ -21,9 +21,9 @@ const state = { running: false, cell: null, cellLoading: null, labels: new Map()
 async function cellView() {
   if (!state.cellLoading) {
     state.cellLoading = import("./cell/view.js").then(({ CellView }) => {
-      // ?instancing=0 draws one mesh per object: the baseline of benchmarks/bench_page.py.
-      const instanced = new URLSearchParams(location.search).get("instancing") !== "0";
-      state.cell = new CellView($("cell-view"), { onIri: (iri) => graph.show({ node: iri }), instanced });
+      // ?drawing=instanced or ?drawing=meshes: the other ways of drawing (benchmarks/bench_page.py).
+      const drawing = new URLSearchParams(location.search).get("drawing") || "merged";
+      state.cell = new CellView($("cell-view"), { onIri: (iri) => graph.show({ node: iri }), drawing });
       return state.cell.load();
     });
   }

@@ -1,16 +1,12 @@
-// The three.js objects of a cell scene (the JSON of /api/scene): frames composed into world
-// matrices, objects drawn instanced (one InstancedMesh per distinct mesh, so a cabinet's
-// thousands of items cost a few hundred draw calls), all wires in one merged line geometry,
+// The three.js objects of a cell scene (the JSON of /api/scene) besides its placed objects
+// (cell/objects.js): frames composed into world matrices, all wires in one line geometry,
 // points of interest and harness nodes instanced, frame axes in one line geometry.
 // Poses are ROS's (z up, metres); the caller turns the root group to three.js's y up.
 
 import * as THREE from "three";
 
-const BOX = new THREE.BoxGeometry(1, 1, 1).translate(0.5, 0.5, 0.5); // a unit box from its corner
-const MARK = new THREE.BoxGeometry(0.01, 0.01, 0.01);
 const BALL = new THREE.SphereGeometry(1, 12, 8);
 export const COLOURS = {
-  item: new THREE.Color("#9aa8bf"),
   highlight: new THREE.Color("#f7c873"),
   screw: new THREE.Color("#dc2626"),
   hole: new THREE.Color("#1d4ed8"),
@@ -45,107 +41,6 @@ export function worldMatrices(frames) {
   };
   for (const frame of frames) compose(frame.name);
   return (name) => world.get(name) || (local.has(name) ? compose(name) : null);
-}
-
-/** A colour per component, close to the item grey, so neighbours can be told apart. */
-function tint(index) {
-  if (index === null || index === undefined) return COLOURS.item.clone();
-  const hue = ((index * 0.618034) % 1 + 1) % 1;
-  return new THREE.Color().setHSL(hue, 0.28, 0.62);
-}
-
-/**
- * The placed objects: one InstancedMesh per distinct mesh (geometry given later by `setGeometry`),
- * one for boxes, one for unplaced marks; `instanced: false` draws one Mesh per object (the
- * benchmark's baseline). Returns {group, handles, pick(object, instanceId) -> object index}.
- */
-export function buildObjects(scene, matrixOf, { instanced = true } = {}) {
-  const group = new THREE.Group();
-  group.name = "objects";
-  const buckets = new Map(); // key -> {geometry, entries: [{index, matrix}]}
-  const put = (key, geometry, index, matrix) => {
-    if (!buckets.has(key)) buckets.set(key, { geometry, entries: [] });
-    buckets.get(key).entries.push({ index, matrix });
-  };
-  scene.objects.forEach((object, index) => {
-    const world = matrixOf(object.frame);
-    if (!world) return;
-    if (object.mesh !== null && object.mesh !== undefined) {
-      put(`mesh:${object.mesh}`, null, index, world);
-    } else if (object.box) {
-      const [x0, y0, z0, x1, y1, z1] = object.box;
-      const inner = new THREE.Matrix4().compose(new THREE.Vector3(x0, y0, z0), new THREE.Quaternion(),
-        new THREE.Vector3(Math.max(x1 - x0, 1e-4), Math.max(y1 - y0, 1e-4), Math.max(z1 - z0, 1e-4)));
-      put("box", BOX, index, world.clone().multiply(inner));
-    } else {
-      put("mark", MARK, index, world);
-    }
-  });
-  const material = new THREE.MeshLambertMaterial({ color: 0xffffff });
-  const owners = new Map(); // THREE object -> object indices by instance
-  const handles = new Map(); // mesh index -> objects to give their geometry
-  const colourOf = (index) => tint(scene.objects[index].component);
-  for (const [key, bucket] of buckets) {
-    const placeholder = bucket.geometry || MARK; // until its mesh file has come
-    const meshes = [];
-    if (instanced) {
-      const mesh = new THREE.InstancedMesh(placeholder, material, bucket.entries.length);
-      bucket.entries.forEach(({ index, matrix }, i) => {
-        mesh.setMatrixAt(i, matrix);
-        mesh.setColorAt(i, colourOf(index));
-      });
-      mesh.instanceMatrix.needsUpdate = true;
-      mesh.computeBoundingSphere();
-      mesh.visible = Boolean(bucket.geometry);
-      owners.set(mesh, bucket.entries.map((e) => e.index));
-      meshes.push(mesh);
-    } else {
-      for (const { index, matrix } of bucket.entries) {
-        const mesh = new THREE.Mesh(placeholder, new THREE.MeshLambertMaterial({ color: colourOf(index) }));
-        mesh.matrixAutoUpdate = false;
-        mesh.matrix.copy(matrix);
-        mesh.visible = Boolean(bucket.geometry);
-        owners.set(mesh, [index]);
-        meshes.push(mesh);
-      }
-    }
-    for (const mesh of meshes) group.add(mesh);
-    if (key.startsWith("mesh:")) handles.set(Number(key.slice(5)), meshes);
-  }
-  const setGeometry = (meshIndex, geometry) => {
-    for (const mesh of handles.get(meshIndex) || []) {
-      mesh.geometry = geometry;
-      mesh.visible = true;
-      if (mesh.isInstancedMesh) {
-        mesh.boundingBox = null;
-        mesh.computeBoundingSphere();
-      }
-    }
-  };
-  let painted = new Set();
-  // Colour some objects (index -> THREE.Color); every other object takes its own colour again.
-  const paint = (colours) => {
-    const touched = new Set([...painted, ...colours.keys()]);
-    for (const [mesh, list] of owners) {
-      let changed = false;
-      list.forEach((index, i) => {
-        if (!touched.has(index)) return;
-        const c = colours.get(index) || colourOf(index);
-        if (mesh.isInstancedMesh) mesh.setColorAt(i, c);
-        else mesh.material.color.copy(c);
-        changed = true;
-      });
-      if (changed && mesh.isInstancedMesh) mesh.instanceColor.needsUpdate = true;
-    }
-    painted = new Set(colours.keys());
-  };
-  return {
-    group,
-    setGeometry,
-    meshCount: group.children.length,
-    pick: (object, instanceId) => (owners.get(object) || [])[object.isInstancedMesh ? instanceId : 0],
-    paint,
-  };
 }
 
 /** Every route as one LineSegments: keypoints in a frame, or the origins of frames in turn. */

@@ -10,28 +10,39 @@ import { EndpointError, getJson, postQuery } from "../api.js";
 import { shorten } from "../prefixes.js";
 import { readAnswer } from "../results.js";
 import { termText } from "../terms.js";
-import { COLOURS, axes, balls, buildHarness, buildObjects, buildRoutes, tube, worldMatrices } from "./build.js";
+import { COLOURS, axes, balls, buildHarness, buildRoutes, tube, worldMatrices } from "./build.js";
 import { Labels } from "./labels.js";
+import { Objects } from "./objects.js";
 
 const $ = (id) => document.getElementById(id);
 const CLIENT = "web-3d";
 const MESH_REQUESTS = 6;
+const MOVING_MS = 40;
+
+/** Whether WebGL is drawn on the CPU here (SwiftShader, llvmpipe). */
+function softwareRenderer() {
+  const gl = document.createElement("canvas").getContext("webgl2");
+  const info = gl && gl.getExtension("WEBGL_debug_renderer_info");
+  const name = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : "";
+  if (gl) gl.getExtension("WEBGL_lose_context")?.loseContext();
+  return /swiftshader|llvmpipe|software/i.test(name);
+}
 
 function vector(p) {
   return new THREE.Vector3(p.position.x, p.position.y, p.position.z);
 }
 
 export class CellView {
-  constructor(container, { onIri, instanced = true }) {
+  constructor(container, { onIri, drawing = "merged" }) {
     this.container = container;
     this.onIri = onIri;
-    this.instanced = instanced;
+    this.drawing = drawing;
     this.pickables = [];
     this.extras = new THREE.Group();
     this.frameNeeded = false;
     container.cellView = this; // for the browser tests and the benchmark
     try {
-      this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+      this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
     } catch (err) {
       throw new EndpointError(`this browser cannot draw 3D (WebGL): ${err.message}`);
     }
@@ -50,8 +61,7 @@ export class CellView {
     this.root.rotation.x = -Math.PI / 2;
     this.scene.add(this.root);
     this.root.add(this.extras);
-    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
-    this.controls.addEventListener("change", () => this.requestRender());
+    this.makeControls();
     this.installPicking();
     this.installControls();
     new ResizeObserver(() => this.resize()).observe(container);
@@ -61,11 +71,14 @@ export class CellView {
 
   async load() {
     $("cell-status").textContent = "loading the cell…";
+    const started = performance.now();
     const response = await fetch("/api/scene", { headers: { Accept: "application/json" } });
     if (!response.ok) throw new EndpointError(`the 3D scene: ${response.status} ${await response.text()}`);
     this.generation = response.headers.get("x-cadkg-generation") || "";
     this.data = await response.json();
+    const read = performance.now();
     this.build();
+    const built = performance.now();
     this.fit();
     this.describeScene();
     let moved = false;
@@ -75,6 +88,8 @@ export class CellView {
     this.controls.removeEventListener("start", onMove);
     if (!moved) this.fit(); // now with the meshes' own sizes
     this.describeScene();
+    // Milliseconds from the start: scene read, objects built, every mesh in (benchmarks/bench_page.py).
+    this.timings = { scene: read - started, built: built - started, meshes: performance.now() - started };
     this.container.dataset.ready = "true";
     return this;
   }
@@ -82,7 +97,7 @@ export class CellView {
   build() {
     const data = this.data;
     this.matrixOf = worldMatrices(data.frames);
-    this.objects = buildObjects(data, this.matrixOf, { instanced: this.instanced });
+    this.objects = new Objects(data, this.matrixOf, this.drawing);
     this.root.add(this.objects.group);
     this.pickables.push(...this.objects.group.children);
     this.routes = buildRoutes(data.routes, this.matrixOf);
@@ -138,14 +153,23 @@ export class CellView {
           const geometry = loader.parse(await response.arrayBuffer());
           geometry.computeVertexNormals();
           this.objects.setGeometry(index, geometry);
-          this.requestRender();
         } catch (err) {
           failed += 1;
         }
+        done += 1;
+        // A frame of a large cell can take longer than a mesh: the view is drawn again once,
+        // when every mesh is in, not after each.
+        if (done % 25 === 0) $("cell-status").textContent = `loading meshes: ${done} of ${total}…`;
       }
     };
+    const total = queue.length;
+    let done = 0;
     await Promise.all(Array.from({ length: MESH_REQUESTS }, worker));
     this.meshFailures = failed;
+    this.pickables = this.pickables.filter((o) => o.parent !== this.objects.group);
+    this.objects.finish();
+    this.pickables.push(...this.objects.group.children);
+    this.requestRender();
   }
 
   describeScene() {
@@ -164,6 +188,29 @@ export class CellView {
   }
 
   // -- drawing -----------------------------------------------------------------------------
+
+  /**
+   * Orbit controls. While the camera moves in a cell whose frames take long (over MOVING_MS),
+   * the wires are left out of the frames (a level of detail in time), and drawn again when it
+   * stops.
+   */
+  makeControls() {
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.addEventListener("change", () => this.requestRender());
+    this.controls.addEventListener("start", () => {
+      if (this.routes && this.lastFrame > MOVING_MS && this.routes.lines.visible) {
+        this.routes.lines.visible = false;
+        this.lightened = true;
+      }
+    });
+    this.controls.addEventListener("end", () => {
+      if (this.lightened) {
+        this.routes.lines.visible = $("layer-routes").checked;
+        this.lightened = false;
+        this.requestRender();
+      }
+    });
+  }
 
   resize() {
     const width = this.container.clientWidth;
@@ -185,7 +232,9 @@ export class CellView {
   }
 
   render() {
+    const started = performance.now();
     this.renderer.render(this.scene, this.camera);
+    this.lastFrame = performance.now() - started;
     this.labels.update(this.camera, this.root, this.container);
     this.frames = (this.frames || 0) + 1;
     this.container.dataset.frames = String(this.frames); // the tests wait for the view to settle
@@ -254,8 +303,7 @@ export class CellView {
     this.camera.updateProjectionMatrix();
     if (!this.controlsUp || !this.controlsUp.equals(up)) {
       this.controls.dispose(); // OrbitControls takes the camera's up when made
-      this.controls = new OrbitControls(this.camera, this.renderer.domElement);
-      this.controls.addEventListener("change", () => this.requestRender());
+      this.makeControls();
       this.controlsUp = up.clone();
     }
     this.controls.target.copy(centre);
@@ -338,7 +386,7 @@ export class CellView {
         return segment && { kind: "segment", label: `segment ${segment.label}`, iri: segment.iri };
       }
     }
-    const index = this.objects.pick(object, hit.instanceId);
+    const index = this.objects.pick(hit);
     if (index === undefined) return null;
     const item = this.data.objects[index];
     const component = item.component !== null ? this.data.components[item.component] : null;
@@ -567,8 +615,18 @@ export class CellView {
     return { median: times[Math.floor(count / 2)], hits };
   }
 
-  /** Milliseconds per frame (median of `frames`) while the camera turns around the cell. */
+  /** Milliseconds per frame (median of `frames`) while the camera turns around the cell, with
+   * everything drawn, and (`moving`) as while the camera is dragged. */
   measure(frames = 30) {
+    const full = this.measureFrames(frames);
+    const visible = this.routes.lines.visible;
+    this.routes.lines.visible = false;
+    const moving = this.measureFrames(frames);
+    this.routes.lines.visible = visible;
+    return { ...full, moving: moving.median };
+  }
+
+  measureFrames(frames) {
     const gl = this.renderer.getContext();
     const pixel = new Uint8Array(4);
     const times = [];
