@@ -132,10 +132,15 @@ export class CellView {
 
   /** The size of the cell: the diagonal of everything placed (frames, harness nodes). */
   extent() {
+    // What is drawn: objects, points, wires, harness nodes; the frames only when there is
+    // nothing else (a frame may be far off, as ELIMCO's drawing origin is metres away).
     const box = new THREE.Box3();
-    for (const f of this.data.frames) box.expandByPoint(new THREE.Vector3().setFromMatrixPosition(this.matrixOf(f.name)));
+    const at = (name) => new THREE.Vector3().setFromMatrixPosition(this.matrixOf(name) || new THREE.Matrix4());
+    for (const o of this.data.objects) box.expandByPoint(at(o.frame));
+    for (const p of this.data.points) box.expandByPoint(at(p.frame));
     for (const h of this.data.harnesses) for (const n of h.nodes) box.expandByPoint(new THREE.Vector3(...n.position));
     for (const r of this.routes.paths) for (const p of r) box.expandByPoint(p);
+    if (box.isEmpty()) for (const f of this.data.frames) box.expandByPoint(at(f.name));
     return box.isEmpty() ? 1 : Math.max(box.getSize(new THREE.Vector3()).length(), 0.05);
   }
 
@@ -295,7 +300,7 @@ export class CellView {
     const size = target.getSize(new THREE.Vector3());
     const radius = Math.max(size.length() / 2, 0.02);
     const { eye, up } = this.viewAxes(size);
-    const distance = (radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2))) * 0.9;
+    const distance = (radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2))) * 1.05;
     this.camera.up.copy(up);
     this.camera.position.copy(centre).addScaledVector(eye, distance);
     this.camera.near = distance / 1000;
