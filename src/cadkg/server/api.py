@@ -125,6 +125,10 @@ async def index(request: Request) -> Response:
                 "service": "/api/<service>?param=value&client=name",
                 "named_query": "/api/queries/<name>?param=value",
                 "graph_view": "/api/graph?component=LABEL or ?node=IRI",
+                "bound_query": "/api/queries/<name>/bound?param=value",
+                "terms": "/api/terms",
+                "scene": "/api/scene",
+                "mesh": "/api/mesh/<ck:meshUri>",
             },
         }
     )
