@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Creates .venv with cadkg and its development tools. Safe to run again.
+# Creates .venv with cadkg and its development tools, and builds the web page (scripts/build-web.sh).
+# Safe to run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python3}
@@ -8,3 +9,4 @@ if [ ! -x .venv/bin/python ]; then
 fi
 .venv/bin/python -m pip install --quiet --upgrade pip
 .venv/bin/python -m pip install --quiet -e '.[dev]'
+bash scripts/build-web.sh

@@ -46,7 +46,12 @@ def serving(graph_or_loader: Any, settings: Settings | None = None, **limits: An
 
 @contextlib.contextmanager
 def cadkg_serve(*args: str, wait: float = 120) -> Iterator[str]:
-    """``cadkg serve ARGS --port <free port>`` in a subprocess until the block ends; yields the base URL."""
+    """``cadkg serve ARGS --port <free port>`` in a subprocess until the block ends; yields the base URL.
+
+    The server runs in a process group of its own, killed as a whole at the end.
+    """
+    import os
+    import signal
     import subprocess
     import sys
 
@@ -56,7 +61,14 @@ def cadkg_serve(*args: str, wait: float = 120) -> Iterator[str]:
 
     port = free_port()
     command = [sys.executable, "-m", "cadkg.cli", "serve", *args, "--port", str(port)]
-    process = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen(
+        command,
+        cwd=ROOT,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
     base = f"http://127.0.0.1:{port}"
     try:
         deadline = time.monotonic() + wait
@@ -75,12 +87,10 @@ def cadkg_serve(*args: str, wait: float = 120) -> Iterator[str]:
         yield base
     finally:
         process.terminate()
-        try:
+        with contextlib.suppress(subprocess.TimeoutExpired):
             process.wait(15)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait(5)
-        if process.stdout:
-            process.stdout.close()
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(process.pid, signal.SIGKILL)
+        process.wait(5)
         if process.stderr:
             process.stderr.close()

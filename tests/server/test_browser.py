@@ -1,155 +1,293 @@
-"""The web page end to end in headless Chromium (Debian's chromium and chromium-driver, driven by
-Selenium), against ``cadkg serve`` on the IEMA example in a subprocess.
+"""The web page end to end in headless Chromium (see tests/server/browser.py), against
+``cadkg serve`` on the IEMA example in a subprocess: the SPARQL editor (completion, tabs,
+permalinks, local storage), named queries that keep their parameters, the result table
+(paging, sorting, filtering), the chart, downloads, and the graph view.
 
-``scripts/browser-setup.sh`` installs the browser when it is missing; the test is skipped only
-when apt cannot install it on this machine (no root, no apt, no package), and says why.
+Expected values come from the example's files: ``lista-cablaggio.csv`` has 110 wires, 8 of
+them at ``F1500.1``; ``ids.wri`` labels 62 components, ``A0080.1`` first.
 """
 
 from __future__ import annotations
 
-import os
-import subprocess
-from collections.abc import Iterator
-from pathlib import Path
+import time
 from typing import Any
 
 import httpx
-import pytest
+from selenium.webdriver.common.by import By
+from selenium.webdriver.common.keys import Keys
+from selenium.webdriver.support.ui import Select
 
-from tests.conftest import IEMA, ROOT
-from tests.server.serving import cadkg_serve
-
-SETUP = ROOT / "scripts" / "browser-setup.sh"
-CANNOT_INSTALL = ("needs apt-get", "needs root", "apt-get update", "apt-get install")
-CHROMIUM_ARGS = (
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--window-size=1400,1000",
+from tests.server.browser import (
+    chord,
+    column,
+    editor,
+    editor_text,
+    health,
+    keys,
+    open_page,
+    set_editor,
+    text_of,
+    wait,
 )
-LABELS = "SELECT DISTINCT ?label WHERE { ?c a ck:Component ; ck:label ?label } ORDER BY ?label"
+
+SRJ = "application/sparql-results+json"
 
 
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    setup = subprocess.run(["bash", str(SETUP)], cwd=ROOT, capture_output=True, text=True, timeout=900)
-    if setup.returncode != 0:
-        line = (setup.stderr.strip().splitlines() or ["(no output)"])[-1]
-        if any(reason in line for reason in CANNOT_INSTALL):
-            pytest.skip(f"chromium cannot be installed on this machine: {line}")
-        pytest.fail(f"scripts/browser-setup.sh failed: {line}\n{setup.stdout}")
-    os.environ["SE_OFFLINE"] = "true"  # Selenium must never look for a driver or browser online
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
-
-    options = webdriver.ChromeOptions()
-    options.binary_location = "/usr/bin/chromium"
-    for argument in CHROMIUM_ARGS:
-        options.add_argument(argument)
-    driver = webdriver.Chrome(service=Service(executable_path="/usr/bin/chromedriver"), options=options)
-    try:
-        yield driver
-    finally:
-        driver.quit()
-
-
-def column(driver: Any, index: int) -> list[str]:
-    from selenium.webdriver.common.by import By
-
+def completion_options(driver: Any) -> list[str]:
+    shadow = driver.find_element(By.ID, "query").shadow_root
     return [
-        td.text for td in driver.find_elements(By.CSS_SELECTOR, f"#results tbody tr td:nth-child({index})")
+        str(li.get_attribute("textContent"))
+        for li in shadow.find_elements(By.CSS_SELECTOR, ".cm-completionLabel")
     ]
 
 
-def test_page_end_to_end(browser: Any, tmp_path: Path) -> None:
-    from selenium.webdriver.common.by import By
-    from selenium.webdriver.common.keys import Keys
-    from selenium.webdriver.support.ui import Select, WebDriverWait
+def complete(driver: Any, typed: str, wanted: str) -> None:
+    """Type ``typed``, wait for ``wanted`` among the completions, pick it with the arrows and Enter."""
+    keys(driver, typed)
+    options = wait(driver, lambda d: (o := completion_options(d)) and wanted in o and o, 20, wanted)
+    time.sleep(0.3)  # the editor takes no Enter in the first 75 ms of a completion, against slips
+    keys(driver, *[Keys.ARROW_DOWN] * options.index(wanted), Keys.ENTER)
 
+
+def clear_editor(driver: Any) -> None:
+    editor(driver).click()
+    chord(driver, Keys.CONTROL, "a")
+    keys(driver, Keys.BACKSPACE)
+    wait(driver, lambda d: editor_text(d) == "", 10, "an empty editor")
+
+
+def run_and_wait(driver: Any, expect: str = "row(s)") -> str:
+    before = driver.execute_script("return document.getElementById('status').textContent")
+    driver.find_element(By.ID, "run").click()
+    wait(driver, lambda d: ((s := text_of(d, "status")) != before and expect in s) or text_of(d, "error"), 60)
+    assert not driver.find_element(By.ID, "error").is_displayed(), text_of(driver, "error")
+    return text_of(driver, "status")
+
+
+def test_a_query_typed_with_completion_pages_and_travels_by_link(browser: Any, iema_site: str) -> None:
     driver = browser
-    wait = WebDriverWait(driver, 30)
-    with cadkg_serve(str(IEMA)) as base:
-        driver.get(f"{base}/")
-        editor = driver.find_element(By.ID, "query")
-        wait.until(lambda d: "PREFIX ck: <https://w3id.org/cadkg#>" in editor.get_property("value"))
-        wait.until(lambda d: "triples" in d.find_element(By.ID, "info").text)
+    open_page(driver, f"{iema_site}/")
+    clear_editor(driver)
+    keys(driver, "SELECT ?wire ?number WHERE { ?wire a ")
+    complete(driver, "Wi", "ck:Wire")
+    keys(driver, " ; ")
+    complete(driver, "ck:wireN", "ck:wireNumber")
+    keys(driver, " ?number", Keys.END, Keys.ENTER, "ORDER BY ?")
+    complete(driver, "num", "?number")
+    text = editor_text(driver)
+    # Completing a ck: term declared the prefix.
+    assert text.startswith("PREFIX ck: <https://w3id.org/cadkg#>\n"), text
+    assert "?wire a ck:Wire ; ck:wireNumber ?number}" in text and text.endswith("ORDER BY ?number")
+    chord(driver, Keys.CONTROL, Keys.ENTER)
+    wait(driver, lambda d: "110 row(s)" in text_of(d, "status"), 60, "110 rows")
+    assert text_of(driver, "page-info") == "page 1 of 2"
+    first = column(driver, 2)
+    assert len(first) == 100 and first[0] == "0010.01"
+    driver.find_element(By.ID, "page-next").click()
+    wait(driver, lambda d: text_of(d, "page-info") == "page 2 of 2", 10)
+    second = column(driver, 2)
+    assert len(second) == 10 and first + second == sorted(first + second)
+    assert all(w.startswith("cell:wire/") for w in column(driver, 1))  # the cell's base IRI as a prefix
 
-        # Type a query and run it: the component labels of ids.wri, sorted by the query.
-        editor.clear()
-        editor.send_keys(LABELS)
-        driver.find_element(By.ID, "run").click()
-        wait.until(lambda d: "row(s)" in d.find_element(By.ID, "status").text)
-        labels = column(driver, 1)
-        assert len(labels) == 62
-        assert labels[0] == "A0080.1"
-        assert {"F1500.1", "Q1500.1", "X1600", "Q0010"} <= set(labels)
+    link = str(driver.find_element(By.ID, "permalink").get_attribute("value"))
+    assert "#query=" in link and driver.current_url == link
+    driver.switch_to.new_window("tab")
+    try:
+        driver.get(link)
+        wait(driver, lambda d: "110 row(s)" in text_of(d, "status"), 60, "the link's rows")
+        assert column(driver, 2) == first
+        assert editor_text(driver) == text
+        # The tabs are kept in local storage: the page without a link has the query too.
+        open_page(driver, f"{iema_site}/")
+        assert editor_text(driver) == text
+        # A new tab starts afresh; the first keeps its text.
+        tabs = len(driver.find_elements(By.CSS_SELECTOR, "#tab-list .tab"))
+        driver.find_element(By.ID, "tab-add").click()
+        assert len(driver.find_elements(By.CSS_SELECTOR, "#tab-list .tab")) == tabs + 1
+        assert "SELECT * WHERE" in editor_text(driver)
+        driver.find_elements(By.CSS_SELECTOR, "#tab-list .tab")[0].click()
+        assert editor_text(driver) != "" and "SELECT * WHERE {\n  \n}" not in editor_text(driver)
+        assert health(driver, iema_site) == []
+    finally:
+        driver.close()
+        driver.switch_to.window(driver.window_handles[0])
 
-        # Sort the column: first click ascending, second descending.
-        driver.find_element(By.CSS_SELECTOR, "#results thead th").click()
-        header = driver.find_element(By.CSS_SELECTOR, "#results thead th")
-        assert header.get_attribute("aria-sort") == "ascending"
-        ascending = column(driver, 1)
-        assert ascending[0] == "A0080.1" and sorted(ascending) == sorted(labels)
-        header.click()
-        header = driver.find_element(By.CSS_SELECTOR, "#results thead th")
-        assert header.get_attribute("aria-sort") == "descending"
-        assert column(driver, 1) == ascending[::-1]
 
-        # A syntax error shows the parser's position.
-        editor = driver.find_element(By.ID, "query")
-        editor.clear()
-        editor.send_keys("SELECT ?x WHERE { ?x ck:label }")
-        editor.send_keys(Keys.CONTROL, Keys.ENTER)
-        wait.until(lambda d: d.find_element(By.ID, "error").is_displayed())
-        assert "SPARQL syntax error at line 1" in driver.find_element(By.ID, "error").text
+def test_an_edited_named_query_keeps_its_parameter(browser: Any, iema_site: str) -> None:
+    driver = browser
+    open_page(driver, f"{iema_site}/")
+    Select(driver.find_element(By.ID, "examples")).select_by_value("wires-of-component")
+    block = 'VALUES (?label) { ("F1500.1") }'
+    wait(driver, lambda d: block in editor_text(d), 20, "the bound query")
+    assert driver.find_element(By.ID, "param-label").get_property("value") == "F1500.1"
+    assert block in text_of(driver, "binding")
+    # Edit the text: a space after SELECT.
+    editor(driver).click()
+    chord(driver, Keys.CONTROL, Keys.HOME)
+    text = editor_text(driver)
+    line = text[: text.index("SELECT")].count("\n")
+    keys(driver, *[Keys.ARROW_DOWN] * line, Keys.END, " ")
+    assert editor_text(driver) != text and block in editor_text(driver)
+    assert "8 row(s)" in run_and_wait(driver)
+    assert set(column(driver, 3)) == {
+        "1500.51", "1500.50", "1500.01", "1500.02", "1500.03", "0010.03", "0010.04", "0010.05",
+    }  # fmt: skip
+    # Another label: the field rewrites the VALUES block in the edited text.
+    field = driver.find_element(By.ID, "param-label")
+    field.clear()
+    field.send_keys("Q1500.1")
+    status = run_and_wait(driver)
+    expected = httpx.get(f"{iema_site}/api/queries/wires-of-component", params={"label": "Q1500.1"}).json()
+    count = len(expected["results"]["bindings"])
+    assert count > 0 and f"{count} row(s)" in status
+    assert 'VALUES (?label) { ("Q1500.1") }' in editor_text(driver)
+    assert "SELECT  DISTINCT" in editor_text(driver) or "SELECT DISTINCT " in editor_text(driver)
+    assert set(column(driver, 1)) == {"Q1500.1"}
+    # The permalink carries the parameter.
+    link = str(driver.find_element(By.ID, "permalink").get_attribute("value"))
+    assert "named=wires-of-component" in link and "p.label=Q1500.1" in link
 
-        # Pick a named query: its parameter comes filled with the example of its header.
-        Select(driver.find_element(By.ID, "examples")).select_by_value("wires-of-component")
-        assert driver.find_element(By.ID, "param-label").get_property("value") == "F1500.1"
-        driver.find_element(By.ID, "run").click()
-        wait.until(lambda d: "8 row(s)" in d.find_element(By.ID, "status").text)
-        numbers = column(driver, 3)
-        assert numbers[0] == "1500.51"
-        assert set(numbers) == {
-            "1500.51",
-            "1500.50",
-            "1500.01",
-            "1500.02",
-            "1500.03",
-            "0010.03",
-            "0010.04",
-            "0010.05",
-        }
-        # Numbers sort as numbers: sequence 46 first when descending.
-        sequence = driver.find_elements(By.CSS_SELECTOR, "#results thead th")[1]
-        sequence.click()
-        driver.find_elements(By.CSS_SELECTOR, "#results thead th")[1].click()
-        assert column(driver, 2) == ["46", "45", "44", "21", "20", "19", "4", "1"]
-        csv_link = driver.find_element(By.ID, "download-csv").get_attribute("href")
-        assert csv_link is not None and "format=csv" in csv_link
-        download = httpx.get(csv_link)
-        assert download.text.splitlines()[0] == "label,sequence,wireNumber,pin,otherEnd,section,colour,wire"
-        assert len(download.text.splitlines()) == 9
 
-        # The graph view: F1500.1, its pins and the components its wires reach.
-        field = driver.find_element(By.ID, "component")
-        field.send_keys("F1500.1")
-        driver.find_element(By.ID, "show-graph").click()
-        wait.until(lambda d: d.find_elements(By.CSS_SELECTOR, "#graph g.node"))
-        nodes = {n.text for n in driver.find_elements(By.CSS_SELECTOR, "#graph g.node text")}
-        assert {"F1500.1", "Q1500.1", "X1600", "Q0010", "14", "13"} <= nodes
-        assert len(driver.find_elements(By.CSS_SELECTOR, "#graph line.edge.wire")) == 8
-        driver.save_screenshot(str(tmp_path / "graph.png"))
-        # Click a neighbour: the view walks on to it.
-        target = driver.find_element(
-            By.XPATH,
-            "//*[local-name()='g'][*[local-name()='text' and text()='Q1500.1']]/*[local-name()='circle']",
-        )
-        target.click()
-        wait.until(lambda d: d.find_element(By.ID, "graph-status").text.startswith("component Q1500.1"))
-        assert driver.find_element(By.ID, "graph-back").is_enabled()
+def test_results_sort_filter_chart_and_download(browser: Any, iema_site: str) -> None:
+    driver = browser
+    open_page(driver, f"{iema_site}/")
+    driver.find_element(By.ID, "tab-add").click()
+    set_editor(
+        driver,
+        "SELECT ?colour (COUNT(?w) AS ?wires) WHERE { ?w a ck:Wire ; ck:colour ?colour }\n"
+        "GROUP BY ?colour ORDER BY DESC(?wires) ?colour",
+    )
+    run_and_wait(driver)
+    colours = column(driver, 1)
+    counts = [int(c) for c in column(driver, 2)]
+    assert counts == sorted(counts, reverse=True) and sum(counts) == 110
+    # Sort by colour, ascending then descending.
+    header = driver.find_elements(By.CSS_SELECTOR, "#results thead th")[0]
+    header.click()
+    assert column(driver, 1) == sorted(colours)
+    driver.find_elements(By.CSS_SELECTOR, "#results thead th")[0].click()
+    assert column(driver, 1) == sorted(colours, reverse=True)
+    # Filter.
+    driver.find_element(By.ID, "filter").send_keys(colours[0])
+    wait(driver, lambda d: column(d, 1) == [colours[0]], 10)
+    assert text_of(driver, "status").startswith("1 of ")
+    driver.find_element(By.ID, "filter").send_keys(Keys.CONTROL, "a")
+    driver.find_element(By.ID, "filter").send_keys(Keys.BACKSPACE)
+    wait(driver, lambda d: len(column(d, 1)) == len(colours), 10)
+    # A chart of the numeric column: one bar per colour, the tallest the first row's.
+    driver.find_element(By.ID, "show-chart").click()
+    bars = driver.find_elements(By.CSS_SELECTOR, "#chart rect.bar")
+    assert len(bars) == len(colours)
+    heights = [float(b.get_attribute("height") or 0) for b in bars]
+    assert (
+        max(heights) > 0
+        and Select(driver.find_element(By.ID, "chart-y")).first_selected_option.text == "wires"
+    )
+    driver.find_element(By.ID, "show-table").click()
+    # Downloads: CSV of this answer.
+    save(driver, "csv", "query.csv")
+    lines = (driver.downloads / "query.csv").read_text().splitlines()
+    assert lines[0] == "colour,wires" and len(lines) == len(colours) + 1
+
+    # SELECT * keeps the query's column order; a CONSTRUCT answers triples, saved as Turtle.
+    set_editor(driver, "SELECT * WHERE { ?wire ck:wireNumber ?number ; ck:colour ?c } LIMIT 3")
+    run_and_wait(driver)
+    names = [th.text for th in driver.find_elements(By.CSS_SELECTOR, "#results thead th")]
+    assert names == ["wire", "number", "c"]
+    cell = driver.find_element(By.CSS_SELECTOR, "#results tbody td")
+    assert cell.value_of_css_property("white-space") == "nowrap"
+    set_editor(driver, "CONSTRUCT { ?w ck:wireNumber ?n } WHERE { ?w ck:wireNumber ?n } ORDER BY ?n LIMIT 5")
+    assert "5 triple(s)" in run_and_wait(driver, "triple(s)")
+    assert column(driver, 2) == ["ck:wireNumber"] * 5
+    formats = [
+        o.get_attribute("value") for o in Select(driver.find_element(By.ID, "download-format")).options
+    ]
+    assert formats == ["ttl", "nt", "jsonld", "rdfxml"]
+    save(driver, "ttl", "query.ttl")
+    turtle = (driver.downloads / "query.ttl").read_text()
+    assert "@prefix ck: <https://w3id.org/cadkg#>" in turtle and turtle.count("ck:wireNumber") == 5
+    assert health(driver, iema_site) == []
+
+
+def save(driver: Any, fmt: str, name: str) -> None:
+    target = driver.downloads / name
+    target.unlink(missing_ok=True)
+    Select(driver.find_element(By.ID, "download-format")).select_by_value(fmt)
+    driver.find_element(By.ID, "download").click()
+    deadline = time.monotonic() + 30
+    while not (target.is_file() and target.stat().st_size > 0):
+        assert time.monotonic() < deadline, f"{name} was not downloaded"
+        time.sleep(0.1)
+
+
+def boxes(driver: Any, selector: str) -> list[dict[str, float]]:
+    found: list[dict[str, float]] = driver.execute_script(
+        """return [...document.querySelectorAll(arguments[0])]
+             .filter(e => getComputedStyle(e).display !== 'none')
+             .map(e => e.getBoundingClientRect())
+             .map(r => ({x: r.x, y: r.y, w: r.width, h: r.height}));""",
+        selector,
+    )
+    return found
+
+
+def overlapping(found: list[dict[str, float]]) -> list[tuple[int, int]]:
+    pairs = []
+    for i, a in enumerate(found):
+        for j, b in enumerate(found[:i]):
+            if (
+                a["x"] + 1 < b["x"] + b["w"]
+                and b["x"] + 1 < a["x"] + a["w"]
+                and a["y"] + 1 < b["y"] + b["h"]
+                and b["y"] + 1 < a["y"] + a["h"]
+            ):
+                pairs.append((j, i))
+    return pairs
+
+
+def test_graph_view_walks_zooms_and_keeps_labels_apart(browser: Any, iema_site: str) -> None:
+    driver = browser
+    open_page(driver, f"{iema_site}/")
+    driver.find_element(By.ID, "view-graph").click()
+    field = driver.find_element(By.ID, "component")
+    field.clear()
+    field.send_keys("F1500.1", Keys.ENTER)
+    wait(driver, lambda d: text_of(d, "graph-status").startswith("component F1500.1"), 30)
+    labels = {
+        e.get_attribute("textContent")
+        for e in driver.find_elements(By.CSS_SELECTOR, "#graph text.node-label")
+    }
+    assert {"F1500.1", "Q1500.1", "X1600", "Q0010", "14", "13"} <= labels
+    assert len(driver.find_elements(By.CSS_SELECTOR, "#graph line.edge.wire")) == 8
+    shown = boxes(driver, "#graph text.node-label, #graph text.edge-label")
+    assert len(shown) >= 12 and overlapping(shown) == []
+
+    # Zoom in with the button, pan by dragging the background: the viewBox follows.
+    def view_box() -> list[float]:
+        box = driver.execute_script("return document.getElementById('graph').getAttribute('viewBox')")
+        return [float(v) for v in str(box).split()]
+
+    before = view_box()
+    driver.find_element(By.ID, "graph-zoom-in").click()
+    zoomed = view_box()
+    assert zoomed[2] < before[2] * 0.8
+    from selenium.webdriver.common.action_chains import ActionChains
+
+    canvas = driver.find_element(By.ID, "graph")
+    ActionChains(driver).move_to_element_with_offset(canvas, -250, 200).click_and_hold().move_by_offset(
+        120, 0
+    ).release().perform()
+    assert view_box()[0] < zoomed[0]
+    # Labels stay apart at the new zoom too.
+    time.sleep(0.3)
+    assert overlapping(boxes(driver, "#graph text.node-label, #graph text.edge-label")) == []
+    driver.find_element(By.ID, "graph-fit").click()
+    # Walk on to a neighbour, and back.
+    target = driver.find_element(
+        By.CSS_SELECTOR, "#graph g.node.kind-component[data-id$='/component/Q1500.1'] circle"
+    )
+    target.click()
+    wait(driver, lambda d: text_of(d, "graph-status").startswith("component Q1500.1"), 30)
+    driver.find_element(By.ID, "graph-back").click()
+    wait(driver, lambda d: text_of(d, "graph-status").startswith("component F1500.1"), 30)
+    assert health(driver, iema_site) == []

@@ -30,6 +30,7 @@ from cadkg.server.holder import Served
 from cadkg.server.limits import Deadline
 from cadkg.server.protocol import _FORM, evaluate, fail, read_body
 from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, NotAcceptableError, negotiate
+from cadkg.server.workbench import WRITING_SERVICES, find_named
 from cadkg.services.service import to_jsonable
 from cadkg.services.table import SERVICES, call
 from cadkg.store import PREFIXES
@@ -125,6 +126,10 @@ async def index(request: Request) -> Response:
                 "service": "/api/<service>?param=value&client=name",
                 "named_query": "/api/queries/<name>?param=value",
                 "graph_view": "/api/graph?component=LABEL or ?node=IRI",
+                "bound_query": "/api/queries/<name>/bound?param=value",
+                "terms": "/api/terms",
+                "scene": "/api/scene",
+                "mesh": "/api/mesh/<ck:meshUri>",
             },
         }
     )
@@ -138,20 +143,17 @@ async def service(request: Request) -> Response:
     try:
         if name not in SERVICES:
             raise NotFound(f"unknown service {name!r}; known: {', '.join(sorted(SERVICES))}")
+        if name in WRITING_SERVICES:
+            endpoint.check_token(request.headers.get("authorization"))
         params = await _params(request, endpoint.limits.max_body)
         client = params.pop("client", "default") or "default"
-
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
-            def job(_: Deadline) -> Answer:
-                with served.lock:  # cursors move one call at a time
-                    result = call(served.session(), name, params, client=client)
-                    data = to_jsonable(result)
-                return Answer(json.dumps(data, default=str).encode(), "application/json")
-
-            return job
-
-        answer, generation = await endpoint.run(make_job, None, deadline)
-        return endpoint.respond(answer, generation)
+        # Locked: cursors move one call at a time.
+        return await endpoint.run_json(
+            lambda served: to_jsonable(call(served.session(), name, params, client=client)),
+            None,
+            deadline,
+            locked=True,
+        )
     except CadkgError as err:
         return _error(err)
 
@@ -178,10 +180,7 @@ async def named(request: Request) -> Response:
     text = ""
     try:
         name = request.path_params["name"]
-        known = named_queries()
-        if name not in known:
-            raise NotFound(f"no named query {name!r}; known: {', '.join(known)}")
-        query = known[name]
+        query = find_named(name)
         text = query.text
         params = dict(parse_qsl(request.url.query, keep_blank_values=True))
         fmt = params.pop("format", None)
@@ -293,15 +292,13 @@ async def graph_view(request: Request) -> Response:
         if bool(label) == bool(iri):
             raise ProtocolError(400, "give component=LABEL or node=IRI")
 
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
-            def job(_: Deadline) -> Answer:
-                data = component_graph(served.graph, label) if label else node_graph(served.graph, iri or "")
-                return Answer(json.dumps(data, default=str).encode(), "application/json")
-
-            return job
-
-        answer, generation = await endpoint.run(make_job, ("graph", label, iri), deadline)
-        return endpoint.respond(answer, generation)
+        return await endpoint.run_json(
+            lambda served: (
+                component_graph(served.graph, label) if label else node_graph(served.graph, iri or "")
+            ),
+            ("graph", label, iri),
+            deadline,
+        )
     except CadkgError as err:
         return _error(err)
 
@@ -313,33 +310,28 @@ async def info(request: Request) -> Response:
     limits = endpoint.limits
     try:
 
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
-            def job(_: Deadline) -> Answer:
-                data = {
-                    "generation": served.generation,
-                    "triples": served.triples(),
-                    "named_graphs": served.graph.named_graphs(),
-                    "prefixes": PREFIXES,
-                    "limits": {
-                        "timeout_s": limits.timeout,
-                        "max_rows": limits.max_rows,
-                        "max_body_bytes": limits.max_body,
-                    },
-                    "update": endpoint.settings.allow_update,
-                    "formats": {"results": list(RESULT_FORMATS), "graph": list(GRAPH_FORMATS)},
-                    "cache": {
-                        "entries": len(endpoint.cache),
-                        "hits": endpoint.cache.hits,
-                        "misses": endpoint.cache.misses,
-                    },
-                    "reloads": endpoint.holder.reloads,
-                }
-                return Answer(json.dumps(data).encode(), "application/json")
+        def build(served: Served) -> dict[str, Any]:
+            return {
+                "generation": served.generation,
+                "triples": served.triples(),
+                "named_graphs": served.graph.named_graphs(),
+                "prefixes": PREFIXES,
+                "limits": {
+                    "timeout_s": limits.timeout,
+                    "max_rows": limits.max_rows,
+                    "max_body_bytes": limits.max_body,
+                },
+                "update": endpoint.settings.allow_update,
+                "formats": {"results": list(RESULT_FORMATS), "graph": list(GRAPH_FORMATS)},
+                "cache": {
+                    "entries": len(endpoint.cache),
+                    "hits": endpoint.cache.hits,
+                    "misses": endpoint.cache.misses,
+                },
+                "reloads": endpoint.holder.reloads,
+            }
 
-            return job
-
-        answer, generation = await endpoint.run(make_job, None, deadline)
-        return endpoint.respond(answer, generation)
+        return await endpoint.run_json(build, None, deadline)
     except CadkgError as err:
         return _error(err)
 

@@ -1,8 +1,9 @@
 """The ASGI application of the endpoint (Starlette), and :func:`serve`, which runs it with uvicorn.
 
-Routes: ``/`` the web page; ``/sparql`` the SPARQL 1.1 Protocol; ``/graph-store`` the
-Graph Store Protocol; ``/api/...`` services, named queries, the graph view and info (see
-:mod:`cadkg.server.api`); ``POST /reload`` to serve a rebuilt store.
+Routes: ``/`` the web page (:mod:`cadkg.server.page`); ``/sparql`` the SPARQL 1.1 Protocol;
+``/graph-store`` the Graph Store Protocol; ``/api/...`` services, named queries, the graph view
+and info (see :mod:`cadkg.server.api`), completion terms, the 3D scene and its meshes (see
+:mod:`cadkg.server.workbench`); ``POST /reload`` to serve a rebuilt store.
 """
 
 from __future__ import annotations
@@ -12,16 +13,17 @@ import contextlib
 import ipaddress
 import sys
 from collections.abc import AsyncIterator, Callable
-from pathlib import Path
 from typing import Any
 
 from starlette.applications import Starlette
-from starlette.responses import FileResponse, Response
+from starlette.responses import Response
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import cadkg.server.api as api
+import cadkg.server.page as page
+import cadkg.server.workbench as workbench
 from cadkg.errors import StoreError
 from cadkg.server.context import Endpoint, Settings
 from cadkg.server.holder import GraphHolder
@@ -29,7 +31,7 @@ from cadkg.server.protocol import graph_store, sparql
 
 __all__ = ["STATIC", "create_app", "is_loopback", "serve"]
 
-STATIC = Path(__file__).resolve().parent / "static"
+STATIC = page.STATIC
 # The page loads only its own files; nothing is fetched from elsewhere.
 _SECURITY_HEADERS = [
     (b"x-content-type-options", b"nosniff"),
@@ -92,10 +94,6 @@ class _Guard:
         await self.app(scope, receive, send_with_headers)
 
 
-async def _page(request: Any) -> Response:
-    return FileResponse(STATIC / "index.html", media_type="text/html; charset=utf-8")
-
-
 async def _watch(endpoint: Endpoint, seconds: float) -> None:
     """Serve a rebuilt store: poll its ``CURRENT`` pointer and reload when it moves."""
     while True:
@@ -145,7 +143,8 @@ def create_app(
     methods = ["GET", "POST"]
     app = Starlette(
         routes=[
-            Route("/", _page, methods=["GET"]),
+            Route("/", page.page, methods=["GET"]),
+            Route("/favicon.ico", page.favicon, methods=["GET"]),
             Route("/sparql", sparql, methods=methods),
             Route("/graph-store", graph_store, methods=["GET", "HEAD", "PUT", "POST", "DELETE"]),
             Route("/api", api.index, methods=["GET"]),
@@ -153,6 +152,10 @@ def create_app(
             Route("/api/graph", api.graph_view, methods=["GET"]),
             Route("/api/queries", api.queries, methods=["GET"]),
             Route("/api/queries/{name}", api.named, methods=["GET"]),
+            Route("/api/queries/{name}/bound", workbench.bound, methods=["GET"]),
+            Route("/api/terms", workbench.terms, methods=["GET"]),
+            Route("/api/scene", workbench.scene, methods=["GET"]),
+            Route("/api/mesh/{path:path}", workbench.mesh, methods=["GET"]),
             Route("/api/{service}", api.service, methods=methods),
             Route("/reload", api.reload, methods=["POST"]),
             Mount("/static", StaticFiles(directory=STATIC), name="static"),
@@ -190,4 +193,7 @@ def serve(
     mode = "read-write (token)" if settings.allow_update else "read-only"
     shown = f"[{host}]" if ":" in host else host
     print(f"cadkg serve: http://{shown}:{port}/ ({mode})", file=sys.stderr, flush=True)
+    missing = page.bundle_missing()
+    if missing:
+        print(f"cadkg serve: {missing}", file=sys.stderr, flush=True)
     uvicorn.run(app, host=host, port=port, log_level="warning", access_log=False, timeout_keep_alive=30)

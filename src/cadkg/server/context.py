@@ -300,6 +300,38 @@ class Endpoint:
 
         await asyncio.gather(*(one(key) for key in keys))
 
+    async def run_json(
+        self,
+        build: Callable[[Served], Any],
+        key: Hashable | None,
+        deadline: Deadline,
+        *,
+        locked: bool = False,
+    ) -> Response:
+        """Run ``build`` on the current graph in a worker and answer what it returns as JSON
+        (cached by ``key`` unless None). ``locked``: under the served graph's lock, as the
+        services' session (its cursors) takes one call at a time.
+
+        Raises
+        ------
+        CadkgError
+            As ``build`` raises it, or on the time limit.
+        """
+
+        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+            def job(_: Deadline) -> Answer:
+                if locked:
+                    with served.lock:
+                        data = build(served)
+                else:
+                    data = build(served)
+                return Answer(json.dumps(data, ensure_ascii=False, default=str).encode(), "application/json")
+
+            return job
+
+        answer, generation = await self.run(make_job, key, deadline)
+        return self.respond(answer, generation)
+
     def respond(self, answer: Answer, generation: str) -> Response:
         headers = dict(answer.headers)
         headers[GENERATION_HEADER] = generation

@@ -23,6 +23,7 @@ from starlette.responses import Response
 
 from cadkg.errors import CadkgError, QueryError, StoreError
 from cadkg.graph import KnowledgeGraph
+from cadkg.server.columns import with_star_order
 from cadkg.server.context import (
     TRUNCATED_HEADER,
     Answer,
@@ -257,7 +258,9 @@ async def sparql(request: Request) -> Response:
         max_rows = endpoint.limits.max_rows
 
         def make_job(served: Served) -> Callable[[Deadline], Answer]:
-            return lambda d: evaluate(lambda: _run_query(served, op), results_fmt, graph_fmt, max_rows, d)
+            return lambda d: evaluate(
+                lambda: with_star_order(_run_query(served, op), op.text), results_fmt, graph_fmt, max_rows, d
+            )
 
         key = ("sparql", op.text, op.default_graphs, op.named_graphs, str(results_fmt), str(graph_fmt))
         answer, generation = await endpoint.run(make_job, key, deadline)

@@ -1,0 +1,114 @@
+"""The JSON routes behind the page's workbench, all read-only.
+
+- ``GET /api/terms``: what the editor completes (:func:`cadkg.server.terms.completion_terms`).
+- ``GET /api/queries/<name>/bound?param=value``: a named query's text with its parameters
+  bound as the ``VALUES`` block the server itself would add, so the page shows (and keeps,
+  when the text is edited) exactly what runs.
+- ``GET /api/scene``: the cell in 3D (:func:`cadkg.server.scene.cell_scene`).
+- ``GET /api/mesh/<path>``: one binary STL mesh of the served store's files directory, by its
+  ``ck:meshUri``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from urllib.parse import parse_qsl
+
+from starlette.requests import Request
+from starlette.responses import Response
+
+from cadkg.errors import CadkgError, NotFound
+from cadkg.query.named import NamedQuery, coerce_params, named_queries
+from cadkg.server.context import Answer, Endpoint, json_response, status_of
+from cadkg.server.holder import Served
+from cadkg.server.limits import Deadline
+from cadkg.server.scene import cell_scene, mesh_path
+from cadkg.server.terms import completion_terms
+from cadkg.sparql_text import bind_values, values_clause
+
+__all__ = ["WRITING_SERVICES", "bound", "find_named", "mesh", "scene", "terms"]
+
+# Services that change the served graph: they need the endpoint's token like any write.
+WRITING_SERVICES = frozenset({"load_files"})
+
+
+def _error(err: Exception) -> Response:
+    status, headers = status_of(err)
+    return json_response({"error": str(err)}, status, headers)
+
+
+async def terms(request: Request) -> Response:
+    """``GET /api/terms``: prefixes, classes, properties and component labels for completion."""
+    endpoint: Endpoint = request.app.state.endpoint
+    try:
+        return await endpoint.run_json(
+            lambda served: completion_terms(served.graph), ("terms",), Deadline(endpoint.limits.timeout)
+        )
+    except CadkgError as err:
+        return _error(err)
+
+
+async def scene(request: Request) -> Response:
+    """``GET /api/scene``: the cell's frames, objects, meshes, routes and points of interest."""
+    endpoint: Endpoint = request.app.state.endpoint
+    try:
+        return await endpoint.run_json(
+            lambda served: cell_scene(served.graph, served.session()),
+            ("scene",),
+            Deadline(endpoint.limits.timeout),
+            locked=True,  # the services' session is used one call at a time
+        )
+    except CadkgError as err:
+        return _error(err)
+
+
+def find_named(name: str) -> NamedQuery:
+    """The named query ``name``.
+
+    Raises
+    ------
+    NotFound
+        When there is none of that name.
+    """
+    known = named_queries()
+    if name not in known:
+        raise NotFound(f"no named query {name!r}; known: {', '.join(known)}")
+    return known[name]
+
+
+async def bound(request: Request) -> Response:
+    """``GET /api/queries/<name>/bound?param=value``: the named query's text with its
+    parameters bound, and the ``VALUES`` block alone (JSON ``{"text", "values"}``)."""
+    try:
+        query = find_named(request.path_params["name"])
+        bindings = coerce_params(query, dict(parse_qsl(request.url.query, keep_blank_values=True)))
+        return json_response({"text": bind_values(query.text, bindings), "values": values_clause(bindings)})
+    except CadkgError as err:
+        return _error(err)
+
+
+async def mesh(request: Request) -> Response:
+    """``GET /api/mesh/<path>``: a mesh file of the served store, as binary STL."""
+    endpoint: Endpoint = request.app.state.endpoint
+    deadline = Deadline(endpoint.limits.timeout)
+    rel = request.path_params["path"]
+    try:
+
+        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+            def job(_: Deadline) -> Answer:
+                path = mesh_path(served.graph.files_dir, rel)
+                if path is None:
+                    raise NotFound(
+                        f"no mesh file {rel!r} in the served store's files (a remote store holds none)"
+                    )
+                return Answer(path.read_bytes(), "model/stl")
+
+            return job
+
+        answer, generation = await endpoint.run(make_job, ("mesh", rel), deadline)
+        response = endpoint.respond(answer, generation)
+        # A generation's files never change: the page may keep a mesh as long as it likes.
+        response.headers["cache-control"] = "private, max-age=86400, immutable"
+        return response
+    except CadkgError as err:
+        return _error(err)

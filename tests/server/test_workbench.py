@@ -1,0 +1,246 @@
+"""The routes behind the page's workbench, over a real server: completion terms, named queries
+bound as shown, ``SELECT *`` columns, the favicon, the page without its bundle, the 3D scene of
+every example (and of a remote store), the mesh files, and the token a writing service needs.
+
+Expected values come from the examples' files: IEMA's ``ids.wri`` places 110 items with a mesh
+(55 distinct boxes) and ``lista-cablaggio.csv`` has 110 wires; ``F1500.1`` has 8 wire ends;
+ELVEZ has 8 + 6 guides with a key and a key corner each, and
+``action-plan.csv`` tapes at G1 (operations 4, 9), G4 (9, 14) and G7 (14); ELIMCO's
+``pin_info.xml`` has 6 pins, one double, and ``path_info.xml`` 3 routes; the KBL has 31 nodes
+and 30 segments.
+"""
+
+from __future__ import annotations
+
+import struct
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+
+import cadkg
+from cadkg.remote import RemoteGraph
+from cadkg.server import page
+from cadkg.server.columns import star_order
+from cadkg.server.harness_layout import layout
+from tests.conftest import EXAMPLES
+from tests.server.serving import serving
+
+SRJ = "application/sparql-results+json"
+BASE = "https://example.org/cell/iema-qe01/"
+
+
+@pytest.fixture(scope="module")
+def elvez() -> cadkg.KnowledgeGraph:
+    return cadkg.build(EXAMPLES / "elvez-cell" / "manifest.toml")
+
+
+@pytest.fixture(scope="module")
+def scene(url: str) -> dict:
+    response = httpx.get(f"{url}/api/scene", timeout=60)
+    assert response.status_code == 200, response.text
+    return response.json()
+
+
+def test_completion_terms(url: str) -> None:
+    terms = httpx.get(f"{url}/api/terms").json()
+    assert terms["prefixes"]["cell"] == BASE == terms["base"]
+    assert terms["prefixes"]["ck"] == "https://w3id.org/cadkg#"
+    assert {"skos", "dcterms", "prov", "sh", "vec"} <= set(terms["prefixes"])
+    classes = {t["iri"]: t for t in terms["classes"]}
+    assert classes["https://w3id.org/cadkg#Wire"]["label"] == "wire"
+    properties = {t["iri"]: t for t in terms["properties"]}
+    assert properties["https://w3id.org/cadkg#wireNumber"]["kind"] == "datatype"
+    assert properties["https://w3id.org/cadkg#fromPin"]["kind"] == "object"
+    assert len(terms["components"]) == 62 and "F1500.1" in terms["components"]
+    assert terms["components"] == sorted(terms["components"])
+
+
+def test_a_named_query_keeps_its_parameter_when_its_text_is_edited(url: str) -> None:
+    bound = httpx.get(f"{url}/api/queries/wires-of-component/bound", params={"label": "F1500.1"}).json()
+    assert bound["values"] == 'VALUES (?label) { ("F1500.1") }'
+    assert bound["values"] in bound["text"]
+    named = httpx.get(f"{url}/api/queries/wires-of-component", params={"label": "F1500.1"}).json()
+    edited = bound["text"].replace("SELECT DISTINCT", "SELECT  DISTINCT")  # a space added
+    rows = httpx.post(f"{url}/sparql", data={"query": edited}, headers={"Accept": SRJ}).json()
+    assert len(rows["results"]["bindings"]) == 8
+    assert rows == named
+    # The text alone, as a page without the VALUES block sent it, matches every component.
+    text = httpx.get(f"{url}/api/queries").json()
+    plain = next(q["text"] for q in text if q["name"] == "wires-of-component")
+    unbound = httpx.post(f"{url}/sparql", data={"query": plain}, headers={"Accept": SRJ}).json()
+    assert len(unbound["results"]["bindings"]) == 220
+    assert httpx.get(f"{url}/api/queries/nothing/bound").status_code == 404
+    assert httpx.get(f"{url}/api/queries/wires-of-component/bound").status_code == 400
+
+
+def test_select_star_columns_come_in_the_order_of_the_query(url: str) -> None:
+    query = "SELECT * WHERE { ?s ck:wireNumber ?number . ?s a ?class } LIMIT 2"
+    data = httpx.get(f"{url}/sparql", params={"query": query}, headers={"Accept": SRJ}).json()
+    assert data["head"]["vars"] == ["s", "number", "class"]
+    assert set(data["results"]["bindings"][0]) == {"s", "number", "class"}
+    csv = httpx.get(f"{url}/sparql", params={"query": query, "format": "csv"}).text
+    assert csv.splitlines()[0] == "s,number,class"
+    assert star_order("PREFIX a: <x:> SELECT DISTINCT * { ?z ?y ?x }") == ["z", "y", "x"]
+    assert star_order("SELECT ?x (COUNT(*) AS ?n) WHERE { ?x ?p ?o } GROUP BY ?x") is None
+    assert star_order('# SELECT * \nASK { ?a ?b "?c" }') is None
+    assert star_order('SELECT * WHERE { ?b ?a "?c" . # ?d\n ?e ?a ?b }') == ["b", "a", "e"]
+
+
+def test_favicon(url: str) -> None:
+    icon = httpx.get(f"{url}/favicon.ico")
+    assert icon.status_code == 200 and icon.headers["content-type"] == "image/x-icon"
+    assert icon.content[:4] == b"\x00\x00\x01\x00"  # an ICO header
+
+
+def test_a_page_without_its_bundle_says_how_to_build_it(
+    url: str, monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.setattr(page, "DIST", tmp_path)
+    response = httpx.get(f"{url}/")
+    assert response.status_code == 503
+    assert "bash scripts/setup.sh" in response.text and str(tmp_path) in response.text
+    assert page.bundle_missing() is not None
+    assert httpx.get(f"{url}/sparql", params={"query": "ASK {}"}).status_code == 200
+
+
+def test_iema_scene(scene: dict) -> None:
+    assert scene["profile"] == "iema" and scene["problems"] == []
+    frames = {f["name"]: f for f in scene["frames"]}
+    assert frames["cabinet"]["parent"] == "world"
+    assert len(scene["objects"]) == 110 and len(scene["meshes"]) == 55
+    assert all(o["frame"] in frames and o["mesh"] is not None for o in scene["objects"])
+    components = {c["label"]: c for c in scene["components"]}
+    fuse = components["F1500.1"]
+    assert fuse["iri"] == f"{BASE}component/F1500.1" and fuse["frame"] == "cabinet"
+    items = {scene["objects"][i]["iri"] for i in fuse["objects"]}
+    assert items == {f"{BASE}item/ID000045", f"{BASE}item/ID000046"}
+    routes = {r["iri"]: r for r in scene["routes"]}
+    assert len(routes) == len(scene["routes"]) == 110  # three wires numbered 0V, one IRI each
+    first = routes[f"{BASE}wire/1500.51"]
+    assert first["label"] == "1500.51" and first["frame"] == "cabinet"
+    # group_connection_provider's keypoints of the same wire: hole, duct U2 twice, hole.
+    keypoints = [0.1195, 0.565, 0.0595, 0.1195, 0.73, 0.03, 0.283, 0.73, 0.03, 0.283, 0.605, 0.0545]
+    assert first["points"] == keypoints
+
+
+def test_meshes_stream_as_binary_stl(url: str, scene: dict) -> None:
+    entry = scene["meshes"][0]
+    response = httpx.get(f"{url}/api/mesh/{entry['path']}")
+    assert response.status_code == 200 and response.headers["content-type"] == "model/stl"
+    (triangles,) = struct.unpack_from("<I", response.content, 80)
+    assert len(response.content) == entry["bytes"] == 84 + 50 * triangles and triangles == 12
+    assert "immutable" in response.headers["cache-control"]
+    for bad in (
+        "../manifest.toml",
+        "meshes/../../x.stl",
+        "meshes/ID000012.stl.txt",
+        "nothing.stl",
+        "%2F..%2Fx.stl",
+    ):
+        assert httpx.get(f"{url}/api/mesh/{bad}").status_code == 404, bad
+
+
+def test_a_writing_service_needs_the_token(url: str) -> None:
+    response = httpx.get(f"{url}/api/load_files", params={"paths": "/etc/hostname"})
+    assert response.status_code == 403
+    assert "read-only" in response.json()["error"]
+
+
+def test_elvez_scene(elvez: cadkg.KnowledgeGraph) -> None:
+    with serving(elvez) as base:
+        scene = httpx.get(f"{base}/api/scene", timeout=60).json()
+    assert scene["profile"] == "elvez" and scene["problems"] == []
+    frames = {f["name"] for f in scene["frames"]}
+    kinds: dict[str, list[dict]] = {}
+    for point in scene["points"]:
+        assert point["frame"] in frames
+        kinds.setdefault(point["kind"], []).append(point)
+    guides = [f"G{i}" for i in range(1, 9)] + [f"H{i}" for i in range(1, 7)]
+    assert {p["label"] for p in kinds["key-corner"]} == {f"{g}_key_corner" for g in guides}
+    assert {f"{g}_key" for g in guides} <= {p["label"] for p in kinds["key"]}
+    taped = sorted((p["frame"], p["label"]) for p in kinds["tape-spot"])
+    assert [frame for frame, _ in taped] == ["G1_key", "G1_key", "G4_key", "G4_key", "G7_key"]
+    assert taped[0][1] == "G1: taping (operation 4)"
+    assert {o["label"] for o in scene["objects"]} >= {"G4", "H1", "CH1", "ATC1", "FS1"}
+    assert len(scene["meshes"]) == 9
+    route = next(r for r in scene["routes"] if r["label"] == "W101")
+    assert route["via"] == ["G1_key", "G2_key", "G3_key"]
+
+
+def test_elimco_and_vw_scenes() -> None:
+    elimco = cadkg.build(EXAMPLES / "elimco-bench" / "manifest.toml")
+    with serving(elimco) as base:
+        scene = httpx.get(f"{base}/api/scene", timeout=60).json()
+    pins = {p["frame"]: p for p in scene["points"] if p["kind"] == "bench-pin"}
+    assert len({p["label"] for p in pins.values()}) == 6
+    assert {"pin_pin_1_doble_a", "pin_pin_1_doble_b"} <= set(pins)
+    assert pins["pin_A918VC1A"]["iri"].endswith("/bench-pin/A918VC1A")
+    assert sorted(len(r["via"]) for r in scene["routes"]) == [2, 2, 3]
+
+    vw = cadkg.build(EXAMPLES / "vw-harness" / "manifest.toml")
+    with serving(vw) as base:
+        scene = httpx.get(f"{base}/api/scene", timeout=60).json()
+    harnesses = {h["label"]: h for h in scene["harnesses"]}
+    kbl = harnesses["000971619"]
+    assert len(kbl["nodes"]) == 31 and len(kbl["segments"]) == 30
+    assert kbl["coordinates"] == "layout"
+    assert harnesses["DOOR-L"]["coordinates"] == "layout"
+    connectors = {c for n in kbl["nodes"] for c in n["connectors"]}
+    assert "TMR.2A1" in connectors
+
+
+def test_a_harness_is_drawn_at_the_coordinates_the_graph_gives() -> None:
+    vw = cadkg.build(EXAMPLES / "vw-harness" / "manifest.toml")
+    # Node positions as the graph would state them: a pose per node (an update's WHERE reads the
+    # store's default graph, not the union, hence GRAPH ?g).
+    vw.execute(
+        """INSERT { GRAPH <urn:test:coordinates> {
+             ?node ck:hasPose ?pose . ?pose a ck:Pose ; ck:tx ?x ; ck:ty 0.5 ; ck:tz 0.25 ;
+               ck:qx 0.0 ; ck:qy 0.0 ; ck:qz 0.0 ; ck:qw 1.0 } }
+           WHERE { GRAPH ?g { ?node a ck:HarnessNode }
+             BIND(IRI(CONCAT(STR(?node), "/pose")) AS ?pose) BIND(STRLEN(STR(?node)) / 100.0 AS ?x) }""",
+        update=True,
+    )
+    with serving(vw) as base:
+        scene = httpx.get(f"{base}/api/scene", timeout=60).json()
+    for harness in scene["harnesses"]:
+        assert harness["coordinates"] == "graph"
+        for node in harness["nodes"]:
+            assert node["position"] == [round(len(node["iri"]) / 100, 6), 0.5, 0.25]
+
+
+def test_harness_layout_keeps_segment_lengths_of_a_tree() -> None:
+    # A Y: a trunk of 1 m, two branches of 0.5 m.
+    points = layout(4, [(0, 1, 1.0), (1, 2, 0.5), (1, 3, 0.5)])
+    assert points == layout(4, [(0, 1, 1.0), (1, 2, 0.5), (1, 3, 0.5)])
+
+    def distance(a: int, b: int) -> float:
+        return float(((points[a][0] - points[b][0]) ** 2 + (points[a][1] - points[b][1]) ** 2) ** 0.5)
+
+    assert distance(0, 1) == pytest.approx(1.0, abs=0.15)
+    assert distance(1, 2) == pytest.approx(0.5, abs=0.15)
+    assert distance(2, 3) > 0.5
+    apart = layout(3, [(0, 1, 1.0)])  # node 2 alone: beside the rest, not on it
+    assert min(abs(apart[2][0] - p[0]) for p in apart[:2]) > 0.1
+
+
+@pytest.fixture(scope="module")
+def remote(iema: cadkg.KnowledgeGraph) -> Iterator[tuple[str, str]]:
+    with serving(iema) as upstream, serving(lambda: RemoteGraph(f"{upstream}/sparql")) as base:
+        yield upstream, base
+
+
+def test_the_workbench_routes_on_a_remote_store(remote: tuple[str, str], scene: dict) -> None:
+    upstream, base = remote
+    here = httpx.get(f"{base}/api/terms", timeout=60).json()
+    assert here == httpx.get(f"{upstream}/api/terms", timeout=60).json()
+    far = httpx.get(f"{base}/api/scene", timeout=120).json()
+    # The same cell, frames, routes and components; no mesh files, so every item is a box.
+    assert far["frames"] == scene["frames"] and far["routes"] == scene["routes"]
+    assert far["components"] == scene["components"]
+    assert far["meshes"] == [] and len(far["objects"]) == 110
+    assert all(o["box"] and o["mesh"] is None for o in far["objects"])
+    assert "drawn as boxes" in far["problems"][0]
+    assert httpx.get(f"{base}/api/mesh/meshes/ID000012.stl").status_code == 404

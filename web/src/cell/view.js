@@ -1,0 +1,652 @@
+// The 3D view of the cell: what /api/scene gives, drawn with three.js; meshes streamed as
+// binary STL from /api/mesh. Click an object for its label and facts (a DESCRIBE); pick a
+// component for its pins with their screw and hole poses (cad_service); step through the
+// wires with group_connection_provider. It renders only when something changed.
+
+import * as THREE from "three";
+import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
+import { STLLoader } from "three/examples/jsm/loaders/STLLoader.js";
+import { EndpointError, getJson, postQuery } from "../api.js";
+import { shorten } from "../prefixes.js";
+import { readAnswer } from "../results.js";
+import { termText } from "../terms.js";
+import { COLOURS, axes, balls, buildHarness, buildRoutes, tube, worldMatrices } from "./build.js";
+import { Labels } from "./labels.js";
+import { Objects } from "./objects.js";
+
+const $ = (id) => document.getElementById(id);
+const CLIENT = "web-3d";
+const MESH_REQUESTS = 6;
+const MOVING_MS = 40;
+
+/** Whether WebGL is drawn on the CPU here (SwiftShader, llvmpipe). */
+function softwareRenderer() {
+  const gl = document.createElement("canvas").getContext("webgl2");
+  const info = gl && gl.getExtension("WEBGL_debug_renderer_info");
+  const name = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : "";
+  if (gl) gl.getExtension("WEBGL_lose_context")?.loseContext();
+  return /swiftshader|llvmpipe|software/i.test(name);
+}
+
+function vector(p) {
+  return new THREE.Vector3(p.position.x, p.position.y, p.position.z);
+}
+
+export class CellView {
+  constructor(container, { onIri, drawing = "merged" }) {
+    this.container = container;
+    this.onIri = onIri;
+    this.drawing = drawing;
+    this.pickables = [];
+    this.extras = new THREE.Group();
+    this.frameNeeded = false;
+    container.cellView = this; // for the browser tests and the benchmark
+    try {
+      this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
+    } catch (err) {
+      throw new EndpointError(`this browser cannot draw 3D (WebGL): ${err.message}`);
+    }
+    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
+    container.appendChild(this.renderer.domElement);
+    this.labels = new Labels(container);
+    this.camera = new THREE.PerspectiveCamera(40, 1, 0.001, 1000);
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color("#eef1f6");
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x8d99ae, 1.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.4);
+    sun.position.set(1, 2, 3);
+    this.scene.add(sun);
+    // ROS frames are z up; three.js's are y up.
+    this.root = new THREE.Group();
+    this.root.rotation.x = -Math.PI / 2;
+    this.scene.add(this.root);
+    this.root.add(this.extras);
+    this.makeControls();
+    this.installPicking();
+    this.installControls();
+    new ResizeObserver(() => this.resize()).observe(container);
+  }
+
+  // -- loading -----------------------------------------------------------------------------
+
+  async load() {
+    $("cell-status").textContent = "loading the cell…";
+    const started = performance.now();
+    const response = await fetch("/api/scene", { headers: { Accept: "application/json" } });
+    if (!response.ok) throw new EndpointError(`the 3D scene: ${response.status} ${await response.text()}`);
+    this.generation = response.headers.get("x-cadkg-generation") || "";
+    this.data = await response.json();
+    const read = performance.now();
+    this.build();
+    const built = performance.now();
+    this.fit();
+    this.describeScene();
+    let moved = false;
+    const onMove = () => { moved = true; };
+    this.controls.addEventListener("start", onMove);
+    await this.loadMeshes();
+    this.controls.removeEventListener("start", onMove);
+    if (!moved) this.fit(); // now with the meshes' own sizes
+    this.describeScene();
+    // Milliseconds from the start: scene read, objects built, every mesh in (benchmarks/bench_page.py).
+    this.timings = { scene: read - started, built: built - started, meshes: performance.now() - started };
+    this.container.dataset.ready = "true";
+    return this;
+  }
+
+  build() {
+    const data = this.data;
+    this.matrixOf = worldMatrices(data.frames);
+    this.objects = new Objects(data, this.matrixOf, this.drawing);
+    this.root.add(this.objects.group);
+    this.pickables.push(...this.objects.group.children);
+    this.routes = buildRoutes(data.routes, this.matrixOf);
+    this.root.add(this.routes.lines);
+    this.pickables.push(this.routes.lines);
+    this.size = this.extent();
+    const points = data.points.map((p) => ({ ...p, position: new THREE.Vector3().setFromMatrixPosition(this.matrixOf(p.frame) || new THREE.Matrix4()) }));
+    this.points = points;
+    const radius = this.size * 0.006;
+    const solid = points.filter((p) => p.kind !== "tape-spot");
+    const halos = points.filter((p) => p.kind === "tape-spot");
+    this.pointMesh = balls(solid.map((p) => ({ position: p.position, colour: COLOURS[p.kind] || COLOURS.key,
+      scale: p.kind === "key-corner" ? 0.7 : 1 })), radius, "points");
+    this.pointMesh.userData.points = solid;
+    // A taping spot: a see-through halo around its guide's key, so the key shows inside it.
+    this.haloMesh = balls(halos.map((p) => ({ position: p.position, colour: COLOURS[p.kind] })), radius * 2.2, "halos");
+    Object.assign(this.haloMesh.material, { transparent: true, opacity: 0.45, depthWrite: false });
+    this.haloMesh.userData.points = halos;
+    this.haloMesh.userData.halo = radius * 2.2;
+    this.root.add(this.pointMesh, this.haloMesh);
+    this.pickables.push(this.pointMesh, this.haloMesh);
+    this.harnesses = data.harnesses.map((h) => buildHarness(h, this.matrixOf, Math.max(this.size, 0.2) * 0.008));
+    for (const h of this.harnesses) {
+      this.root.add(h.group);
+      this.pickables.push(h.nodes, h.lines);
+    }
+    this.axes = axes(data.frames.map((f) => this.matrixOf(f.name)), this.size * 0.02);
+    this.axes.visible = $("layer-axes").checked;
+    this.root.add(this.axes);
+    this.setLabels();
+  }
+
+  /** The size of the cell: the diagonal of everything placed (frames, harness nodes). */
+  extent() {
+    // What is drawn: objects, points, wires, harness nodes; the frames only when there is
+    // nothing else (a frame may be far off, as ELIMCO's drawing origin is metres away).
+    const box = new THREE.Box3();
+    const at = (name) => new THREE.Vector3().setFromMatrixPosition(this.matrixOf(name) || new THREE.Matrix4());
+    for (const o of this.data.objects) box.expandByPoint(at(o.frame));
+    for (const p of this.data.points) box.expandByPoint(at(p.frame));
+    for (const h of this.data.harnesses) for (const n of h.nodes) box.expandByPoint(new THREE.Vector3(...n.position));
+    for (const r of this.routes.paths) for (const p of r) box.expandByPoint(p);
+    if (box.isEmpty()) for (const f of this.data.frames) box.expandByPoint(at(f.name));
+    return box.isEmpty() ? 1 : Math.max(box.getSize(new THREE.Vector3()).length(), 0.05);
+  }
+
+  async loadMeshes() {
+    const loader = new STLLoader();
+    const queue = this.data.meshes.map((mesh, index) => ({ mesh, index }));
+    let failed = 0;
+    const worker = async () => {
+      while (queue.length) {
+        const { mesh, index } = queue.shift();
+        const path = mesh.path.split("/").map(encodeURIComponent).join("/");
+        try {
+          const response = await fetch(`/api/mesh/${path}?g=${encodeURIComponent(this.generation)}`);
+          if (!response.ok) throw new Error(String(response.status));
+          const geometry = loader.parse(await response.arrayBuffer());
+          geometry.computeVertexNormals();
+          this.objects.setGeometry(index, geometry);
+        } catch (err) {
+          failed += 1;
+        }
+        done += 1;
+        // A frame of a large cell can take longer than a mesh: the view is drawn again once,
+        // when every mesh is in, not after each.
+        if (done % 25 === 0) $("cell-status").textContent = `loading meshes: ${done} of ${total}…`;
+      }
+    };
+    const total = queue.length;
+    let done = 0;
+    await Promise.all(Array.from({ length: MESH_REQUESTS }, worker));
+    this.meshFailures = failed;
+    this.pickables = this.pickables.filter((o) => o.parent !== this.objects.group);
+    this.objects.finish();
+    this.pickables.push(...this.objects.group.children);
+    this.requestRender();
+  }
+
+  describeScene() {
+    const d = this.data;
+    const parts = [`${d.profile} cell`, `${d.objects.length.toLocaleString()} objects`
+      + ` (${d.meshes.length.toLocaleString()} distinct meshes)`];
+    if (d.routes.length) parts.push(`${d.routes.length.toLocaleString()} wires`);
+    if (d.points.length) parts.push(`${d.points.length} points of interest`);
+    for (const h of d.harnesses) {
+      parts.push(`harness ${h.label}: ${h.nodes.length} nodes at ${h.coordinates === "graph" ? "their coordinates" : "a layout (the graph has no coordinates)"}`);
+    }
+    parts.push(`${d.frames.length.toLocaleString()} frames`);
+    const problems = [...d.problems];
+    if (this.meshFailures) problems.push(`${this.meshFailures} mesh(es) could not be loaded`);
+    $("cell-status").textContent = parts.join(" · ") + (problems.length ? ` — ${problems.join("; ")}` : "");
+  }
+
+  // -- drawing -----------------------------------------------------------------------------
+
+  /**
+   * Orbit controls. While the camera moves in a cell whose frames take long (over MOVING_MS),
+   * the wires are left out of the frames (a level of detail in time), and drawn again when it
+   * stops.
+   */
+  makeControls() {
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.addEventListener("change", () => this.requestRender());
+    this.controls.addEventListener("start", () => {
+      if (this.routes && this.lastFrame > MOVING_MS && this.routes.lines.visible) {
+        this.routes.lines.visible = false;
+        this.lightened = true;
+      }
+    });
+    this.controls.addEventListener("end", () => {
+      if (this.lightened) {
+        this.routes.lines.visible = $("layer-routes").checked;
+        this.lightened = false;
+        this.requestRender();
+      }
+    });
+  }
+
+  resize() {
+    const width = this.container.clientWidth;
+    const height = this.container.clientHeight;
+    if (!width || !height) return;
+    this.renderer.setSize(width, height);
+    this.camera.aspect = width / height;
+    this.camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  requestRender() {
+    if (this.frameNeeded) return;
+    this.frameNeeded = true;
+    requestAnimationFrame(() => {
+      this.frameNeeded = false;
+      this.render();
+    });
+  }
+
+  render() {
+    const started = performance.now();
+    this.renderer.render(this.scene, this.camera);
+    this.lastFrame = performance.now() - started;
+    this.labels.update(this.camera, this.root, this.container);
+    this.frames = (this.frames || 0) + 1;
+    this.container.dataset.frames = String(this.frames); // the tests wait for the view to settle
+  }
+
+  /** Everything drawn (not the frame axes, which reach to the world's origin), in world coordinates. */
+  contentBox() {
+    const box = new THREE.Box3();
+    this.root.updateMatrixWorld(true);
+    const parts = [this.objects.group, this.routes.lines, ...this.harnesses.map((h) => h.group)];
+    if (this.points.length) parts.push(this.pointMesh, this.haloMesh);
+    for (const part of parts) {
+      part.traverse((object) => {
+        if (!object.geometry || !object.visible || (object.isInstancedMesh && object.count === 0)) return;
+        if (object.isInstancedMesh) {
+          if (!object.boundingBox) object.computeBoundingBox();
+          box.union(object.boundingBox.clone().applyMatrix4(object.matrixWorld));
+        } else {
+          box.expandByObject(object);
+        }
+      });
+    }
+    return box;
+  }
+
+  /**
+   * How to look at the cell: towards the z axis of the frame most objects hang from (a cabinet's
+   * mounting plate, a platform's top), its y axis up on the screen, from a little above and to
+   * the right. A cell without objects (a harness) is looked at along its thinnest side.
+   */
+  viewAxes(size) {
+    const parents = new Map();
+    const parentOf = new Map(this.data.frames.map((f) => [f.name, f.parent]));
+    for (const object of this.data.objects) {
+      const parent = parentOf.get(object.frame);
+      if (parent) parents.set(parent, (parents.get(parent) || 0) + 1);
+    }
+    const toView = this.root.matrixWorld;
+    if (parents.size) {
+      const [frame] = [...parents].sort((a, b) => b[1] - a[1])[0];
+      const matrix = new THREE.Matrix4().multiplyMatrices(toView, this.matrixOf(frame) || new THREE.Matrix4());
+      const x = new THREE.Vector3();
+      const y = new THREE.Vector3();
+      const z = new THREE.Vector3();
+      matrix.extractBasis(x, y, z);
+      return { eye: z.clone().addScaledVector(y, 0.3).addScaledVector(x, 0.25).normalize(), up: y };
+    }
+    const thinnest = size.x <= size.y && size.x <= size.z ? 0 : size.y <= size.z ? 1 : 2;
+    const eye = [new THREE.Vector3(1, 0.3, 0.25), new THREE.Vector3(0.2, 1, 0.45), new THREE.Vector3(0.25, 0.3, 1)][thinnest];
+    return { eye: eye.normalize(), up: thinnest === 1 ? new THREE.Vector3(0, 0, -1) : new THREE.Vector3(0, 1, 0) };
+  }
+
+  /** Look at `box` (world coordinates), or at everything. */
+  fit(box = null) {
+    const target = box || this.contentBox();
+    if (target.isEmpty()) return;
+    const centre = target.getCenter(new THREE.Vector3());
+    const size = target.getSize(new THREE.Vector3());
+    const radius = Math.max(size.length() / 2, 0.02);
+    const { eye, up } = this.viewAxes(size);
+    const distance = (radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2))) * 1.05;
+    this.camera.up.copy(up);
+    this.camera.position.copy(centre).addScaledVector(eye, distance);
+    this.camera.near = distance / 1000;
+    this.camera.far = distance * 100;
+    this.camera.updateProjectionMatrix();
+    if (!this.controlsUp || !this.controlsUp.equals(up)) {
+      this.controls.dispose(); // OrbitControls takes the camera's up when made
+      this.makeControls();
+      this.controlsUp = up.clone();
+    }
+    this.controls.target.copy(centre);
+    this.controls.update();
+    this.requestRender();
+  }
+
+  setLabels() {
+    const show = $("layer-labels").checked;
+    const entries = [];
+    if (show) {
+      this.harnesses.forEach((h, i) => {
+        // The harness's name over the middle of its top edge.
+        if (!h.positions.length) return;
+        const box = new THREE.Box3().setFromPoints(h.positions);
+        const position = new THREE.Vector3((box.min.x + box.max.x) / 2, box.max.y + this.size * 0.05, box.max.z);
+        entries.push({ text: `harness ${this.data.harnesses[i].label}`, position, className: "title" });
+      });
+      for (const h of this.harnesses) {
+        h.positions.forEach((position, i) => {
+          const node = this.data.harnesses[this.harnesses.indexOf(h)].nodes[i];
+          if (node.kind === "connector") entries.push({ text: node.connectors.join(", ") || node.label, position });
+        });
+      }
+      for (const p of this.points) if (p.kind === "key" || p.kind === "bench-pin") entries.push({ text: p.label, position: p.position });
+      entries.push(...(this.extraLabels || []));
+    }
+    this.labels.set(entries.slice(0, 400));
+    this.requestRender();
+  }
+
+  // -- picking and what it shows -----------------------------------------------------------
+
+  installPicking() {
+    const canvas = this.renderer.domElement;
+    const raycaster = new THREE.Raycaster();
+    let down = null;
+    canvas.addEventListener("pointerdown", (e) => { down = { x: e.clientX, y: e.clientY }; });
+    canvas.addEventListener("pointerup", (e) => {
+      if (!down || Math.hypot(e.clientX - down.x, e.clientY - down.y) > 4) return;
+      const rect = canvas.getBoundingClientRect();
+      const ndc = new THREE.Vector2(((e.clientX - rect.left) / rect.width) * 2 - 1, -((e.clientY - rect.top) / rect.height) * 2 + 1);
+      raycaster.setFromCamera(ndc, this.camera);
+      raycaster.params.Line.threshold = this.camera.position.distanceTo(this.controls.target) * 0.006;
+      const visible = this.pickables.filter((o) => o.visible && (!o.parent || o.parent.visible));
+      const hits = raycaster.intersectObjects(visible, false);
+      // A pin sits inside its component's box: a ray through both means the pin. A ray
+      // through a halo's middle means the key inside it.
+      let hit = hits.find((h) => h.object.userData.pinList) || hits[0];
+      if (hit && hit.object.userData.halo && hits[1] && hits[1].distance - hit.distance < 2 * hit.object.userData.halo) {
+        hit = hits[1];
+      }
+      this.select(hit ? this.whatIs(hit) : null);
+    });
+  }
+
+  /** What a ray hit: {label, iri, kind, component?}. */
+  whatIs(hit) {
+    const object = hit.object;
+    if (object === this.routes.lines) {
+      const route = this.data.routes[this.routes.pick(hit.index)];
+      return route && { kind: "wire", label: `wire ${route.label}`, iri: route.iri, route };
+    }
+    if (object.userData.points) {
+      const p = object.userData.points[hit.instanceId];
+      return p && { kind: p.kind, label: p.label, iri: p.iri };
+    }
+    if (object.userData.pinList) {
+      const p = object.userData.pinList[hit.instanceId];
+      return p && { kind: "pin", label: `${p.pin.label}:${p.pin.pin} (${object.userData.kind})`, iri: p.pin.iri };
+    }
+    for (const [i, h] of this.harnesses.entries()) {
+      const harness = this.data.harnesses[i];
+      if (object === h.nodes) {
+        const node = harness.nodes[hit.instanceId];
+        return node && { kind: "harness node", label: `${node.label}${node.connectors.length ? ` (${node.connectors.join(", ")})` : ""}`, iri: node.iri };
+      }
+      if (object === h.lines) {
+        const segment = harness.segments[Math.floor(hit.index / 2)];
+        return segment && { kind: "segment", label: `segment ${segment.label}`, iri: segment.iri };
+      }
+    }
+    const index = this.objects.pick(hit);
+    if (index === undefined) return null;
+    const item = this.data.objects[index];
+    const component = item.component !== null ? this.data.components[item.component] : null;
+    return {
+      kind: component ? "component" : "item",
+      label: component ? component.label : item.label,
+      iri: component ? component.iri : item.iri,
+      item: item.iri,
+      component,
+    };
+  }
+
+  async select(what) {
+    const panel = $("cell-pick");
+    if (!what) {
+      panel.hidden = true;
+      delete panel.dataset.iri;
+      this.highlight(null);
+      return;
+    }
+    panel.hidden = false;
+    this.picked = what;
+    $("pick-zoom").hidden = !what.component;
+    $("pick-title").textContent = `${what.label}`;
+    $("pick-iri").textContent = what.iri || "";
+    panel.dataset.iri = what.iri || "";
+    panel.dataset.kind = what.kind;
+    this.highlight(what.component || null, what.route || null);
+    if (what.component) await this.showPins(what.component.label);
+    await this.describe(what.iri);
+  }
+
+  async describe(iri) {
+    const body = $("pick-facts").tBodies[0];
+    body.replaceChildren();
+    if (!iri) return;
+    try {
+      const answer = await readAnswer(await postQuery(`DESCRIBE <${iri}>`));
+      const rows = answer.rows.filter(([s]) => s.type === "uri" && s.value === iri);
+      for (const [, p, o] of rows.slice(0, 80)) {
+        const tr = document.createElement("tr");
+        const name = document.createElement("td");
+        name.textContent = shorten(p.value);
+        const value = document.createElement("td");
+        value.textContent = termText(o);
+        if (o.type === "uri") {
+          value.className = "iri";
+          value.addEventListener("click", () => this.onIri(o.value));
+        }
+        tr.append(name, value);
+        body.appendChild(tr);
+      }
+    } catch (err) {
+      const tr = document.createElement("tr");
+      tr.textContent = err.message;
+      body.appendChild(tr);
+    }
+  }
+
+  /** Colour a component's objects (and thicken a wire), all else as it was. */
+  highlight(component, route = null) {
+    const colours = new Map();
+    if (component) for (const index of component.objects) colours.set(index, COLOURS.highlight);
+    this.objects.paint(colours);
+    this.clearExtras();
+    if (route) this.addRoute(this.routes.paths[this.data.routes.indexOf(route)]);
+    this.requestRender();
+  }
+
+  clearExtras() {
+    this.pickables = this.pickables.filter((o) => !o.userData.pinList);
+    this.extras.clear();
+    this.extraLabels = [];
+    this.setLabels();
+  }
+
+  addRoute(path) {
+    if (path && path.length > 1) this.extras.add(tube(path, this.size * 0.0015, COLOURS.picked));
+  }
+
+  /** The pins of a component: screws (orange) and holes (blue) at their poses, named. */
+  async showPins(label) {
+    const component = this.data.components.find((c) => c.label === label);
+    if (!component || !component.frame || this.data.profile !== "iema") return;
+    const result = await getJson(`/api/cad_service?${new URLSearchParams({ label, client: CLIENT })}`);
+    if (!result.success) return;
+    const frame = this.matrixOf(component.frame) || new THREE.Matrix4();
+    const radius = Math.max(this.size * 0.002, 0.0015);
+    const screws = [];
+    const holes = [];
+    for (const pin of result.pins) {
+      for (const [pose, list] of [[pin.screw, screws], [pin.hole, holes]]) {
+        if (pose) list.push({ position: vector(pose).applyMatrix4(frame), pin });
+      }
+    }
+    for (const [list, colour, kind] of [[screws, COLOURS.screw, "screw"], [holes, COLOURS.hole, "hole"]]) {
+      if (!list.length) continue;
+      const mesh = balls(list.map((p) => ({ position: p.position, colour })), radius, `${kind}s`);
+      // Screws and holes lie inside their component's box: drawn over it, as markers.
+      Object.assign(mesh.material, { depthTest: false, transparent: true });
+      mesh.renderOrder = 10;
+      mesh.userData.pinList = list;
+      mesh.userData.kind = kind;
+      this.extras.add(mesh);
+    }
+    this.extraLabels = screws.map((p) => ({ text: `${p.pin.pin}`, position: p.position, className: "pin" }));
+    for (const mesh of this.extras.children) if (mesh.userData.pinList) this.pickables.unshift(mesh);
+    $("cell-status").dataset.pins = String(result.pins.length);
+    this.setLabels();
+  }
+
+  /** Show a component a result row names: colour it, look at it, show its pins and facts. */
+  async locate(named) {
+    const component = this.data.components.find((c) => c.label === named.label || c.iri === named.iri);
+    if (!component) {
+      $("cell-status").textContent = `${named.label} is not placed in the 3D scene`;
+      return;
+    }
+    this.zoomTo(component);
+    await this.select({ kind: "component", label: component.label, iri: component.iri, component });
+  }
+
+  /** Bring the camera close to a component, with some of its neighbourhood around it. */
+  zoomTo(component) {
+    const box = new THREE.Box3();
+    const corner = new THREE.Vector3();
+    for (const index of component.objects) {
+      const object = this.data.objects[index];
+      const m = this.matrixOf(object.frame);
+      if (!m) continue;
+      const [x0, y0, z0, x1, y1, z1] = object.box || [0, 0, 0, 0, 0, 0];
+      for (const x of [x0, x1]) for (const y of [y0, y1]) for (const z of [z0, z1]) box.expandByPoint(corner.set(x, y, z).applyMatrix4(m));
+    }
+    if (box.isEmpty()) return;
+    const size = box.getSize(new THREE.Vector3()).length();
+    box.expandByScalar(Math.max(size * 0.3, this.size * 0.01));
+    box.applyMatrix4(this.root.matrixWorld);
+    this.fit(box);
+  }
+
+  /** The next wire of group_connection_provider: its path as a tube, its ends as the pins. */
+  async nextWire() {
+    const result = await getJson(`/api/group_connection_provider?client=${CLIENT}`);
+    if (result.end) {
+      $("cell-status").textContent = "the connection list is done; Next wire starts it again";
+      await getJson(`/api/reset_connection_list?client=${CLIENT}`);
+      return;
+    }
+    const route = this.data.routes.find((r) => r.label === result.wire);
+    const component = this.data.components.find((c) => c.label === result.origin.label);
+    const frame = (component && this.matrixOf(component.frame)) || (route && this.matrixOf(route.frame)) || new THREE.Matrix4();
+    const path = result.path_keypoints.map((p) => vector(p).applyMatrix4(frame));
+    await this.select({ kind: "wire", label: `wire ${result.wire} (list position ${result.list_position})`, iri: route ? route.iri : null });
+    this.addRoute(path);
+    const box = new THREE.Box3().setFromPoints(path).expandByScalar(this.size * 0.03);
+    this.fit(box.applyMatrix4(this.root.matrixWorld)); // the wire, end to end
+    this.extraLabels = [
+      { text: `${result.origin.label}:${result.origin.pin}`, position: path[0] },
+      { text: `${result.destination.label}:${result.destination.pin}`, position: path[path.length - 1] },
+    ];
+    this.setLabels();
+  }
+
+  installControls() {
+    const layer = (id, apply) => $(id).addEventListener("change", () => { apply($(id).checked); this.requestRender(); });
+    layer("layer-objects", (on) => { this.objects.group.visible = on; });
+    layer("layer-routes", (on) => { this.routes.lines.visible = on; });
+    layer("layer-points", (on) => { this.pointMesh.visible = on; this.haloMesh.visible = on; });
+    layer("layer-harness", (on) => { for (const h of this.harnesses) h.group.visible = on; });
+    layer("layer-axes", (on) => { this.axes.visible = on; });
+    layer("layer-labels", () => this.setLabels());
+    $("cell-fit").addEventListener("click", () => this.fit());
+    $("pick-zoom").addEventListener("click", () => {
+      if (this.picked && this.picked.component) this.zoomTo(this.picked.component);
+    });
+    $("cell-show").addEventListener("click", () => {
+      const label = $("cell-component").value.trim();
+      if (label) this.locate({ label });
+    });
+    $("cell-component").addEventListener("keydown", (e) => { if (e.key === "Enter") $("cell-show").click(); });
+    $("cell-next-wire").addEventListener("click", () => this.nextWire().catch((err) => {
+      $("cell-status").textContent = err.message;
+    }));
+  }
+
+  // -- for tests and the benchmark ---------------------------------------------------------
+
+  /** Where a component's first object (or a harness node of that label or connector) is on the
+   * screen, in client coordinates; null when there is none. */
+  screenPosition(label) {
+    const centre = new THREE.Vector3();
+    const component = this.data.components.find((c) => c.label === label);
+    if (component && component.objects.length) {
+      const object = this.data.objects[component.objects[0]];
+      if (object.box) {
+        const [x0, y0, z0, x1, y1, z1] = object.box;
+        centre.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
+      }
+      centre.applyMatrix4(this.matrixOf(object.frame));
+    } else {
+      const found = this.harnesses.flatMap((h, i) => this.data.harnesses[i].nodes.map((n, j) => [n, h.positions[j]]))
+        .find(([n]) => n.label === label || n.connectors.includes(label));
+      if (!found) return null;
+      centre.copy(found[1]);
+    }
+    this.root.localToWorld(centre);
+    centre.project(this.camera);
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    return { x: rect.left + ((centre.x + 1) / 2) * rect.width, y: rect.top + ((1 - centre.y) / 2) * rect.height };
+  }
+
+  /** Milliseconds to pick what is under `count` points across the view (median), as a click does. */
+  measurePick(count = 20) {
+    const raycaster = new THREE.Raycaster();
+    raycaster.params.Line.threshold = this.camera.position.distanceTo(this.controls.target) * 0.006;
+    const visible = this.pickables.filter((o) => o.visible);
+    const times = [];
+    let hits = 0;
+    for (let i = 0; i < count; i++) {
+      const start = performance.now();
+      raycaster.setFromCamera(new THREE.Vector2(-0.8 + (1.6 * i) / count, 0.1), this.camera);
+      hits += raycaster.intersectObjects(visible, false).length > 0;
+      times.push(performance.now() - start);
+    }
+    times.sort((a, b) => a - b);
+    return { median: times[Math.floor(count / 2)], hits };
+  }
+
+  /** Milliseconds per frame (median of `frames`) while the camera turns around the cell, with
+   * everything drawn, and (`moving`) as while the camera is dragged. */
+  measure(frames = 30) {
+    const full = this.measureFrames(frames);
+    const visible = this.routes.lines.visible;
+    this.routes.lines.visible = false;
+    const moving = this.measureFrames(frames);
+    this.routes.lines.visible = visible;
+    return { ...full, moving: moving.median };
+  }
+
+  measureFrames(frames) {
+    const gl = this.renderer.getContext();
+    const pixel = new Uint8Array(4);
+    const times = [];
+    const target = this.controls.target.clone();
+    const offset = this.camera.position.clone().sub(target);
+    for (let i = 0; i < frames; i++) {
+      offset.applyAxisAngle(new THREE.Vector3(0, 1, 0), (2 * Math.PI) / frames);
+      this.camera.position.copy(target).add(offset);
+      this.camera.lookAt(target);
+      const start = performance.now();
+      this.renderer.render(this.scene, this.camera);
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel); // waits for the frame
+      times.push(performance.now() - start);
+    }
+    times.sort((a, b) => a - b);
+    return { median: times[Math.floor(times.length / 2)], calls: this.renderer.info.render.calls, triangles: this.renderer.info.render.triangles };
+  }
+}

@@ -1,0 +1,266 @@
+// The cadkg workbench: a SPARQL editor with tabs, completion and permalinks, the named queries,
+// the results (table, chart, downloads), the graph view and the 3D view of the cell. Everything
+// it loads comes from this endpoint; the 3D view's code is loaded when it is first opened.
+
+import "./style.css";
+import { EndpointError, getJson, postQuery } from "./api.js";
+import { setTerms, sparqlCompletion } from "./completion.js";
+import { createEditor, setText } from "./editor.js";
+import { GraphView } from "./graphview.js";
+import { NamedQueries } from "./named.js";
+import { prologue, setPrefixes } from "./prefixes.js";
+import { ResultView, readAnswer } from "./results.js";
+import { Tabs, permalink } from "./tabs.js";
+
+const $ = (id) => document.getElementById(id);
+const STARTER = "SELECT DISTINCT ?label ?component WHERE {\n  ?component a ck:Component ; ck:label ?label .\n}\nORDER BY ?label\nLIMIT 100\n";
+const state = { running: false, cell: null, cellLoading: null, labels: new Map(), pending: null };
+
+// -- the 3D view, loaded on first use -----------------------------------------------------------
+
+async function cellView() {
+  if (!state.cellLoading) {
+    state.cellLoading = import("./cell/view.js").then(({ CellView }) => {
+      // ?drawing=instanced or ?drawing=meshes: the other ways of drawing (benchmarks/bench_page.py).
+      const drawing = new URLSearchParams(location.search).get("drawing") || "merged";
+      state.cell = new CellView($("cell-view"), { onIri: (iri) => graph.show({ node: iri }), drawing });
+      return state.cell.load();
+    });
+  }
+  await state.cellLoading;
+  return state.cell;
+}
+
+function showPane(which) {
+  $("view-graph").classList.toggle("active", which === "graph");
+  $("view-3d").classList.toggle("active", which === "3d");
+  $("graph-pane").hidden = which !== "graph";
+  $("cell-pane").hidden = which !== "3d";
+  if (which === "3d") {
+    cellView().then((view) => {
+      view.resize();
+      if (state.pending) {
+        view.locate(state.pending);
+        state.pending = null;
+      }
+    }).catch((err) => { $("cell-status").textContent = err.message; });
+  }
+}
+
+// -- components a result names ----------------------------------------------------------------
+
+function locate(term) {
+  if (!term) return null;
+  if (term.type === "literal") return state.labels.get(term.value) || null;
+  if (term.type === "uri") return state.labels.get(term.value) || null;
+  return null;
+}
+
+function onLocate(named) {
+  if ($("cell-pane").hidden) {
+    state.pending = named;
+    showPane("3d");
+  } else {
+    cellView().then((view) => view.locate(named));
+  }
+}
+
+// -- running queries ------------------------------------------------------------------------------
+
+const graph = new GraphView({ onStatus: () => {} });
+const results = new ResultView({ onIri: (iri) => { showPane("graph"); graph.show({ node: iri }); }, locate, onLocate });
+let editor = null;
+let tabs = null;
+const named = new NamedQueries({
+  getText: () => editor.state.doc.toString(),
+  setText: (text) => setText(editor, text),
+  onChange: (value) => { tabs.update({ named: value, title: value ? value.name : tabs.active.title }); renderTabs(); },
+});
+
+function updatePermalink() {
+  const link = permalink(tabs.active);
+  $("permalink").value = link;
+  return link;
+}
+
+async function run() {
+  if (state.running) return;
+  state.running = true;
+  try {
+    await named.settle();
+    const text = editor.state.doc.toString();
+    const link = updatePermalink();
+    history.replaceState(null, "", link);
+    const started = performance.now();
+    $("status").textContent = "running…";
+    $("error").hidden = true;
+    let response;
+    try {
+      response = await postQuery(text);
+    } catch (err) {
+      results.showError(err instanceof EndpointError ? err.message : String(err));
+      return;
+    }
+    const answer = await readAnswer(response);
+    const seconds = ((performance.now() - started) / 1000).toFixed(2);
+    results.show(answer, { text, seconds, truncated: response.headers.get("x-cadkg-truncated") });
+  } finally {
+    state.running = false;
+  }
+}
+
+// -- tabs -----------------------------------------------------------------------------------------
+
+function renderTabs() {
+  const list = $("tab-list");
+  list.replaceChildren();
+  for (const tab of tabs.tabs) {
+    const button = document.createElement("button");
+    button.type = "button";
+    button.className = `tab${tab === tabs.active ? " active" : ""}`;
+    button.setAttribute("role", "tab");
+    button.dataset.id = tab.id;
+    button.textContent = tab.title;
+    button.addEventListener("click", () => tabs.select(tab.id));
+    if (tabs.tabs.length > 1) {
+      const close = document.createElement("span");
+      close.className = "close";
+      close.textContent = "×";
+      close.title = "Close this tab";
+      close.addEventListener("click", (event) => {
+        event.stopPropagation();
+        tabs.close(tab.id);
+        renderTabs();
+      });
+      button.appendChild(close);
+    }
+    list.appendChild(button);
+  }
+}
+
+function switchTo(tab) {
+  if (editor && editor.state.doc.toString() !== tab.text) setText(editor, tab.text);
+  named.show(tab.named);
+  results.clear();
+  $("status").textContent = "No query run yet.";
+  renderTabs();
+  updatePermalink();
+}
+
+// -- start ----------------------------------------------------------------------------------------
+
+async function loadInfo() {
+  try {
+    const info = await getJson("/api/info");
+    $("info").textContent = `${info.triples.toLocaleString()} triples · ${info.named_graphs.length} named graphs · `
+      + `generation ${info.generation} · ${info.update ? "read-write" : "read-only"} · `
+      + `limits ${info.limits.timeout_s} s, ${info.limits.max_rows.toLocaleString()} rows`;
+  } catch (err) {
+    $("info").textContent = `cannot reach the endpoint: ${err.message}`;
+  }
+}
+
+async function loadTerms() {
+  try {
+    const terms = await getJson("/api/terms");
+    setPrefixes(terms.prefixes);
+    setTerms(terms);
+    const list = $("component-labels");
+    list.replaceChildren(...terms.components.map((label) => new Option(label)));
+    document.body.dataset.terms = "ready";
+  } catch (err) {
+    document.body.dataset.terms = "failed";
+  }
+}
+
+async function loadLocatable() {
+  // Which result values name a component (its IRI, its label, an item of it): read once.
+  try {
+    const response = await postQuery(
+      "SELECT DISTINCT ?c ?label ?item WHERE { ?c a ck:Component ; ck:label ?label . OPTIONAL { ?c ck:hasItem ?item } }",
+    );
+    const answer = await readAnswer(response);
+    for (const [c, label, item] of answer.rows) {
+      const entry = { label: label.value, iri: c.value };
+      state.labels.set(label.value, entry);
+      state.labels.set(c.value, entry);
+      if (item) state.labels.set(item.value, entry);
+    }
+  } catch (err) {
+    /* rows are then not linked to the 3D view */
+  }
+}
+
+function start() {
+  const starter = `${prologue(["ck", "rdfs"])}\n\n${STARTER}`;
+  tabs = new Tabs({ starter, onSwitch: switchTo });
+  editor = createEditor($("query"), {
+    doc: tabs.active.text,
+    completion: sparqlCompletion,
+    onRun: run,
+    onChange: (text) => {
+      tabs.update({ text });
+      named.describe();
+    },
+  });
+  $("query").editorView = editor; // for the browser tests
+  $("run").addEventListener("click", run);
+  $("examples").addEventListener("change", async () => {
+    const name = $("examples").value;
+    if (!name) {
+      tabs.update({ named: null });
+      named.show(null);
+      return;
+    }
+    if (tabs.active.pristine !== undefined && tabs.active.text !== tabs.active.pristine) {
+      // A query of one's own is kept: the example opens in a tab of its own.
+      tabs.add("", null, true);
+    }
+    try {
+      await named.pick(name);
+      tabs.update({ pristine: editor.state.doc.toString() });
+    } catch (err) {
+      results.showError(err.message);
+    }
+  });
+  $("tab-add").addEventListener("click", () => {
+    tabs.add(`${prologue(["ck", "rdfs"])}\n\nSELECT * WHERE {\n  \n}\nLIMIT 100\n`);
+    renderTabs();
+  });
+  $("copy-permalink").addEventListener("click", async () => {
+    const link = updatePermalink();
+    $("permalink").select();
+    try {
+      await navigator.clipboard.writeText(link);
+      $("copied").hidden = false;
+      setTimeout(() => { $("copied").hidden = true; }, 1500);
+    } catch (err) {
+      /* the link is selected in its field for Ctrl+C */
+    }
+  });
+  $("show-graph").addEventListener("click", () => {
+    const label = $("component").value.trim();
+    if (label) graph.show({ component: label });
+  });
+  $("component").addEventListener("keydown", (e) => { if (e.key === "Enter") $("show-graph").click(); });
+  $("graph-back").addEventListener("click", () => graph.back());
+  $("view-graph").addEventListener("click", () => showPane("graph"));
+  $("view-3d").addEventListener("click", () => showPane("3d"));
+  window.addEventListener("hashchange", openLink);
+
+  Promise.all([loadInfo(), loadTerms(), named.load().catch(() => {}), loadLocatable()]).then(() => {
+    named.show(tabs.active.named);
+    renderTabs();
+    updatePermalink();
+    openLink();
+    document.body.dataset.ready = "true";
+  });
+  renderTabs();
+  updatePermalink();
+}
+
+function openLink() {
+  if (location.hash.includes("query=") && tabs.openLink(location.hash)) run();
+}
+
+start();
