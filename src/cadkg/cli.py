@@ -145,6 +145,19 @@ def cli(debug: bool, auth: str | None, auth_digest: str | None) -> None:
     """cadkg: one knowledge graph of a robotic wiring cell, from the factory's own files."""
 
 
+def _progress() -> Progress:
+    """A progress bar on stderr, when stderr is a terminal."""
+    return Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total}"),
+        TimeElapsedColumn(),
+        console=_err,
+        transient=True,
+        disable=not _err.is_terminal,
+    )
+
+
 @cli.command()
 @click.argument("manifest", type=click.Path(exists=True, dir_okay=False))
 @click.option(
@@ -158,15 +171,7 @@ def cli(debug: bool, auth: str | None, auth_digest: str | None) -> None:
 def build(manifest: str, store_dir: str) -> None:
     """Read every file of MANIFEST into a store directory."""
     spec = load_manifest(manifest)
-    with Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        TextColumn("{task.completed}/{task.total}"),
-        TimeElapsedColumn(),
-        console=_err,
-        transient=True,
-        disable=not _err.is_terminal,
-    ) as progress:
+    with _progress() as progress:
         task = progress.add_task("reading", total=len(spec.sources))
 
         def advance(source: Any) -> None:
@@ -270,7 +275,14 @@ def queries() -> None:
 @_guarded
 def validate(target: str, no_shacl: bool, strict: bool) -> None:
     """Check the graph: SHACL shapes, unknown labels, duplicate wire numbers, pins without data."""
-    findings = run_validation(_open(target), shacl=not no_shacl)
+    kg = _open(target)
+    with _progress() as progress:
+        task = progress.add_task("checks", total=3)
+
+        def step(stage: str, done: int, total: int) -> None:
+            progress.update(task, description=stage, completed=done, total=total)
+
+        findings = run_validation(kg, shacl=not no_shacl, progress=step)
     for finding in findings:
         _out.print(str(finding), markup=False)
     errors = sum(1 for f in findings if f.severity == "error")
