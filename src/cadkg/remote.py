@@ -257,6 +257,8 @@ class RemoteGraph(KnowledgeGraph):
         When ``endpoint`` is not an http(s) URL. Nothing is sent until the first query.
     """
 
+    remote = True
+
     def __init__(self, endpoint: str, *, auth: Auth | None = None, timeout: float = DEFAULT_TIMEOUT) -> None:
         self.endpoint = endpoint
         self._url, self._dataset = _split_endpoint(endpoint)

@@ -98,6 +98,16 @@ class GraphStore:
         # The live generation's directory, for what a store keeps beside its database.
         self._generation: Path | None = None
 
+    # Whether the graph lives in an external store (cadkg.remote.RemoteGraph) rather than here.
+    remote = False
+
+    @classmethod
+    def of_quads(cls, quads: Iterable[ox.Quad]) -> GraphStore:
+        """An in-memory store holding ``quads`` (and no ontology)."""
+        store = GraphStore(ox.Store())
+        store._store.extend(quads)
+        return store
+
     @classmethod
     def memory(cls) -> Self:
         kg = cls(ox.Store())
@@ -255,8 +265,11 @@ class GraphStore:
             raise QueryError("construct() runs CONSTRUCT or DESCRIBE queries")
         return list(result)
 
-    def quads(self) -> Iterator[ox.Quad]:
-        return iter(self._store)
+    def quads(self, graphs: Iterable[str] | None = None) -> Iterator[ox.Quad]:
+        """Every quad, or those of the named ``graphs``."""
+        if graphs is None:
+            return iter(self._store)
+        return (q for g in graphs for q in self.graph_quads(g))
 
     def graph_quads(self, graph: str) -> Iterator[ox.Quad]:
         """The quads of one named graph (``cadkg push`` sends a store graph by graph)."""
@@ -277,7 +290,7 @@ class GraphStore:
         if graphs is None:
             quads: Iterable[ox.Quad] = self._store
         else:
-            quads = (q for g in graphs for q in self.graph_quads(g))
+            quads = self.quads(graphs)
         keep.extend(
             ox.Quad(q.subject, q.predicate, q.object, ox.DefaultGraph() if merge else q.graph_name)
             for q in quads

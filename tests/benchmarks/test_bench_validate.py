@@ -17,7 +17,8 @@ def test_bench_validate_quick_prints_a_clean_row() -> None:
     (row,) = [line.split("|")[1:-1] for line in result.stdout.splitlines() if line.startswith("| 300 |")]
     cells = [cell.strip() for cell in row]
     build, semantic, shacl, total = (float(cells[i]) for i in (2, 3, 4, 5))
-    assert min(build, semantic, shacl) > 0
+    # Printed to the hundredth of a second: the compiled shapes on 300 wires may print 0.00.
+    assert build > 0 and min(semantic, shacl) >= 0
     assert abs(total - (build + semantic + shacl)) <= 0.02
     # The generator writes a clean cell: no findings, and no unknown label or pin without data.
     assert cells[6] == "0"

@@ -148,7 +148,22 @@ def queries() -> None:
 @guarded
 def validate(target: str, no_shacl: bool, strict: bool) -> None:
     """Check the graph: SHACL shapes, unknown labels, duplicate wire numbers, pins without data."""
-    findings = run_validation(open_target(target), shacl=not no_shacl)
+    kg = open_target(target)
+    with Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total}"),
+        TimeElapsedColumn(),
+        console=err,
+        transient=True,
+        disable=not err.is_terminal,
+    ) as progress:
+        task = progress.add_task("checks", total=3)
+
+        def step(stage: str, done: int, total: int) -> None:
+            progress.update(task, description=stage, completed=done, total=total)
+
+        findings = run_validation(kg, shacl=not no_shacl, progress=step)
     for finding in findings:
         out.print(str(finding), markup=False)
     errors = sum(1 for f in findings if f.severity == "error")
