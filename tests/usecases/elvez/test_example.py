@@ -92,7 +92,7 @@ def test_services_and_queries_are_listed(store: Path) -> None:
         "index_op",
     ):
         assert name in listed
-    result = run("query", store, "elvez-operations-at-spot", "label=G4", "--format", "json")
+    result = run("query", store, "elvez-operations-at-spot", "label=G4", "--format", "rows-json")
     assert result.exit_code == 0, result.output
     assert [row["index"] for row in json.loads(result.stdout)["rows"]] == [3, 7, 8, 9, 12, 13, 14]
 
