@@ -122,10 +122,10 @@ def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable
     return make
 
 
-# Answers are in metres and radians: a nanometre, and a nanoradian, is far below what any
-# file states or any robot reaches, and rounding there keeps 0.206 from printing as
-# 0.20600000000000002 after a sum of poses.
-DIGITS = 9
+# Answers are in metres and radians: 1e-12 is far below what any file states or any robot
+# reaches, and far above the noise of a few float operations, so rounding there keeps 0.206
+# from printing as 0.20600000000000002 after a sum of poses.
+DIGITS = 12
 
 
 def _number(value: float) -> float:
