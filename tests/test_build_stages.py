@@ -52,6 +52,8 @@ def test_the_build_table_accounts_for_every_stage(tmp_path: Path) -> None:
     assert result.returncode == 0, result.stderr
     rows = [line.strip("│ ").split("│") for line in result.stdout.splitlines() if line.startswith("│")]
     seconds = {row[0].strip(): float(row[-1]) for row in rows}
-    assert {"deriving the cell model", "loading into the store", "indexing the store", "total"} <= set(seconds)
+    assert {"deriving the cell model", "loading into the store", "indexing the store", "total"} <= set(
+        seconds
+    )
     parts = sum(v for k, v in seconds.items() if k != "total")
     assert abs(parts - seconds["total"]) < 0.01

@@ -78,7 +78,9 @@ def test_every_readme_command_works_as_written(workdir: Path) -> None:
 
 
 def test_every_file_the_readme_names_exists() -> None:
-    named = set(re.findall(r"\b(?:examples|docs|scripts|benchmarks)/[\w./-]+\.(?:rq|toml|md|sh|py)\b", README))
+    named = set(
+        re.findall(r"\b(?:examples|docs|scripts|benchmarks)/[\w./-]+\.(?:rq|toml|md|sh|py)\b", README)
+    )
     assert named
     assert sorted(p for p in named if not (ROOT / p).exists()) == []
 

@@ -38,7 +38,9 @@ def generate_launch_description() -> LaunchDescription:
             {
                 "source": LaunchConfiguration("source"),
                 "profile": LaunchConfiguration("profile"),
-                "approach_distance": ParameterValue(LaunchConfiguration("approach_distance"), value_type=float),
+                "approach_distance": ParameterValue(
+                    LaunchConfiguration("approach_distance"), value_type=float
+                ),
                 "marker_period": ParameterValue(LaunchConfiguration("marker_period"), value_type=float),
                 "allow_assign": ParameterValue(LaunchConfiguration("allow_assign"), value_type=bool),
             }
