@@ -31,7 +31,7 @@ def store(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def test_query_named_with_parameter_as_json(store: Path) -> None:
-    result = run("query", store, "wire-endpoints", "wireNumber=1500.51", "--format", "json")
+    result = run("query", store, "wire-endpoints", "wireNumber=1500.51", "--format", "rows-json")
     assert result.returncode == 0, result.stderr
     rows = json.loads(result.stdout)["rows"]
     assert [(r["end"], r["component"], r["pinName"]) for r in rows] == [

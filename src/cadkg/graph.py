@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 import pyoxigraph as ox
 
 import cadkg.registry as registry
-from cadkg.building import write_graphs
+from cadkg.building import StageClock, write_graphs
 from cadkg.errors import NotFound, StoreError
 from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
 from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
@@ -57,6 +57,18 @@ class KnowledgeGraph(GraphStore):
     def __init__(self, store: ox.Store, directory: Path | None = None, read_only: bool = False) -> None:
         super().__init__(store, directory, read_only)
         self._model: Any = None
+        # The stages of the build that made this graph and their seconds (see build).
+        self.stages: list[tuple[str, float]] = []
+
+    def __repr__(self) -> str:
+        where = f"store {str(self.directory)!r}" if self.directory is not None else "in memory"
+        rows = self.query(
+            "SELECT ?name ?profile WHERE { ?c a ck:Cell ; ck:label ?name ; ck:profile ?profile } LIMIT 1"
+        ).rows
+        cell = f"cell {rows[0]['name']!r} ({rows[0]['profile']}), " if rows else ""
+        return (
+            f"<KnowledgeGraph {where}: {cell}{len(self)} triples in {len(self.named_graphs())} named graphs>"
+        )
 
     @property
     def _model_file(self) -> Path | None:
@@ -70,8 +82,14 @@ class KnowledgeGraph(GraphStore):
         directory: str | Path | None = None,
         *,
         on_source: Callable[[SourceSpec], None] | None = None,
+        on_stage: Callable[[str], None] | None = None,
     ) -> KnowledgeGraph:
         """Build the graph of a manifest, in memory or atomically into ``directory``.
+
+        ``on_source`` hears of each input file as its reading starts; ``on_stage`` of every
+        stage by name (``opening the store``, ``reading FILE``, ``deriving the cell model``,
+        ``writing the derived graph``, ``loading into the store``, on disk ``indexing the
+        store``), whose times :attr:`stages` keeps afterwards.
 
         Raises
         ------
@@ -80,16 +98,31 @@ class KnowledgeGraph(GraphStore):
         """
         if not isinstance(manifest, Manifest):
             manifest = load_manifest(manifest)
+        clock = StageClock(on_stage)
+
+        def reading(source: SourceSpec) -> None:
+            clock.start(f"reading {source.rel}")
+            if on_source is not None:
+                on_source(source)
+
+        clock.start("opening the store")
         with paused_gc():
             if directory is None:
                 kg = cls.memory()
-                kg._load_sources(manifest, on_source, bulk=False)
-                return kg
-            return cls._build_into(manifest, Path(directory), on_source)
+                kg._load_sources(manifest, reading, clock, bulk=False)
+            else:
+                kg = cls._build_into(manifest, Path(directory), reading, clock)
+        clock.stop()
+        kg.stages = clock.stages
+        return kg
 
     @classmethod
     def _build_into(
-        cls, manifest: Manifest, directory: Path, on_source: Callable[[SourceSpec], None] | None
+        cls,
+        manifest: Manifest,
+        directory: Path,
+        on_source: Callable[[SourceSpec], None],
+        clock: StageClock,
     ) -> KnowledgeGraph:
         generation = new_generation(directory)
         reports: list[SourceReport] = []
@@ -102,7 +135,8 @@ class KnowledgeGraph(GraphStore):
             kg._generation = generation
             kg._load_ontology()
             edits = kg._keep_edits(directory, manifest.cell.base_iri)
-            reports = kg._load_sources(manifest, on_source, bulk=True, edits=edits)
+            reports = kg._load_sources(manifest, on_source, clock, bulk=True, edits=edits)
+            clock.start("indexing the store")
             model = kg.cell_model()
             if not (generation / _MODEL_FILE).exists():
                 kg._keep_model(model)
@@ -128,6 +162,7 @@ class KnowledgeGraph(GraphStore):
         self,
         manifest: Manifest,
         on_source: Callable[[SourceSpec], None] | None,
+        clock: StageClock,
         *,
         bulk: bool,
         edits: Iterable[tuple[str, str]] = (),
@@ -138,9 +173,17 @@ class KnowledgeGraph(GraphStore):
         # bulk-loading many chunks writes many small tables that cost more to merge.
         with BackgroundLoader(self._store, bulk=bulk) as loader:
             model = write_graphs(
-                manifest, loader.put, stream=not bulk, on_source=on_source, on_graph=self._took, edits=edits
+                manifest,
+                loader.put,
+                stream=not bulk,
+                on_source=on_source,
+                on_graph=self._took,
+                edits=edits,
+                on_stage=clock.start,
             )
+            clock.start("loading into the store")  # what the loader has still to take in
         if model is None:
+            clock.start("deriving the cell model")
             self.derive()
         else:
             self._model = model

@@ -11,12 +11,14 @@ what :mod:`cadkg.graph` derives from it (``cell-model.json``).
 from __future__ import annotations
 
 import contextlib
+import html
 import shutil
 import tempfile
 import time
 import uuid
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
+from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Self
 
@@ -56,6 +58,8 @@ EXPORT_FORMATS = {
     "jsonld": ox.RdfFormat.JSON_LD,
 }
 _CURRENT = "CURRENT"
+# Rows a notebook shows of a result; the rest are counted.
+_HTML_ROWS = 50
 _GENERATION = "gen-"  # the name of each generation directory starts so
 FILES = "files"
 
@@ -73,10 +77,38 @@ class QueryResult:
     def __len__(self) -> int:
         return len(self.rows)
 
-    def to_dataframe(self) -> pd.DataFrame:
+    def to_dataframe(self, *, keep_decimals: bool = False) -> pd.DataFrame:
+        """The rows as a pandas DataFrame, one column per variable.
+
+        ``xsd:decimal`` values (Python ``Decimal``) become floats, so numeric columns are
+        numeric (``describe()``, plots); ``keep_decimals=True`` keeps them exact.
+        """
         import pandas as pd
 
-        return pd.DataFrame(list(self.rows), columns=list(self.variables))
+        rows = self.rows
+        if not keep_decimals:
+            rows = tuple(
+                {k: float(v) if isinstance(v, Decimal) else v for k, v in row.items()} for row in rows
+            )
+        return pd.DataFrame(list(rows), columns=list(self.variables))
+
+    def _repr_html_(self) -> str:
+        """A table of the first rows, for notebooks."""
+        head = "".join(f"<th>{html.escape(v)}</th>" for v in self.variables)
+        body = "".join(
+            "<tr>"
+            + "".join(
+                f"<td>{'' if row[v] is None else html.escape(str(row[v]))}</td>" for v in self.variables
+            )
+            + "</tr>"
+            for row in self.rows[:_HTML_ROWS]
+        )
+        more = f" (the first {_HTML_ROWS} shown)" if len(self.rows) > _HTML_ROWS else ""
+        table = f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+        return f"{table}<p>{len(self)} row(s){more}</p>"
+
+    def __repr__(self) -> str:
+        return f"QueryResult(variables={list(self.variables)!r}, rows={len(self.rows)})"
 
 
 class GraphStore:

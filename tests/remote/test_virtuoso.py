@@ -195,8 +195,8 @@ def test_every_iema_service_answers_as_embedded(remote: RemoteGraph, embedded: K
 
 def test_cli_query_and_call_take_the_url(virtuoso: dict[str, str], remote: RemoteGraph, local: Path) -> None:
     url = virtuoso["VIRTUOSO_SPARQL"]
-    there = run("query", url, "wires-of-component", "label=F1500.1", "--format", "json")
-    here = run("query", local, "wires-of-component", "label=F1500.1", "--format", "json")
+    there = run("query", url, "wires-of-component", "label=F1500.1", "--format", "rows-json")
+    here = run("query", local, "wires-of-component", "label=F1500.1", "--format", "rows-json")
     assert there.returncode == 0, there.stderr
     assert json.loads(there.stdout) == json.loads(here.stdout)
     assert len(json.loads(there.stdout)["rows"]) == 8

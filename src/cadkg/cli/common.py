@@ -3,11 +3,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import json
+import shutil
 import sys
-from collections.abc import Callable, Sequence
+import tempfile
+from collections.abc import Callable, Iterator, Sequence
 from datetime import date, datetime
 from decimal import Decimal
 from functools import wraps
@@ -15,14 +18,25 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 import click
+import pyoxigraph as ox
 from rich.console import Console
 from rich.table import Table
 
-from cadkg.errors import CadkgError
+from cadkg.errors import CadkgError, QueryError
 from cadkg.graph import KnowledgeGraph
 from cadkg.store import QueryResult
 
-__all__ = ["err", "guarded", "open_target", "out", "parse_params", "print_result", "store_auth"]
+__all__ = [
+    "err",
+    "guarded",
+    "open_target",
+    "out",
+    "parse_params",
+    "print_result",
+    "print_sparql_json",
+    "store_auth",
+    "write_output",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
 err = Console(stderr=True, highlight=False, soft_wrap=True)
@@ -104,7 +118,7 @@ def parse_params(pairs: Sequence[str]) -> dict[str, str]:
 
 
 def print_result(result: QueryResult, fmt: str) -> None:
-    if fmt == "json":
+    if fmt == "rows-json":
         rows = [{k: _plain(v) for k, v in row.items()} for row in result.rows]
         out.print_json(json.dumps({"variables": list(result.variables), "rows": rows}))
     elif fmt == "csv":
@@ -120,3 +134,30 @@ def print_result(result: QueryResult, fmt: str) -> None:
             table.add_row(*("" if row[v] is None else str(_plain(row[v])) for v in result.variables))
         out.print(table)
         err.print(f"{len(result)} row(s)")
+
+
+def print_sparql_json(result: Any) -> None:
+    """A SELECT or ASK answer in the SPARQL 1.1 Query Results JSON format, as ``/sparql`` gives it."""
+    if not isinstance(result, ox.QuerySolutions | ox.QueryBoolean):
+        raise QueryError(
+            "--format json prints SELECT and ASK answers; export a CONSTRUCT with 'cadkg export'"
+        )
+    sys.stdout.buffer.write(result.serialize(format=ox.QueryResultsFormat.JSON) or b"")
+    sys.stdout.buffer.write(b"\n")
+    sys.stdout.flush()
+
+
+@contextlib.contextmanager
+def write_output(output: str, suffix: str) -> Iterator[Path]:
+    """The path to write ``output`` to: the file itself, or for ``-`` a temporary file whose
+    content goes to stdout once written (every export writes to a path)."""
+    if output != "-":
+        yield Path(output)
+        return
+    with tempfile.TemporaryDirectory(prefix="cadkg-export-") as folder:
+        path = Path(folder) / f"export{suffix}"
+        yield path
+        sys.stdout.flush()
+        with path.open("rb") as handle:
+            shutil.copyfileobj(handle, sys.stdout.buffer)
+        sys.stdout.buffer.flush()

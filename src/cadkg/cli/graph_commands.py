@@ -11,7 +11,17 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 import cadkg.registry as registry
-from cadkg.cli.common import err, guarded, open_target, out, parse_params, print_result, store_auth
+from cadkg.cli.common import (
+    err,
+    guarded,
+    open_target,
+    out,
+    parse_params,
+    print_result,
+    print_sparql_json,
+    store_auth,
+    write_output,
+)
 from cadkg.errors import QueryError
 from cadkg.graph import KnowledgeGraph
 from cadkg.ingest.manifest import load_manifest
@@ -38,7 +48,7 @@ def build(manifest: str, store_dir: str) -> None:
     with Progress(
         TextColumn("{task.description}"),
         BarColumn(),
-        TextColumn("{task.completed}/{task.total}"),
+        TextColumn("{task.completed}/{task.total} files"),
         TimeElapsedColumn(),
         console=err,
         transient=True,
@@ -46,17 +56,11 @@ def build(manifest: str, store_dir: str) -> None:
     ) as progress:
         task = progress.add_task("reading", total=len(spec.sources))
 
-        def advance(source: Any) -> None:
-            progress.update(task, description=f"reading {source.rel}")
-            progress.advance(task)
+        def stage(name: str) -> None:
+            progress.update(task, description=name)
 
-        kg = KnowledgeGraph.build(spec, store_dir, on_source=advance)
-    table = Table("file", "kind", "records", "triples", "seconds", title=f"{spec.cell.name} → {store_dir}")
-    for report in kg.reports:
-        table.add_row(
-            report.rel_path, report.kind, str(report.records), str(report.triples), f"{report.seconds:.3f}"
-        )
-    out.print(table)
+        kg = KnowledgeGraph.build(spec, store_dir, on_source=lambda _: progress.advance(task), on_stage=stage)
+    out.print(build_table(kg, f"{spec.cell.name} → {store_dir}"))
     for report in kg.reports:
         for warning in report.warnings:
             err.print(f"cadkg: warning: {warning}", markup=False)
@@ -69,16 +73,23 @@ def build(manifest: str, store_dir: str) -> None:
 @click.argument("query", metavar="QUERY_OR_FILE")
 @click.argument("params", nargs=-1, metavar="[KEY=VALUE]...")
 @click.option(
-    "--format", "fmt", type=click.Choice(["table", "csv", "json"]), default="table", show_default=True
+    "--format",
+    "fmt",
+    type=click.Choice(["table", "csv", "json", "rows-json"]),
+    default="table",
+    show_default=True,
+    help="json: SPARQL 1.1 Query Results JSON, as /sparql answers; rows-json: {variables, rows} "
+    "of plain values.",
 )
 @guarded
 def query(target: str, query: str, params: tuple[str, ...], fmt: str) -> None:
     """Run a named query, a .rq file or SPARQL text; KEY=VALUE binds parameters."""
-    bindings = parse_params(params)
+    bindings: dict[str, Any] = dict(parse_params(params))
     kg = open_target(target)
     known = named_queries()
     if query in known:
-        result = kg.query(known[query].text, **coerce_params(known[query], bindings))
+        text = known[query].text
+        bindings = coerce_params(known[query], bindings)
     else:
         path = Path(query)
         text = path.read_text(encoding="utf-8") if path.suffix == ".rq" and path.is_file() else query
@@ -88,8 +99,10 @@ def query(target: str, query: str, params: tuple[str, ...], fmt: str) -> None:
             raise QueryError(
                 f"{query!r} is not a named query, a .rq file or SPARQL; named: {', '.join(known)}"
             )
-        result = kg.query(text, **bindings)
-    print_result(result, fmt)
+    if fmt == "json":
+        print_sparql_json(kg.raw_query(text, bindings))
+    else:
+        print_result(kg.query(text, **bindings), fmt)
 
 
 @click.command()
@@ -182,7 +195,13 @@ def validate(target: str, no_shacl: bool, strict: bool) -> None:
     default=None,
     help="Default: from the output suffix.",
 )
-@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
+@click.option(
+    "-o",
+    "--output",
+    required=True,
+    type=click.Path(dir_okay=False, allow_dash=True),
+    help="A file, or - for stdout.",
+)
 @click.option(
     "--view",
     default=None,
@@ -196,7 +215,7 @@ def validate(target: str, no_shacl: bool, strict: bool) -> None:
 @guarded
 def export(target: str, fmt: str | None, output: str, view: str | None, harness: str | None) -> None:
     """Write the graph as Turtle, N-Triples, N-Quads, TriG, JSON-LD or GraphML."""
-    fmt = fmt or Path(output).suffix.lstrip(".").lower()
+    fmt = fmt or ("" if output == "-" else Path(output).suffix.lstrip(".").lower())
     if fmt not in (*EXPORT_FORMATS, "graphml"):
         raise click.BadParameter(f"cannot tell the format from {output!r}; give --format")
     if harness is not None and view in (None, "structure"):
@@ -204,13 +223,17 @@ def export(target: str, fmt: str | None, output: str, view: str | None, harness:
     views = {name: write for case in registry.use_cases() for name, write in case.views.items()}
     if view not in (None, "structure", *views):
         raise click.BadParameter(f"unknown view {view!r}; one of structure, {', '.join(sorted(views))}")
-    if view in views:
-        if fmt != "graphml":
-            raise click.BadParameter(f"--view {view} writes GraphML, not {fmt}")
-        views[view](open_target(target), output, harness)
-    else:
-        open_target(target).export(output, fmt)
-    err.print(f"wrote {output}")
+    if view in views and fmt != "graphml":
+        raise click.BadParameter(f"--view {view} writes GraphML, not {fmt}")
+    kg = open_target(target)
+    what = f"the {view} view" if view in views else "the graph"
+    with err.status(f"exporting {what} as {fmt}"), write_output(output, "." + fmt) as path:
+        if view in views:
+            views[view](kg, str(path), harness)
+        else:
+            kg.export(path, fmt)
+    if output != "-":
+        err.print(f"wrote {output}")
 
 
 @click.command()
@@ -221,3 +244,19 @@ def kinds() -> None:
     for reader in registry.kinds():
         table.add_row(reader.kind, " ".join(reader.suffixes), reader.description)
     out.print(table)
+
+
+def build_table(kg: KnowledgeGraph, title: str) -> Table:
+    """Each file's records and triples and every stage's seconds, adding up to the whole build."""
+    table = Table("file or stage", "kind", "records", "triples", "seconds", title=title)
+    reports = {f"reading {r.rel_path}": r for r in kg.reports}
+    for name, seconds in kg.stages:
+        report = reports.get(name)
+        if report is not None:
+            table.add_row(
+                report.rel_path, report.kind, str(report.records), str(report.triples), f"{seconds:.3f}"
+            )
+        else:
+            table.add_row(name, "", "", "", f"{seconds:.3f}")
+    table.add_row("total", "", "", "", f"{sum(s for _, s in kg.stages):.3f}", end_section=True)
+    return table

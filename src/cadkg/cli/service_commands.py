@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import click
@@ -28,6 +29,9 @@ def _cursor_file(target: str) -> Path | None:
 def call_service(target: str, service: str, params: tuple[str, ...], client: str) -> None:
     """Call a service (see 'cadkg services') and print its result as JSON.
 
+    Exit status: 0 when the service answered, 1 when its answer says ``success: false``,
+    2 on a usage or input error (an unknown service or parameter, a malformed value).
+
     Cursors (connection providers, rail scanner) are kept per client in STORE/cursors.json,
     so successive calls walk the list; a rebuilt store starts them afresh.
     """
@@ -52,7 +56,10 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
         temporary = state_file.with_suffix(".tmp")
         temporary.write_text(json.dumps(state, indent=1), encoding="utf-8")
         temporary.replace(state_file)
-    out.print_json(json.dumps(to_jsonable(result)))
+    answer = to_jsonable(result)
+    out.print_json(json.dumps(answer))
+    if isinstance(answer, dict) and answer.get("success") is False:
+        sys.exit(1)  # the service answered, and said it could not do it
 
 
 @click.command(name="services")

@@ -20,7 +20,7 @@ from typing import Any
 import rclpy
 from builtin_interfaces.msg import Duration
 from geometry_msgs.msg import Point, TransformStamped
-from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -31,6 +31,7 @@ import cadkg.registry as registry
 import cadkg.services.table as services
 from cadkg.errors import CadkgError
 from cadkg.graph import KnowledgeGraph
+from cadkg.query.frames import label_frames
 from cadkg.ros_adapter import convert
 from cadkg.ros_adapter.frames import marker_specs, static_frames
 from cadkg.services.session import Session
@@ -40,6 +41,8 @@ from cadkg.usecases.iema.extract import Placements, extract, placements
 __all__ = ["CadkgNode", "Loaded", "default_namespace", "load", "main", "srv_type"]
 
 DEFAULT_NAMESPACE = "/cadkg"
+# Seconds between two publications of the markers (see CadkgNode).
+MARKER_PERIOD = 2.0
 
 
 def default_namespace(profile: str) -> str:
@@ -81,9 +84,10 @@ class Loaded:
     profile: str
 
 
-def load(source: str, approach_distance: float | None = None) -> Loaded:
-    """Open a store directory read-only, build a manifest in memory, or read a remote SPARQL
-    endpoint (an http(s) URL; credentials from CADKG_STORE_AUTH[_DIGEST]), and derive the model.
+def load(source: str, approach_distance: float | None = None, *, writable: bool = False) -> Loaded:
+    """Open a store directory (read-only unless ``writable``: then assignments are kept in it),
+    build a manifest in memory, or read a remote SPARQL endpoint (an http(s) URL; credentials
+    from CADKG_STORE_AUTH[_DIGEST]), and derive the model.
 
     Raises
     ------
@@ -96,7 +100,7 @@ def load(source: str, approach_distance: float | None = None) -> Loaded:
 
         kg: KnowledgeGraph = RemoteGraph(source, auth=auth_from_env())
     elif path.is_dir():
-        kg = KnowledgeGraph.open(path, read_only=True)
+        kg = KnowledgeGraph.open(path, read_only=not writable)
     elif path.is_file():
         kg = KnowledgeGraph.build(path)
     else:
@@ -134,41 +138,62 @@ class CadkgNode:
         node.declare_parameter("profile", "")
         node.declare_parameter("namespace", "")
         node.declare_parameter("approach_distance", -1.0)
+        node.declare_parameter("marker_period", MARKER_PERIOD)
+        node.declare_parameter("allow_assign", False)
         self.source = str(node.get_parameter("source").value)
         if not self.source:
             raise CadkgError("parameter 'source' (a manifest or a store directory) is required")
         distance = float(node.get_parameter("approach_distance").value)
         self.approach_distance = distance if distance >= 0 and math.isfinite(distance) else None
+        self.allow_assign = bool(node.get_parameter("allow_assign").value)
         self._lock = threading.Lock()
-        self.loaded = load(self.source, self.approach_distance)
+        self.loaded = load(self.source, self.approach_distance, writable=self.allow_assign)
         self.profile = str(node.get_parameter("profile").value) or self.loaded.profile
-        self.namespace = (
-            str(node.get_parameter("namespace").value) or default_namespace(self.profile)
-        ).rstrip("/")
-        if not self.namespace.startswith("/"):
-            self.namespace = "/" + self.namespace
+        # Relative names: the node's namespace (``--ros-args -r __ns:=/cell2``, a launch file's
+        # ``namespace``) moves every service. An absolute ``namespace`` parameter pins them.
+        pinned = str(node.get_parameter("namespace").value)
+        if pinned.startswith("/"):
+            self.namespace = pinned.rstrip("/")
+        else:
+            self.namespace = (pinned or default_namespace(self.profile)).strip("/")
         group = ReentrantCallbackGroup()
         self._services = [
             node.create_service(
-                srv_type(name), f"{self.namespace}/{name}", self._callback(name), callback_group=group
+                srv_type(name), self.name_of(name), self._callback(name), callback_group=group
             )
             for name in (s.name for s in services.services_for(self.profile))
         ]
-        sparql_type = srv_type("sparql")
-        reload_type = srv_type("reload")
-        self._services.append(
-            node.create_service(sparql_type, f"{self.namespace}/sparql", self._sparql, callback_group=group)
-        )
-        self._services.append(
-            node.create_service(reload_type, f"{self.namespace}/reload", self._reload, callback_group=group)
-        )
+        for name, handler in (
+            ("sparql", self._sparql),
+            ("reload", self._reload),
+            ("assign", self._assign),
+            ("label_frames", self._label_frames),
+        ):
+            self._services.append(
+                node.create_service(srv_type(name), self.name_of(name), handler, callback_group=group)
+            )
         self._tf = node.create_publisher(TFMessage, "/tf_static", _latched())
         self._markers = node.create_publisher(MarkerArray, "~/markers", _latched())
+        self._frame_ids: list[str] = []
+        self._marker_message: MarkerArray | None = None
         self.publish()
+        # RViz's Marker display subscribes volatile by default: it sees what is published after
+        # it joined, so the markers go out again every marker_period seconds (0: only once).
+        period = float(node.get_parameter("marker_period").value)
+        if period > 0 and math.isfinite(period):
+            node.create_timer(
+                period, self._republish_markers, callback_group=MutuallyExclusiveCallbackGroup()
+            )
+        resolved = node.resolve_service_name(self.name_of("sparql")).rsplit("/", 1)[0]
         node.get_logger().info(
-            f"serving {self.source} (profile {self.profile or '-'}) under {self.namespace}: "
+            f"serving {self.source} (profile {self.profile or '-'}) under {resolved}: "
             f"{len(self._services)} services"
         )
+
+    def name_of(self, service: str) -> str:
+        """The name a service is created with: relative to the node's namespace unless the
+        ``namespace`` parameter is absolute."""
+        return f"{self.namespace}/{service}"
 
     # -- services ---------------------------------------------------------------------
     def _callback(self, name: str) -> Any:
@@ -218,6 +243,41 @@ class CadkgNode:
         self.publish()
         response.success = True
         response.message = f"reloaded {self.source}; cursors rewound"
+        return response
+
+    def _assign(self, request: Any, response: Any) -> Any:
+        if not self.allow_assign:
+            response.success = False
+            response.message = "assignments are not edited here; start the node with allow_assign:=true"
+            return response
+        try:
+            with self._lock:
+                loaded = self.loaded
+                response.target = loaded.kg.assign(request.kind, request.id, request.performer)
+                # The cursors go on where they were, over the work now left to the robot.
+                model = loaded.kg.cell_model()
+                session = Session(model, kg=loaded.kg)
+                session.load(loaded.session.dump())
+                loaded.model, loaded.session = model, session
+        except CadkgError as err:
+            response.success, response.message = False, str(err)
+            return response
+        kept = " (kept in the store)" if loaded.kg.directory is not None else " (in memory: not kept)"
+        response.success = True
+        response.message = f"{request.kind} {request.id} → {request.performer}{kept}"
+        return response
+
+    def _label_frames(self, request: Any, response: Any) -> Any:
+        try:
+            with self._lock:
+                pairs = label_frames(self.loaded.kg, self._frame_ids, request.label)
+        except CadkgError as err:
+            response.success, response.message = False, str(err)
+            return response
+        response.labels = [label for label, _ in pairs]
+        response.frame_ids = [frame for _, frame in pairs]
+        response.success = bool(pairs) or not request.label
+        response.message = f"{len(pairs)} frame(s)" if response.success else f"no frames of {request.label!r}"
         return response
 
     # -- TF and markers -------------------------------------------------------------------
@@ -272,7 +332,13 @@ class CadkgNode:
                 marker.color.r, marker.color.g, marker.color.b, marker.color.a = 0.9, 0.2, 0.1, 1.0
             marker.text = spec.text
             markers.append(marker)
-        self._markers.publish(MarkerArray(markers=markers))
+        self._frame_ids = [frame.child for frame in frames]
+        self._marker_message = MarkerArray(markers=markers)
+        self._markers.publish(self._marker_message)
+
+    def _republish_markers(self) -> None:
+        if self._marker_message is not None:
+            self._markers.publish(self._marker_message)
 
     def destroy(self) -> None:
         self.node.destroy_node()
@@ -315,6 +381,8 @@ def _arguments(argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]:
     parser.add_argument("--profile", default=None)
     parser.add_argument("--namespace", default=None)
     parser.add_argument("--approach-distance", type=float, default=None)
+    parser.add_argument("--marker-period", type=float, default=None)
+    parser.add_argument("--allow-assign", action="store_true", default=None)
     parser.add_argument("--node-name", default="cadkg")
     ours, ros_args = [], []
     rest = list(argv)
@@ -348,6 +416,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             ("profile", args.profile),
             ("namespace", args.namespace),
             ("approach_distance", args.approach_distance),
+            ("marker_period", args.marker_period),
+            ("allow_assign", args.allow_assign),
         )
         if value is not None
     ]

@@ -20,7 +20,7 @@ from cadkg.geometry.poses import Pose
 if TYPE_CHECKING:
     from cadkg.services.session import Session
 
-__all__ = ["CONVERT", "Service", "model_services", "on_model", "parse_pose", "to_jsonable"]
+__all__ = ["CONVERT", "DIGITS", "Service", "model_services", "on_model", "parse_pose", "to_jsonable"]
 
 
 @dataclass(frozen=True)
@@ -122,12 +122,25 @@ def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable
     return make
 
 
+# Answers are in metres and radians: 1e-12 is far below what any file states or any robot
+# reaches, and far above the noise of a few float operations, so rounding there keeps 0.206
+# from printing as 0.20600000000000002 after a sum of poses.
+DIGITS = 12
+
+
+def _number(value: float) -> float:
+    return round(value, DIGITS) if math.isfinite(value) else value
+
+
 def to_jsonable(value: Any, annotation: str = "") -> Any:
     """A service result as JSON-ready data: poses as position/orientation objects, vectors
-    (fields annotated ``Vec3``) as x/y/z objects, other sequences as lists."""
+    (fields annotated ``Vec3``) as x/y/z objects, other sequences as lists, floats rounded to
+    :data:`DIGITS` decimals (printed in their shortest form)."""
+    if isinstance(value, float):
+        return _number(value)
     if isinstance(value, Pose):
-        x, y, z = value.position
-        qx, qy, qz, qw = value.orientation
+        x, y, z = (_number(v) for v in value.position)
+        qx, qy, qz, qw = (_number(v) for v in value.orientation)
         return {"position": {"x": x, "y": y, "z": z}, "orientation": {"x": qx, "y": qy, "z": qz, "w": qw}}
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         data = {f.name: to_jsonable(getattr(value, f.name), str(f.type)) for f in dataclasses.fields(value)}
@@ -136,7 +149,7 @@ def to_jsonable(value: Any, annotation: str = "") -> Any:
         return data
     if isinstance(value, tuple | list):
         if annotation.startswith("Vec3") and len(value) == 3:
-            return {"x": value[0], "y": value[1], "z": value[2]}
+            return {"x": _number(value[0]), "y": _number(value[1]), "z": _number(value[2])}
         inner = annotation.removeprefix("tuple[").removeprefix("list[") if "[" in annotation else ""
         return [to_jsonable(v, inner) for v in value]
     return value

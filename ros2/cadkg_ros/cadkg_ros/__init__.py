@@ -1,0 +1,1 @@
+"""The cadkg node as a ROS 2 executable (see ``cadkg_ros.main``)."""
