@@ -8,7 +8,8 @@ import pytest
 
 from cadkg.geometry.poses import Pose
 from cadkg.graph import KnowledgeGraph
-from cadkg.ros_adapter.frames import ARROW_LENGTH, Frame, marker_specs, static_frames
+from cadkg.services.display import Frame
+from cadkg.services.frames import ARROW_LENGTH, marker_specs, static_frames
 from cadkg.usecases.iema.extract import placements
 from tests.conftest import ROOT
 

@@ -33,7 +33,7 @@ from cadkg.errors import CadkgError
 from cadkg.graph import KnowledgeGraph
 from cadkg.query.frames import label_frames
 from cadkg.ros_adapter import convert
-from cadkg.ros_adapter.frames import marker_specs, static_frames
+from cadkg.services.frames import marker_specs, static_frames
 from cadkg.services.session import Session
 from cadkg.usecases.iema.cabinet import CellModel, derive_cell
 from cadkg.usecases.iema.extract import Placements, extract, placements

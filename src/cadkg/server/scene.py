@@ -1,9 +1,9 @@
 """The cell in 3D for the page's viewer, as JSON-ready data read from the served graph.
 
 The viewer gets what ``cadkg ros`` publishes, so the picture and ``/tf_static`` agree: the
-frame tree (:func:`~cadkg.ros_adapter.frames.static_frames`: the manifest's frames, every
+frame tree (:func:`~cadkg.services.frames.static_frames`: the manifest's frames, every
 scene item, each component's original, corner and target, the profile's own frames) and the
-meshes in their frames (:func:`~cadkg.ros_adapter.frames.marker_specs`). To that it adds what
+meshes in their frames (:func:`~cadkg.services.frames.marker_specs`). To that it adds what
 a click needs (each object's IRI, label and component), each item's box (drawn when its mesh
 file is not at hand, as on a remote store), the wires' routing keypoints of the derived model,
 and the profile's points of interest (:mod:`cadkg.server.scene_extras`).
@@ -20,8 +20,8 @@ from pathlib import Path, PurePosixPath
 from typing import Any
 
 from cadkg.errors import CadkgError
-from cadkg.ros_adapter.frames import marker_specs, static_frames
 from cadkg.server.scene_extras import profile_extras
+from cadkg.services.frames import marker_specs, static_frames
 from cadkg.usecases.iema.extract import Placements, placements
 
 __all__ = ["cell_scene", "mesh_path"]

@@ -1,7 +1,7 @@
-"""What a cell shows a robot's tools and a viewer, as plain data: static frames and markers.
+"""What a cell shows, as plain data: a static frame (parent, child, pose) and a marker.
 
-The ROS adapter publishes them on ``/tf_static`` and as an RViz ``MarkerArray``; a use case
-adds its own through :attr:`cadkg.usecase.UseCase.frames` and :attr:`~cadkg.usecase.UseCase.markers`.
+:mod:`cadkg.services.frames` makes them for a cell; a use case adds its own through
+:attr:`cadkg.usecase.UseCase.frames` and :attr:`~cadkg.usecase.UseCase.markers`.
 """
 
 from __future__ import annotations

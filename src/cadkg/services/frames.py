@@ -1,4 +1,6 @@
-"""What the node publishes on ``/tf_static`` and ``~/markers``, as plain data (no ROS needed).
+"""What a cell shows a robot's tools and a viewer, as plain data: the static frames the ROS
+node publishes on ``/tf_static`` and the markers it publishes on ``~/markers``, which the web
+page's 3D view draws too.
 
 Frame names (``child`` of each static transform):
 
@@ -25,23 +27,21 @@ for elvez one ``MESH_RESOURCE`` per platform element with its model's STL, in it
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import cadkg.registry as registry
 from cadkg.errors import QueryError
 from cadkg.services.display import Frame, MarkerSpec
 from cadkg.services.session import Session
 
-if TYPE_CHECKING:
-    from cadkg.usecases.iema.extract import Placements
+__all__ = ["ARROW_LENGTH", "marker_specs", "static_frames"]
 
-__all__ = ["ARROW_LENGTH", "Frame", "MarkerSpec", "marker_specs", "static_frames"]
 
 ARROW_LENGTH = 0.02
 
 
 def static_frames(
-    placed: Placements, model: Any, profile: str = "iema", session: Session | None = None
+    placed: Any, model: Any, profile: str = "iema", session: Session | None = None
 ) -> list[Frame]:
     """One transform per frame of the cell; a name given twice keeps its first placement.
 
@@ -69,7 +69,7 @@ def static_frames(
 
 
 def marker_specs(
-    placed: Placements,
+    placed: Any,
     model: Any,
     files_dir: Path,
     profile: str = "iema",
