@@ -59,7 +59,8 @@ def _one_line(err: BaseException) -> str:
     if isinstance(err, OSError) and err.filename and err.strerror:
         # As the readers' errors: the file first, then what went wrong ("[Errno 2] ..." is noise).
         return f"{err.filename}: {err.strerror}"
-    return str(err)
+    # A message quoting a library over several lines is still printed as one.
+    return " ".join(line.strip() for line in str(err).splitlines() if line.strip())
 
 
 def store_auth(auth: str | None = None, auth_digest: str | None = None) -> Any:
@@ -74,12 +75,14 @@ def store_auth(auth: str | None = None, auth_digest: str | None = None) -> Any:
     return parse_auth(auth) if auth else None
 
 
-def open_target(target: str) -> KnowledgeGraph:
+def open_target(target: str, *, timeout: float | None = None) -> KnowledgeGraph:
     """A store directory is opened read-only; a manifest is built in memory; an http(s) URL is a
-    remote SPARQL endpoint (docs/remote.md)."""
+    remote SPARQL endpoint (docs/remote.md), asked with ``timeout`` when given."""
     from cadkg.remote import RemoteGraph, is_url
 
     if is_url(target):
+        if timeout is not None:
+            return RemoteGraph(target, auth=store_auth(), timeout=timeout)
         return RemoteGraph(target, auth=store_auth())
     path = Path(target)
     if path.is_dir():
