@@ -71,14 +71,39 @@ def build(manifest: str, store_dir: str) -> None:
 @click.option(
     "--format", "fmt", type=click.Choice(["table", "csv", "json"]), default="table", show_default=True
 )
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0.1),
+    default=None,
+    metavar="SECONDS",
+    help="Stop the query after this long (it runs in a worker process that is then killed).",
+)
+@click.option(
+    "--allow-service",
+    "allow_service",
+    multiple=True,
+    metavar="URL",
+    help="An endpoint SERVICE may reach (repeatable); without, federated queries are refused.",
+)
 @guarded
-def query(target: str, query: str, params: tuple[str, ...], fmt: str) -> None:
+def query(
+    target: str,
+    query: str,
+    params: tuple[str, ...],
+    fmt: str,
+    timeout: float | None,
+    allow_service: tuple[str, ...],
+) -> None:
     """Run a named query, a .rq file or SPARQL text; KEY=VALUE binds parameters."""
+    from cadkg.query.workers import query_within
+    from cadkg.remote import RemoteGraph
+
     bindings = parse_params(params)
-    kg = open_target(target)
+    kg = open_target(target, timeout=timeout)
+    kg.allowed_services = frozenset(allow_service)
     known = named_queries()
     if query in known:
-        result = kg.query(known[query].text, **coerce_params(known[query], bindings))
+        text, values = known[query].text, coerce_params(known[query], bindings)
     else:
         path = Path(query)
         text = path.read_text(encoding="utf-8") if path.suffix == ".rq" and path.is_file() else query
@@ -88,7 +113,12 @@ def query(target: str, query: str, params: tuple[str, ...], fmt: str) -> None:
             raise QueryError(
                 f"{query!r} is not a named query, a .rq file or SPARQL; named: {', '.join(known)}"
             )
-        result = kg.query(text, **bindings)
+        values = dict(bindings)
+    # A remote store evaluates the query itself: there the timeout is its HTTP client's.
+    if timeout is not None and not isinstance(kg, RemoteGraph):
+        result = query_within(kg, text, timeout, **values)
+    else:
+        result = kg.query(text, **values)
     print_result(result, fmt)
 
 
