@@ -36,7 +36,7 @@ QUERIES = [
     f"SELECT * WHERE {{ # SERVICE <{E}> {{ }}\n ?s ?p ?o }}",
     f"SELECT * WHERE {{ ?s ?p 'SERVICE <{E}> {{ }}' }}",
     f'SELECT * WHERE {{ ?s ?p """a\nSERVICE <{E}> {{ }}""" }}',
-    f"SELECT * WHERE {{ ?s ?p \"it's SERVICE <{E}>\"@en }}",
+    f'SELECT * WHERE {{ ?s ?p "it\'s SERVICE <{E}>"@en }}',
     "PREFIX service: <urn:x:> SELECT ?service WHERE { ?service service:load ?load }",
     "SELECT * WHERE { ?s <urn:x:service> ?o ; <urn:x:load> ?l }",
     "SELECT * WHERE { ?s ?p ?o FILTER(?o = 'load') }",
