@@ -18,6 +18,7 @@ __all__ = [
     "QueryError",
     "RegistryError",
     "StoreError",
+    "TimeLimitError",
     "UnknownTermError",
     "format_location",
 ]
@@ -31,6 +32,11 @@ def format_location(path: str | Path | None, line: int | None = None, cell: str 
     if line is not None:
         return f"{where}:{line}" if where else f"line {line}"
     return where
+
+
+def _one_line(text: str) -> str:
+    lines = text.splitlines()
+    return text if len(lines) <= 1 else " ".join(line.strip() for line in lines if line.strip())
 
 
 class CadkgError(Exception):
@@ -60,6 +66,9 @@ class _Located:
         self.line = line
         self.cell = cell
         self.found = None if found is None else str(found)
+        # A reason quoted from a library may run over several lines; an error is printed as one.
+        reason = _one_line(reason)
+        expected = _one_line(expected) if expected else expected
         self.expected = expected
         self.reason = reason
         text = reason
@@ -116,6 +125,10 @@ class StoreError(CadkgError):
 
 class QueryError(CadkgError):
     """A SPARQL query is malformed, names an unknown query, or lacks a parameter."""
+
+
+class TimeLimitError(CadkgError):
+    """A query or request ran past its time limit (and was stopped)."""
 
 
 class NotFound(CadkgError):  # noqa: N818 - the name the design documents

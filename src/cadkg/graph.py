@@ -21,6 +21,7 @@ import pyoxigraph as ox
 import cadkg.registry as registry
 from cadkg.building import StageClock, write_graphs
 from cadkg.errors import NotFound, StoreError
+from cadkg.generations import claim, new_generation, publish_generation, read_pointer
 from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
 from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
 from cadkg.loading import BackgroundLoader, paused_gc
@@ -28,7 +29,7 @@ from cadkg.mapping.writer import node_iri
 from cadkg.ontology.terms import CK_NS
 from cadkg.query.named import run_named
 from cadkg.query.views import graph_view, write_graphml
-from cadkg.store import FILES, GraphStore, QueryResult, new_generation, publish_generation, read_pointer
+from cadkg.store import FILES, GraphStore, QueryResult
 from cadkg.usecase import Derivation
 
 if TYPE_CHECKING:
@@ -125,6 +126,10 @@ class KnowledgeGraph(GraphStore):
         clock: StageClock,
     ) -> KnowledgeGraph:
         generation = new_generation(directory)
+        # Held until the generation is live or removed: a later build removes it only when the
+        # kernel has dropped this lock, i.e. when this process is gone (killed mid-build).
+        held = claim(generation)
+        assert held is not None  # claim() waits for the lock
         reports: list[SourceReport] = []
         store: ox.Store | None = None
         kg: KnowledgeGraph | None = None
@@ -150,9 +155,13 @@ class KnowledgeGraph(GraphStore):
             store = kg = None
             gc.collect()
             shutil.rmtree(generation, ignore_errors=True)
+            held.release()
             raise
         store = kg = None
-        publish_generation(directory, generation)
+        try:
+            publish_generation(directory, generation)
+        finally:
+            held.release()
         opened = cls.open(directory, read_only=False)
         opened.reports = reports
         opened._model = model

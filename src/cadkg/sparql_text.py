@@ -20,7 +20,15 @@ import pyoxigraph as ox
 
 from cadkg.errors import QueryError
 
-__all__ = ["bind_values", "query_form", "syntax_error_message", "term_value", "to_term", "values_clause"]
+__all__ = [
+    "bind_values",
+    "query_form",
+    "string_end",
+    "syntax_error_message",
+    "term_value",
+    "to_term",
+    "values_clause",
+]
 
 _XSD = "http://www.w3.org/2001/XMLSchema#"
 # Comments, whitespace, PREFIX and BASE declarations before the query form keyword.
@@ -152,7 +160,7 @@ def _where_group(sparql: str, form: str) -> int | None:
             i = n if end < 0 else end + 1
             continue
         if c in "\"'":
-            i = _string_end(sparql, i)
+            i = string_end(sparql, i)
             continue
         if c == "<":
             match = _IRIREF.match(sparql, i)
@@ -188,7 +196,8 @@ def _where_group(sparql: str, form: str) -> int | None:
     return tops[0][0]
 
 
-def _string_end(text: str, start: int) -> int:
+def string_end(text: str, start: int) -> int:
+    """The index just after the SPARQL string literal opening at ``start`` (any of its four quotes)."""
     quote = text[start]
     if text.startswith(quote * 3, start):
         end = start + 3

@@ -1,21 +1,15 @@
 """The store: a pyoxigraph database with one named graph per input file.
 
-On disk a store is a directory holding generations (``gen-*/``, each a complete
-oxigraph database) and a ``CURRENT`` file naming the live one. A build writes a
-new generation and then replaces ``CURRENT`` with one atomic rename, so a failed
-build leaves the previous store exactly as it was and readers never see half a build.
-Each generation also keeps the files that come with the graph (``files/``: STL meshes) and
-what :mod:`cadkg.graph` derives from it (``cell-model.json``).
+On disk a store is a directory holding generations and a ``CURRENT`` file naming the live
+one (:mod:`cadkg.generations`). Each generation also keeps the files that come with the graph
+(``files/``: STL meshes) and what :mod:`cadkg.graph` derives from it (``cell-model.json``).
 """
 
 from __future__ import annotations
 
 import contextlib
 import html
-import shutil
 import tempfile
-import time
-import uuid
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from decimal import Decimal
@@ -25,8 +19,17 @@ from typing import TYPE_CHECKING, Any, Self
 import pyoxigraph as ox
 
 from cadkg.errors import QueryError, StoreError
+from cadkg.generations import (
+    Snapshot,
+    current_generation,
+    new_generation,
+    publish_generation,
+    read_pointer,
+    take_snapshot,
+)
 from cadkg.ingest.pipeline import SourceReport
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
+from cadkg.outbound import check_outbound
 from cadkg.sparql_text import bind_values, syntax_error_message, term_value
 
 if TYPE_CHECKING:
@@ -38,6 +41,7 @@ __all__ = [
     "PREFIXES",
     "GraphStore",
     "QueryResult",
+    "evaluation_errors",
     "new_generation",
     "publish_generation",
     "read_pointer",
@@ -57,10 +61,8 @@ EXPORT_FORMATS = {
     "trig": ox.RdfFormat.TRIG,
     "jsonld": ox.RdfFormat.JSON_LD,
 }
-_CURRENT = "CURRENT"
 # Rows a notebook shows of a result; the rest are counted.
 _HTML_ROWS = 50
-_GENERATION = "gen-"  # the name of each generation directory starts so
 FILES = "files"
 
 
@@ -116,7 +118,12 @@ class GraphStore:
 
     Queries see the union of all named graphs as their default graph. What is derived from
     the graph (the cell model, its derived graph) is :class:`cadkg.graph.KnowledgeGraph`'s.
+
+    ``allowed_services`` are the only endpoints a query's ``SERVICE`` (or an update's ``LOAD``)
+    may reach; none by default, so a query makes no outbound request (:mod:`cadkg.outbound`).
     """
+
+    allowed_services: frozenset[str] = frozenset()
 
     def __init__(self, store: ox.Store, directory: Path | None = None, read_only: bool = False) -> None:
         self._store = store
@@ -156,7 +163,7 @@ class GraphStore:
             When the directory is not a cadkg store or cannot be opened.
         """
         directory = Path(directory)
-        generation = _current_generation(directory)
+        generation = current_generation(directory)
         try:
             store = ox.Store.read_only(str(generation)) if read_only else ox.Store(str(generation))
         except OSError as err:
@@ -200,6 +207,11 @@ class GraphStore:
                 target.parent.mkdir(parents=True, exist_ok=True)
                 made.add(target.parent)
             target.write_bytes(content)
+
+    def snapshot(self) -> Snapshot:
+        """The graph as it is now in a store directory other processes open read-only (the query
+        workers of :mod:`cadkg.query.workers`); :meth:`Snapshot.remove` when done."""
+        return take_snapshot(self._store, self.directory, self._generation)
 
     def close(self) -> None:
         if not self.read_only:
@@ -257,16 +269,18 @@ class GraphStore:
         Raises
         ------
         QueryError
-            On a syntax error, a parameter name that is not a SPARQL variable name or a
-            value that cannot be bound.
+            On a syntax error, a parameter name that is not a SPARQL variable name, a
+            value that cannot be bound, or a ``SERVICE`` to an endpoint not allowed.
+        StoreError
+            When an allowed ``SERVICE`` or the store's files cannot be read.
         """
         text = bind_values(sparql, bindings or {})
+        check_outbound(text, self.allowed_services, PREFIXES)
         try:
-            return self._store.query(text, prefixes=PREFIXES, use_default_graph_as_union=True)
+            with evaluation_errors():
+                return self._store.query(text, prefixes=PREFIXES, use_default_graph_as_union=True)
         except SyntaxError as err:
             raise QueryError(syntax_error_message(err, text, PREFIXES)) from None
-        except (RuntimeError, OSError) as err:
-            raise QueryError(str(err)) from None
 
     def query(self, sparql: str, **bindings: Any) -> QueryResult:
         """Run a SELECT and return its rows as dictionaries of Python values.
@@ -280,9 +294,11 @@ class GraphStore:
             raise QueryError("query() runs SELECT queries; use ask() or construct()")
         variables = tuple(v.value for v in result.variables)
         convert, width = term_value, range(len(variables))
-        rows = tuple(
-            dict(zip(variables, [convert(solution[i]) for i in width], strict=True)) for solution in result
-        )
+        with evaluation_errors():
+            rows = tuple(
+                dict(zip(variables, [convert(solution[i]) for i in width], strict=True))
+                for solution in result
+            )
         return QueryResult(variables, rows)
 
     def ask(self, sparql: str, **bindings: Any) -> bool:
@@ -295,7 +311,8 @@ class GraphStore:
         result = self.raw_query(sparql, bindings)
         if not isinstance(result, ox.QueryTriples):
             raise QueryError("construct() runs CONSTRUCT or DESCRIBE queries")
-        return list(result)
+        with evaluation_errors():
+            return list(result)
 
     def quads(self, graphs: Iterable[str] | None = None) -> Iterator[ox.Quad]:
         """Every quad, or those of the named ``graphs``."""
@@ -355,80 +372,50 @@ class GraphStore:
         QueryError
             On a syntax error (with its line and column) or an evaluation error.
         StoreError
-            On an update of a read-only store.
+            On an update of a read-only store, or as :meth:`raw_query`.
         """
+        check_outbound(sparql, self.allowed_services, PREFIXES)
         try:
-            if update:
-                if self.read_only:
-                    raise StoreError("the store is open read-only")
-                self._changing()
-                self._store.update(sparql, prefixes=PREFIXES)
-                self._changed()
-                return None
-            if default_graphs is None and named_graphs is None:
-                return self._store.query(sparql, prefixes=PREFIXES, use_default_graph_as_union=True)
-            return self._store.query(
-                sparql,
-                prefixes=PREFIXES,
-                default_graph=[ox.NamedNode(g) for g in default_graphs or ()],
-                named_graphs=[ox.NamedNode(g) for g in named_graphs or ()],
-            )
+            with evaluation_errors():
+                return self._execute(sparql, update, default_graphs, named_graphs)
         except SyntaxError as err:
             raise QueryError(syntax_error_message(err, sparql, PREFIXES)) from None
         except ValueError as err:
             raise QueryError(f"not an IRI: {err}") from None
-        except (RuntimeError, OSError) as err:
-            raise QueryError(str(err)) from None
+
+    def _execute(
+        self,
+        sparql: str,
+        update: bool,
+        default_graphs: Iterable[str] | None,
+        named_graphs: Iterable[str] | None,
+    ) -> Any:
+        if update:
+            if self.read_only:
+                raise StoreError("the store is open read-only")
+            self._changing()
+            self._store.update(sparql, prefixes=PREFIXES)
+            self._changed()
+            return None
+        if default_graphs is None and named_graphs is None:
+            return self._store.query(sparql, prefixes=PREFIXES, use_default_graph_as_union=True)
+        return self._store.query(
+            sparql,
+            prefixes=PREFIXES,
+            default_graph=[ox.NamedNode(g) for g in default_graphs or ()],
+            named_graphs=[ox.NamedNode(g) for g in named_graphs or ()],
+        )
 
 
-def _left_by_a_build(entry: Path) -> bool:
-    """Whether ``entry`` is what a build killed before its end leaves: a generation or a pointer."""
-    if entry.is_dir():
-        return entry.name.startswith(_GENERATION)
-    return entry.name.startswith(f".{_CURRENT}.{_GENERATION}")
-
-
-def read_pointer(directory: Path) -> str | None:
+@contextlib.contextmanager
+def evaluation_errors() -> Iterator[None]:
+    """Errors pyoxigraph raises while a query's solutions are read, as one line: what it could
+    not reach or read (a failing ``SERVICE``, a store whose files went away) as
+    :class:`StoreError`, what it could not evaluate (an unbound ``SERVICE`` variable) as
+    :class:`QueryError`."""
     try:
-        return (directory / _CURRENT).read_text(encoding="utf-8").strip() or None
-    except FileNotFoundError:
-        return None
-
-
-def _current_generation(directory: Path) -> Path:
-    name = read_pointer(directory)
-    if name is None:
-        raise StoreError(f"{directory}: not a cadkg store (no {_CURRENT} file); build one with 'cadkg build'")
-    generation = directory / name
-    if not generation.is_dir():
-        raise StoreError(f"{directory}: {_CURRENT} names {name!r}, which is missing")
-    return generation
-
-
-def new_generation(directory: Path) -> Path:
-    """The path of a new generation in the store directory ``directory`` (made if missing).
-
-    Raises
-    ------
-    StoreError
-        When ``directory`` holds something other than a store or what a killed build left.
-    """
-    if (
-        directory.exists()
-        and not (directory / _CURRENT).exists()
-        and not all(_left_by_a_build(entry) for entry in directory.iterdir())
-    ):
-        raise StoreError(f"{directory}: exists and is not a cadkg store; refusing to write into it")
-    directory.mkdir(parents=True, exist_ok=True)
-    return directory / f"{_GENERATION}{time.strftime('%Y%m%dT%H%M%S')}-{uuid.uuid4().hex[:8]}"
-
-
-def publish_generation(directory: Path, generation: Path) -> None:
-    """Make the complete ``generation`` the live one with one atomic rename; drop the previous."""
-    name = generation.name
-    pointer = directory / f".{_CURRENT}.{name}"
-    pointer.write_text(name + "\n", encoding="utf-8")
-    previous = read_pointer(directory)
-    pointer.replace(directory / _CURRENT)
-    if previous is not None and previous != name:
-        shutil.rmtree(directory / previous, ignore_errors=True)
+        yield
+    except OSError as err:
+        raise StoreError(f"the query failed: {err}") from None
+    except RuntimeError as err:
+        raise QueryError(f"the query failed: {err}") from None

@@ -117,9 +117,9 @@ def test_component_models_in_utf16_read_like_utf8(tmp_path: Path) -> None:
     assert models == read_component_models(source)
 
 
-def _in_utf16(source: Path, target: Path) -> Path:
+def _in_utf16(source: Path, target: Path, codec: str = "utf-16") -> Path:
     text = source.read_text(encoding="utf-8").replace('encoding="UTF-8"', 'encoding="UTF-16"')
-    target.write_bytes(text.encode("utf-16"))
+    target.write_bytes(text.encode(codec))
     return target
 
 
@@ -128,16 +128,33 @@ def _geometry(item: SceneItem) -> tuple[object, ...]:
     return (item.item_id, item.parent_id, item.translation, item.rotation, item.bbox_min, item.bbox_max, mesh)
 
 
-def test_x3d_in_utf16_reads_like_utf8(tmp_path: Path) -> None:
+# With its BOM, and without (then little- or big-endian as the NULs say, with a warning).
+CODECS = ["utf-16", "utf-16-le", "utf-16-be"]
+
+
+def _read(codec: str, read, path: Path):  # type: ignore[no-untyped-def]
+    if codec == "utf-16":
+        return _quiet(read, path)
+    with pytest.warns(IngestWarning, match="UTF-16 without a byte-order mark"):
+        return read(path)
+
+
+@pytest.mark.parametrize("codec", CODECS)
+def test_x3d_in_utf16_reads_like_utf8(tmp_path: Path, codec: str) -> None:
     shutil.copytree(IEMA / "parts", tmp_path / "parts")  # the scene's Inline files, left in UTF-8
-    items = _quiet(read_x3d, _in_utf16(IEMA / "scene.x3d", tmp_path / "scene.x3d"))
+    path = _in_utf16(IEMA / "scene.x3d", tmp_path / "scene.x3d", codec)
+    assert sniff_kind(path) == "x3d"
+    items = _read(codec, read_x3d, path)
     expected = read_x3d(IEMA / "scene.x3d")
     assert [(i.line, *_geometry(i)) for i in items] == [(i.line, *_geometry(i)) for i in expected]
     assert len(items) > 40
 
 
-def test_kbl_in_utf16_reads_like_utf8(tmp_path: Path) -> None:
-    assert _quiet(read_kbl, _in_utf16(KBL_SAMPLE, tmp_path / "h.kbl")) == read_kbl(KBL_SAMPLE)
+@pytest.mark.parametrize("codec", CODECS)
+def test_kbl_in_utf16_reads_like_utf8(tmp_path: Path, codec: str) -> None:
+    path = _in_utf16(KBL_SAMPLE, tmp_path / "h.kbl", codec)
+    assert sniff_kind(path) == "kbl"
+    assert _read(codec, read_kbl, path) == read_kbl(KBL_SAMPLE)
 
 
 def test_an_entity_in_utf16_xml_is_still_refused(tmp_path: Path) -> None:

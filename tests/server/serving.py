@@ -26,7 +26,13 @@ def serving(graph_or_loader: Any, settings: Settings | None = None, **limits: An
     """Serve a graph (or a loader) until the block ends; yields the base URL."""
     if settings is None:
         settings = Settings(limits=Limits(**limits), watch_seconds=0)
-    app = create_app(graph_or_loader, settings)
+    with serving_app(create_app(graph_or_loader, settings)) as base:
+        yield base
+
+
+@contextlib.contextmanager
+def serving_app(app: Any) -> Iterator[str]:
+    """Serve an app of :func:`cadkg.server.create_app` until the block ends; yields the base URL."""
     port = free_port()
     config = uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning", access_log=False)
     server = uvicorn.Server(config)
@@ -37,19 +43,41 @@ def serving(graph_or_loader: Any, settings: Settings | None = None, **limits: An
         if not thread.is_alive() or time.monotonic() > deadline:
             raise RuntimeError("the test server did not start")
         time.sleep(0.02)
+    base = f"http://127.0.0.1:{port}"
     try:
-        yield f"http://127.0.0.1:{port}"
+        ready(base)
+        yield base
     finally:
         server.should_exit = True
         thread.join(20)
 
 
+def ready(base: str, wait: float = 120) -> None:
+    """Wait until the endpoint's query workers have started (a short time limit in a test would
+    otherwise be spent starting them)."""
+    import httpx
+
+    deadline = time.monotonic() + wait
+    while True:
+        workers = httpx.get(f"{base}/api/info", timeout=30).json()["workers"]
+        if workers is None or workers["ready"]:
+            return
+        if time.monotonic() > deadline:
+            raise RuntimeError("the endpoint's query workers did not start")
+        time.sleep(0.05)
+
+
 @contextlib.contextmanager
 def cadkg_serve(*args: str, wait: float = 120) -> Iterator[str]:
-    """``cadkg serve ARGS --port <free port>`` in a subprocess until the block ends; yields the base URL.
+    """``cadkg serve ARGS --port <free port>`` in a subprocess until the block ends; yields the base URL."""
+    with cadkg_serve_process(*args, wait=wait) as (base, _):
+        yield base
 
-    The server runs in a process group of its own, killed as a whole at the end.
-    """
+
+@contextlib.contextmanager
+def cadkg_serve_process(*args: str, wait: float = 120) -> Iterator[tuple[str, Any]]:
+    """As :func:`cadkg_serve`, yielding the process too; it runs in its own process group (its
+    query workers with it), killed as a whole at the end."""
     import os
     import signal
     import subprocess
@@ -62,12 +90,7 @@ def cadkg_serve(*args: str, wait: float = 120) -> Iterator[str]:
     port = free_port()
     command = [sys.executable, "-m", "cadkg.cli", "serve", *args, "--port", str(port)]
     process = subprocess.Popen(
-        command,
-        cwd=ROOT,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
+        command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
     )
     base = f"http://127.0.0.1:{port}"
     try:
@@ -77,20 +100,27 @@ def cadkg_serve(*args: str, wait: float = 120) -> Iterator[str]:
                 _, err = process.communicate()
                 raise RuntimeError(f"cadkg serve exited with {process.returncode}: {err}")
             try:
-                if httpx.get(f"{base}/api/info", timeout=5).status_code == 200:
+                info = httpx.get(f"{base}/api/info", timeout=5)
+                if info.status_code == 200 and (info.json()["workers"] or {"ready": True})["ready"]:
                     break
             except httpx.TransportError:
                 pass
             if time.monotonic() > deadline:
                 raise RuntimeError("cadkg serve did not answer in time")
             time.sleep(0.2)
-        yield base
+        yield base, process
     finally:
-        process.terminate()
-        with contextlib.suppress(subprocess.TimeoutExpired):
-            process.wait(15)
         with contextlib.suppress(ProcessLookupError):
-            os.killpg(process.pid, signal.SIGKILL)
-        process.wait(5)
+            os.killpg(process.pid, signal.SIGTERM)
+        try:
+            process.wait(15)
+        except subprocess.TimeoutExpired:
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(process.pid, signal.SIGKILL)
+            process.wait(5)
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(process.pid, signal.SIGKILL)  # workers left by a server that did not end them
+        if process.stdout:
+            process.stdout.close()
         if process.stderr:
             process.stderr.close()

@@ -6,7 +6,10 @@ import json
 
 import httpx
 
+import cadkg
+from cadkg.server import Settings
 from tests.conftest import IEMA
+from tests.server.serving import serving
 from tests.test_cli import run
 
 BASE = "https://example.org/cell/iema-qe01/"
@@ -46,16 +49,20 @@ def test_service_errors(url: str) -> None:
     assert no_component.json()["success"] is False
 
 
-def test_cursors_are_kept_per_client(url: str) -> None:
-    def next_wire(client: str) -> str:
-        data = httpx.get(f"{url}/api/group_connection_provider", params={"client": client}).json()
-        return str(data["wire"])
+def test_cursors_are_kept_per_client(iema: cadkg.KnowledgeGraph) -> None:
+    auth = {"Authorization": "Bearer t0ken"}
+    with serving(iema, Settings(token="t0ken", watch_seconds=0)) as url:
 
-    httpx.get(f"{url}/api/reset_connection_list", params={"client": "a"})
-    httpx.get(f"{url}/api/reset_connection_list", params={"client": "b"})
-    first, second = next_wire("a"), next_wire("a")
-    assert first != second
-    assert next_wire("b") == first
+        def next_wire(client: str) -> str:
+            params = {"client": client}
+            response = httpx.post(f"{url}/api/group_connection_provider", params=params, headers=auth)
+            return str(response.json()["wire"])
+
+        httpx.post(f"{url}/api/reset_connection_list", params={"client": "a"}, headers=auth)
+        httpx.post(f"{url}/api/reset_connection_list", headers={**auth, "X-Cadkg-Client": "b"})
+        first, second = next_wire("a"), next_wire("a")
+        assert first != second
+        assert next_wire("b") == first
 
 
 def test_named_queries_listed_and_run(url: str) -> None:

@@ -65,11 +65,14 @@ def test_rebuild_while_serving_loses_no_request(store: Path) -> None:
     assert not (store / before).exists()
 
 
+TOKEN = {"Authorization": "Bearer t0ken"}
+
+
 def test_post_reload(store: Path) -> None:
-    settings = Settings(watch_seconds=0)
+    settings = Settings(token="t0ken", watch_seconds=0)
     with serving(lambda: KnowledgeGraph.open(store), settings) as base:
         current = (store / "CURRENT").read_text().strip()
-        response = httpx.post(f"{base}/reload")
+        response = httpx.post(f"{base}/reload", headers=TOKEN)
         assert response.status_code == 200
         assert response.json() == {"previous": current, "generation": current}
         count = httpx.get(f"{base}/sparql", params={"query": WIRES}, headers={"Accept": SRJ})
@@ -88,22 +91,30 @@ def test_reload_with_a_token_needs_it(store: Path) -> None:
         assert update.status_code == 403
 
 
+def test_a_reload_needs_the_token(store: Path) -> None:
+    with serving(lambda: KnowledgeGraph.open(store), Settings(watch_seconds=0)) as base:
+        refused = httpx.post(f"{base}/reload")
+        assert refused.status_code == 403
+        assert refused.json() == {"error": "a reload needs the endpoint's token; start it with --token"}
+        assert httpx.get(f"{base}/reload").status_code == 405
+
+
 def test_a_graph_handed_in_cannot_be_reloaded(iema: KnowledgeGraph) -> None:
-    with serving(iema) as base:
-        response = httpx.post(f"{base}/reload")
+    with serving(iema, Settings(token="t0ken", watch_seconds=0)) as base:
+        response = httpx.post(f"{base}/reload", headers=TOKEN)
         assert response.status_code == 409
         assert "cannot reopen" in response.json()["error"]
 
 
 def test_a_reload_warms_the_cache_before_the_swap(store: Path) -> None:
-    settings = Settings(watch_seconds=0)
+    settings = Settings(token="t0ken", watch_seconds=0)
     query = {"query": "SELECT DISTINCT ?n WHERE { ?w ck:wireNumber ?n } ORDER BY ?n LIMIT 3"}
     with serving(lambda: KnowledgeGraph.open(store), settings) as base:
         first = httpx.get(f"{base}/sparql", params=query, headers={"Accept": SRJ})
         before = httpx.get(f"{base}/api/info").json()
         assert before["cache"]["misses"] == 1 and before["cache"]["hits"] == 0
         KnowledgeGraph.build(IEMA, store).close()
-        swapped = httpx.post(f"{base}/reload", timeout=60).json()
+        swapped = httpx.post(f"{base}/reload", headers=TOKEN, timeout=60).json()
         assert swapped["generation"] == (store / "CURRENT").read_text().strip()
         again = httpx.get(f"{base}/sparql", params=query, headers={"Accept": SRJ})
         after = httpx.get(f"{base}/api/info").json()

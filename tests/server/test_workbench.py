@@ -21,9 +21,9 @@ import pytest
 
 import cadkg
 from cadkg.remote import RemoteGraph
-from cadkg.server import page
 from cadkg.server.columns import star_order
-from cadkg.server.harness_layout import layout
+from cadkg.server.workbench import page
+from cadkg.server.workbench.harness_layout import layout
 from tests.conftest import EXAMPLES
 from tests.server.serving import serving
 
@@ -143,7 +143,9 @@ def test_meshes_stream_as_binary_stl(url: str, scene: dict) -> None:
 
 
 def test_a_writing_service_needs_the_token(url: str) -> None:
-    response = httpx.get(f"{url}/api/load_files", params={"paths": "/etc/hostname"})
+    # Never by GET, which a page elsewhere can make; on a read-only endpoint not at all.
+    assert httpx.get(f"{url}/api/load_files", params={"paths": "/etc/hostname"}).status_code == 405
+    response = httpx.post(f"{url}/api/load_files", data={"paths": "/etc/hostname"})
     assert response.status_code == 403
     assert "read-only" in response.json()["error"]
 

@@ -27,14 +27,16 @@ from cadkg.graph import KnowledgeGraph
 from cadkg.store import QueryResult
 
 __all__ = [
+    "SPARQL_JSON_TASK",
     "err",
     "guarded",
     "open_target",
     "out",
     "parse_params",
     "print_result",
-    "print_sparql_json",
+    "sparql_json",
     "store_auth",
+    "write_bytes",
     "write_output",
 ]
 
@@ -73,7 +75,8 @@ def _one_line(err: BaseException) -> str:
     if isinstance(err, OSError) and err.filename and err.strerror:
         # As the readers' errors: the file first, then what went wrong ("[Errno 2] ..." is noise).
         return f"{err.filename}: {err.strerror}"
-    return str(err)
+    # A message quoting a library over several lines is still printed as one.
+    return " ".join(line.strip() for line in str(err).splitlines() if line.strip())
 
 
 def store_auth(auth: str | None = None, auth_digest: str | None = None) -> Any:
@@ -88,12 +91,14 @@ def store_auth(auth: str | None = None, auth_digest: str | None = None) -> Any:
     return parse_auth(auth) if auth else None
 
 
-def open_target(target: str) -> KnowledgeGraph:
+def open_target(target: str, *, timeout: float | None = None) -> KnowledgeGraph:
     """A store directory is opened read-only; a manifest is built in memory; an http(s) URL is a
-    remote SPARQL endpoint (docs/remote.md)."""
+    remote SPARQL endpoint (docs/remote.md), asked with ``timeout`` when given."""
     from cadkg.remote import RemoteGraph, is_url
 
     if is_url(target):
+        if timeout is not None:
+            return RemoteGraph(target, auth=store_auth(), timeout=timeout)
         return RemoteGraph(target, auth=store_auth())
     path = Path(target)
     if path.is_dir():
@@ -136,15 +141,31 @@ def print_result(result: QueryResult, fmt: str) -> None:
         err.print(f"{len(result)} row(s)")
 
 
-def print_sparql_json(result: Any) -> None:
-    """A SELECT or ASK answer in the SPARQL 1.1 Query Results JSON format, as ``/sparql`` gives it."""
+# sparql_json run in a query worker, for ``cadkg query --format json --timeout``.
+SPARQL_JSON_TASK = "cadkg.cli.common:sparql_json"
+
+
+def sparql_json(graph: Any, sparql: str, bindings: dict[str, Any]) -> bytes:
+    """A SELECT or ASK answer in the SPARQL 1.1 Query Results JSON format, as ``/sparql`` gives it.
+
+    Raises
+    ------
+    QueryError
+        On a CONSTRUCT or DESCRIBE, and as the query raises.
+    """
+    result = graph.raw_query(sparql, bindings)
     if not isinstance(result, ox.QuerySolutions | ox.QueryBoolean):
         raise QueryError(
             "--format json prints SELECT and ASK answers; export a CONSTRUCT with 'cadkg export'"
         )
-    sys.stdout.buffer.write(result.serialize(format=ox.QueryResultsFormat.JSON) or b"")
-    sys.stdout.buffer.write(b"\n")
+    return bytes(result.serialize(format=ox.QueryResultsFormat.JSON) or b"")
+
+
+def write_bytes(data: bytes) -> None:
+    """``data`` and a newline on stdout."""
     sys.stdout.flush()
+    sys.stdout.buffer.write(data + b"\n")
+    sys.stdout.buffer.flush()
 
 
 @contextlib.contextmanager

@@ -12,14 +12,16 @@ from rich.table import Table
 
 import cadkg.registry as registry
 from cadkg.cli.common import (
+    SPARQL_JSON_TASK,
     err,
     guarded,
     open_target,
     out,
     parse_params,
     print_result,
-    print_sparql_json,
+    sparql_json,
     store_auth,
+    write_bytes,
     write_output,
 )
 from cadkg.errors import QueryError
@@ -81,11 +83,35 @@ def build(manifest: str, store_dir: str) -> None:
     help="json: SPARQL 1.1 Query Results JSON, as /sparql answers; rows-json: {variables, rows} "
     "of plain values.",
 )
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0.1),
+    default=None,
+    metavar="SECONDS",
+    help="Stop the query after this long (it runs in a worker process that is then killed).",
+)
+@click.option(
+    "--allow-service",
+    "allow_service",
+    multiple=True,
+    metavar="URL",
+    help="An endpoint SERVICE may reach (repeatable); without, federated queries are refused.",
+)
 @guarded
-def query(target: str, query: str, params: tuple[str, ...], fmt: str) -> None:
+def query(
+    target: str,
+    query: str,
+    params: tuple[str, ...],
+    fmt: str,
+    timeout: float | None,
+    allow_service: tuple[str, ...],
+) -> None:
     """Run a named query, a .rq file or SPARQL text; KEY=VALUE binds parameters."""
+    from cadkg.query.workers import WorkerPool, query_within
+
     bindings: dict[str, Any] = dict(parse_params(params))
-    kg = open_target(target)
+    kg = open_target(target, timeout=timeout)
+    kg.allowed_services = frozenset(allow_service)
     known = named_queries()
     if query in known:
         text = known[query].text
@@ -99,10 +125,17 @@ def query(target: str, query: str, params: tuple[str, ...], fmt: str) -> None:
             raise QueryError(
                 f"{query!r} is not a named query, a .rq file or SPARQL; named: {', '.join(known)}"
             )
-    if fmt == "json":
-        print_sparql_json(kg.raw_query(text, bindings))
+    # A remote store evaluates the query itself: there the timeout is its HTTP client's.
+    if timeout is None or kg.remote:
+        if fmt == "json":
+            write_bytes(sparql_json(kg, text, bindings))
+        else:
+            print_result(kg.query(text, **bindings), fmt)
+    elif fmt == "json":
+        with WorkerPool(kg) as workers:
+            write_bytes(workers.call(SPARQL_JSON_TASK, (text, bindings), seconds=timeout))
     else:
-        print_result(kg.query(text, **bindings), fmt)
+        print_result(query_within(kg, text, timeout, **bindings), fmt)
 
 
 @click.command()

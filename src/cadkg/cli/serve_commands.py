@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 from typing import Any
@@ -61,6 +62,26 @@ __all__ = ["ros", "serve"]
     show_default=True,
     help="Seconds between checks for a rebuilt store (0: never).",
 )
+@click.option(
+    "--allow-service",
+    "allow_service",
+    multiple=True,
+    metavar="URL",
+    help="An endpoint a query's SERVICE may reach (repeatable); without, federated queries are refused.",
+)
+@click.option(
+    "--cors",
+    multiple=True,
+    metavar="ORIGIN",
+    help="A web origin (https://host:port) whose pages may query the endpoint (repeatable).",
+)
+@click.option(
+    "--files-root",
+    type=click.Path(exists=True, file_okay=False),
+    default=None,
+    metavar="DIR",
+    help="The only directory load_files reads from over HTTP (needs --allow-update).",
+)
 @guarded
 def serve(
     target: str,
@@ -75,11 +96,16 @@ def serve(
     workers: int,
     cache_mb: int,
     watch: float,
+    allow_service: tuple[str, ...],
+    cors: tuple[str, ...],
+    files_root: str | None,
 ) -> None:
     """Serve the graph over HTTP: SPARQL 1.1 Protocol at /sparql, services at /api, a web page at /.
 
     Read-only unless --allow-update with a --token; listens on loopback unless
-    --allow-non-loopback. A rebuilt store directory is picked up without losing requests.
+    --allow-non-loopback; makes no outbound request unless --allow-service; answers no web page
+    of another origin unless --cors. A rebuilt store directory is picked up without losing
+    requests. See docs/server.md, Security.
     """
     from cadkg.remote import RemoteGraph, is_url
     from cadkg.server import Limits, Settings
@@ -87,6 +113,9 @@ def serve(
 
     if allow_update and not token:
         raise click.BadParameter("--allow-update needs --token (or CADKG_SERVE_TOKEN)")
+    for origin in cors:
+        if not re.fullmatch(r"https?://[^/\s]+", origin):
+            raise click.BadParameter(f"{origin!r} is not a web origin: scheme://host[:port], no path")
     credentials = store_auth() if is_url(target) else None
 
     def load() -> Any:
@@ -98,7 +127,14 @@ def serve(
 
     limits = Limits(timeout=timeout, max_rows=max_rows, max_body=max_body, workers=workers)
     settings = Settings(
-        limits=limits, allow_update=allow_update, token=token, cache_bytes=cache_mb << 20, watch_seconds=watch
+        limits=limits,
+        allow_update=allow_update,
+        token=token,
+        cache_bytes=cache_mb << 20,
+        watch_seconds=watch,
+        files_root=Path(files_root) if files_root is not None else None,
+        cors=tuple(cors),
+        allowed_services=tuple(allow_service),
     )
     run_server(load, settings, host, port, allow_non_loopback=allow_non_loopback)
 

@@ -103,10 +103,12 @@ def decode_text(path: str | Path, data: bytes, *, expected: str) -> str:
 def xml_document(path: str | Path, data: bytes, *, expected: str) -> bytes | str:
     """What to hand the XML parser: UTF-16 decoded to text, anything else as it came.
 
-    Empty and binary files are refused here as :func:`decode_text` refuses them; the
-    parser itself reads the encoding other XML declares.
+    UTF-16 is recognised by its BOM or, without one, by the NULs beside its ASCII (as
+    :func:`decode_text` does, with the same warning); the XML parser would refuse it, since
+    only the BOM tells it the encoding. Empty and binary files are refused here as
+    :func:`decode_text` refuses them; the parser itself reads the encoding other XML declares.
     """
-    if data.startswith(_UTF16_BOMS):
+    if _utf16_order(data) is not None:
         return decode_text(path, data, expected=expected)
     _refuse_empty_or_binary(path, data.removeprefix(_BOM), expected)
     return data

@@ -1,21 +1,24 @@
 """The JSON side of the endpoint: services, named queries, the graph view, info and reload.
 
 - ``GET /api``: the services (with their parameters) and the named queries.
-- ``GET|POST /api/<service>?key=value&client=name``: one service call, answered as
-  ``cadkg call`` prints it (cursors are kept per client for the life of the served graph).
+- ``GET|POST /api/<service>?key=value``: one service call, answered as ``cadkg call`` prints
+  it. A service that changes something (:data:`CHANGES`: the graph, or a caller's cursor) is
+  taken only by POST with the token; a cursor belongs to the client the call names
+  (``client=NAME`` or ``X-Cadkg-Client``), kept apart from those of other transports.
 - ``GET /api/queries``: the named queries with their text; ``GET /api/queries/<name>?param=value``
   runs one, answered like ``/sparql`` (SPARQL JSON by default).
 - ``GET /api/graph?component=LABEL`` or ``?node=IRI``: nodes and edges around a component
   (its pins, the wires to other components) or around any node, for the page's graph view.
-- ``GET /api/info``: generation, size, named graphs, limits.
-- ``POST /reload``: open the store again (token, or loopback client when there is none).
+- ``GET /api/info``: generation, size, named graphs, limits, query workers.
+- ``POST /reload``: open the store again (with the token).
 """
 
 from __future__ import annotations
 
-import ipaddress
 import json
+import os
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 from urllib.parse import parse_qsl
 
@@ -27,16 +30,20 @@ from cadkg.errors import CadkgError, NotFound, QueryError
 from cadkg.query.named import coerce_params, named_queries
 from cadkg.server.context import Answer, Endpoint, ProtocolError, json_response, status_of
 from cadkg.server.holder import Served
+from cadkg.server.isolation import QuerySpec, embedded, query_job
 from cadkg.server.limits import Deadline
-from cadkg.server.protocol import _FORM, evaluate, fail, read_body
+from cadkg.server.protocol import _FORM, fail, read_body
 from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, NotAcceptableError, negotiate
-from cadkg.server.workbench import WRITING_SERVICES, find_named
+from cadkg.server.workbench.routes import find_named
 from cadkg.services.service import to_jsonable
 from cadkg.services.table import SERVICES, call
 from cadkg.store import PREFIXES
 
 __all__ = [
+    "CHANGES",
+    "CLIENT_HEADER",
     "component_graph",
+    "confine",
     "graph_view",
     "index",
     "info",
@@ -48,6 +55,21 @@ __all__ = [
 ]
 
 _NEIGHBOURS = 150
+CLIENT_HEADER = "X-Cadkg-Client"
+_CURSOR = "cursor"
+_GRAPH = "graph"
+CHANGES = {
+    "load_files": _GRAPH,
+    "full_connection_provider": _CURSOR,
+    "group_connection_provider": _CURSOR,
+    "reset_connection_list": _CURSOR,
+    "reset_to_connection_list": _CURSOR,
+    "rail_scanner": _CURSOR,
+    "reset_rail_scanner": _CURSOR,
+}
+"""The services that change something over HTTP: the served graph, or the caller's cursor (a
+provider hands out the next wire and moves on). Every other service only reads. The table of
+docs/server.md follows this one (tests/server/test_security.py holds them together)."""
 
 _PINS = """
 SELECT ?label ?component ?pin ?pinName ?level WHERE {
@@ -135,6 +157,44 @@ async def index(request: Request) -> Response:
     )
 
 
+def confine(paths: str, root: Path | None) -> str:
+    """``paths`` (comma separated, relative to ``root`` or absolute) as absolute paths, each
+    checked to lie under ``root`` once links and ``..`` are resolved.
+
+    Raises
+    ------
+    ProtocolError
+        403 without a root, or for a path outside it: the same words whether or not it exists,
+        so the answers tell nothing about the rest of the disk.
+    """
+    if root is None:
+        raise ProtocolError(
+            403, "load_files over HTTP reads files only under a directory named at start: --files-root DIR"
+        )
+    base = Path(os.path.realpath(root))
+    confined = []
+    for given in (part.strip() for part in paths.split(",")):
+        if not given:
+            continue
+        resolved = Path(os.path.realpath(base / given))
+        if not resolved.is_relative_to(base):
+            raise ProtocolError(403, f"{given!r} is not under the files root of this endpoint")
+        confined.append(str(resolved))
+    return ",".join(confined)
+
+
+def _check_change(endpoint: Endpoint, request: Request, name: str, changes: str) -> None:
+    if request.method == "GET":
+        raise ProtocolError(
+            405, f"{name} changes the {changes}: send it by POST with the token", {"Allow": "POST"}
+        )
+    authorization = request.headers.get("authorization")
+    if changes == _GRAPH:
+        endpoint.check_token(authorization)
+    else:
+        endpoint.check_holder(authorization, f"{name} (it moves a cursor)")
+
+
 async def service(request: Request) -> Response:
     """``/api/<service>``: one service call, as JSON."""
     endpoint: Endpoint = request.app.state.endpoint
@@ -143,17 +203,31 @@ async def service(request: Request) -> Response:
     try:
         if name not in SERVICES:
             raise NotFound(f"unknown service {name!r}; known: {', '.join(sorted(SERVICES))}")
-        if name in WRITING_SERVICES:
-            endpoint.check_token(request.headers.get("authorization"))
+        changes = CHANGES.get(name, "")
+        if changes:
+            _check_change(endpoint, request, name, changes)
         params = await _params(request, endpoint.limits.max_body)
-        client = params.pop("client", "default") or "default"
-        # Locked: cursors move one call at a time.
-        return await endpoint.run_json(
-            lambda served: to_jsonable(call(served.session(), name, params, client=client)),
-            None,
-            deadline,
-            locked=True,
-        )
+        client = params.pop("client", "") or request.headers.get(CLIENT_HEADER, "")
+        if changes == _CURSOR and not client:
+            raise ProtocolError(400, f"{name}: name the cursor's owner with client=NAME or {CLIENT_HEADER}")
+        if name == "load_files":
+            params["paths"] = confine(params.get("paths", ""), endpoint.settings.files_root)
+
+        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+            def job(_: Deadline) -> Answer:
+                with served.lock:  # cursors move one call at a time
+                    # Over HTTP a client's cursor is its own, never another transport's (a
+                    # robot's "default").
+                    result = call(served.session(), name, params, client=f"http:{client}")
+                    data = to_jsonable(result)
+                    if changes == _GRAPH:
+                        served.edited()
+                return Answer(json.dumps(data, default=str).encode(), "application/json")
+
+            return job
+
+        answer, generation = await endpoint.run(make_job, None, deadline, local=True)
+        return endpoint.respond(answer, generation)
     except CadkgError as err:
         return _error(err)
 
@@ -187,16 +261,11 @@ async def named(request: Request) -> Response:
         bindings = coerce_params(query, params)
         accept = request.headers.get("accept")
         results_fmt = negotiate(accept, fmt, RESULT_FORMATS)
-        max_rows = endpoint.limits.max_rows
+        not_graph = NotAcceptableError("a named query answers with results")
+        spec = QuerySpec(text, results_fmt, not_graph, endpoint.limits.max_rows, bindings)
 
         def make_job(served: Served) -> Callable[[Deadline], Answer]:
-            return lambda d: evaluate(
-                lambda: served.graph.raw_query(text, bindings),
-                results_fmt,
-                NotAcceptableError("a named query answers with results"),
-                max_rows,
-                d,
-            )
+            return query_job(endpoint.settings, served, spec)
 
         key = ("named", name, tuple(sorted(params.items())), results_fmt.name)
         answer, generation = await endpoint.run(make_job, key, deadline)
@@ -292,15 +361,31 @@ async def graph_view(request: Request) -> Response:
         if bool(label) == bool(iri):
             raise ProtocolError(400, "give component=LABEL or node=IRI")
 
-        return await endpoint.run_json(
-            lambda served: (
-                component_graph(served.graph, label) if label else node_graph(served.graph, iri or "")
-            ),
-            ("graph", label, iri),
-            deadline,
-        )
+        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+            def job(_: Deadline) -> Answer:
+                data = component_graph(served.graph, label) if label else node_graph(served.graph, iri or "")
+                return Answer(json.dumps(data, default=str).encode(), "application/json")
+
+            return job
+
+        answer, generation = await endpoint.run(make_job, ("graph", label, iri), deadline, local=True)
+        return endpoint.respond(answer, generation)
     except CadkgError as err:
         return _error(err)
+
+
+def _workers_info(served: Served, size: int) -> dict[str, Any] | None:
+    """The query worker processes: ``ready`` once all have started; ``killed`` counts the
+    queries stopped at their time limit."""
+    if not embedded(served.graph):
+        return None
+    workers = served.made_workers
+    return {
+        "processes": size,
+        "ready": bool(workers is not None and workers.warm),
+        "started": workers.started if workers is not None else 0,
+        "killed": workers.killed if workers is not None else 0,
+    }
 
 
 async def info(request: Request) -> Response:
@@ -310,37 +395,36 @@ async def info(request: Request) -> Response:
     limits = endpoint.limits
     try:
 
-        def build(served: Served) -> dict[str, Any]:
-            return {
-                "generation": served.generation,
-                "triples": served.triples(),
-                "named_graphs": served.graph.named_graphs(),
-                "prefixes": PREFIXES,
-                "limits": {
-                    "timeout_s": limits.timeout,
-                    "max_rows": limits.max_rows,
-                    "max_body_bytes": limits.max_body,
-                },
-                "update": endpoint.settings.allow_update,
-                "formats": {"results": list(RESULT_FORMATS), "graph": list(GRAPH_FORMATS)},
-                "cache": {
-                    "entries": len(endpoint.cache),
-                    "hits": endpoint.cache.hits,
-                    "misses": endpoint.cache.misses,
-                },
-                "reloads": endpoint.holder.reloads,
-            }
+        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+            def job(_: Deadline) -> Answer:
+                data = {
+                    "generation": served.generation,
+                    "triples": served.triples(),
+                    "named_graphs": served.graph.named_graphs(),
+                    "prefixes": PREFIXES,
+                    "limits": {
+                        "timeout_s": limits.timeout,
+                        "max_rows": limits.max_rows,
+                        "max_body_bytes": limits.max_body,
+                    },
+                    "update": endpoint.settings.allow_update,
+                    "formats": {"results": list(RESULT_FORMATS), "graph": list(GRAPH_FORMATS)},
+                    "cache": {
+                        "entries": len(endpoint.cache),
+                        "hits": endpoint.cache.hits,
+                        "misses": endpoint.cache.misses,
+                    },
+                    "reloads": endpoint.holder.reloads,
+                    "workers": _workers_info(served, limits.workers),
+                }
+                return Answer(json.dumps(data).encode(), "application/json")
 
-        return await endpoint.run_json(build, None, deadline)
+            return job
+
+        answer, generation = await endpoint.run(make_job, None, deadline, local=True)
+        return endpoint.respond(answer, generation)
     except CadkgError as err:
         return _error(err)
-
-
-def _loopback(host: str | None) -> bool:
-    try:
-        return host is not None and ipaddress.ip_address(host).is_loopback
-    except ValueError:
-        return False
 
 
 async def reload(request: Request) -> Response:
@@ -348,10 +432,7 @@ async def reload(request: Request) -> Response:
     on the old one."""
     endpoint: Endpoint = request.app.state.endpoint
     try:
-        if endpoint.settings.token:
-            endpoint.check_bearer(request.headers.get("authorization"))
-        elif not _loopback(request.client.host if request.client else None):
-            raise ProtocolError(403, "a reload without a token is accepted from this machine only")
+        endpoint.check_holder(request.headers.get("authorization"), "a reload")
         swapped = await endpoint.reload()
         assert swapped is not None  # only a watch reload may find nothing to do
         previous, generation = swapped

@@ -1,9 +1,12 @@
 """The ASGI application of the endpoint (Starlette), and :func:`serve`, which runs it with uvicorn.
 
-Routes: ``/`` the web page (:mod:`cadkg.server.page`); ``/sparql`` the SPARQL 1.1 Protocol;
+Routes: ``/`` the web page (:mod:`cadkg.server.workbench.page`); ``/sparql`` the SPARQL 1.1 Protocol;
 ``/graph-store`` the Graph Store Protocol; ``/api/...`` services, named queries, the graph view
 and info (see :mod:`cadkg.server.api`), completion terms, the 3D scene and its meshes (see
-:mod:`cadkg.server.workbench`); ``POST /reload`` to serve a rebuilt store.
+:mod:`cadkg.server.workbench.routes`); ``POST /reload`` to serve a rebuilt store.
+In front of them a guard refuses requests meant for another host (DNS rebinding) and
+requests a web page of another origin makes, unless the operator named that origin
+(``--cors``): those get CORS headers, so a page elsewhere (YASGUI) can query the endpoint.
 """
 
 from __future__ import annotations
@@ -22,11 +25,13 @@ from starlette.staticfiles import StaticFiles
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import cadkg.server.api as api
-import cadkg.server.page as page
-import cadkg.server.workbench as workbench
+import cadkg.server.workbench.page as page
+import cadkg.server.workbench.routes as workbench
 from cadkg.errors import StoreError
+from cadkg.server.api import CLIENT_HEADER
 from cadkg.server.context import Endpoint, Settings
 from cadkg.server.holder import GraphHolder
+from cadkg.server.isolation import pool_maker
 from cadkg.server.protocol import graph_store, sparql
 
 __all__ = ["STATIC", "create_app", "is_loopback", "serve"]
@@ -62,36 +67,86 @@ def _host_of(header: str) -> str:
     return header.rsplit(":", 1)[0] if header.count(":") == 1 else header
 
 
+def _refusal(message: str, status: int = 400) -> Response:
+    return Response(message + "\n", status, media_type="text/plain; charset=utf-8")
+
+
 class _Guard:
     """Refuses requests whose ``Host`` is not this machine (so a web page on another site cannot
-    reach a loopback endpoint through DNS rebinding) and adds the security headers."""
+    reach a loopback endpoint through DNS rebinding) and requests from a web page of another
+    origin than the endpoint's own and the ``cors`` ones; adds the security headers, and the
+    CORS headers for a ``cors`` origin."""
 
-    def __init__(self, app: ASGIApp, loopback_hosts_only: bool) -> None:
+    def __init__(self, app: ASGIApp, loopback_hosts_only: bool, cors: tuple[str, ...] = ()) -> None:
         self.app = app
         self.loopback_hosts_only = loopback_hosts_only
+        self.cors = {origin.rstrip("/") for origin in cors}
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
-        if self.loopback_hosts_only:
-            headers = dict(scope.get("headers") or [])
-            host = headers.get(b"host", b"").decode("latin-1")
-            if host and not is_loopback(_host_of(host)):
-                response = Response(
-                    f"host {host!r} is not this machine; the endpoint answers only loopback names\n",
-                    400,
-                    media_type="text/plain; charset=utf-8",
+        headers = dict(scope.get("headers") or [])
+        host = headers.get(b"host", b"").decode("latin-1")
+        if self.loopback_hosts_only and host and not is_loopback(_host_of(host)):
+            refused = f"host {host!r} is not this machine; the endpoint answers only loopback names"
+            await _refusal(refused)(scope, receive, send)
+            return
+        extra = list(_SECURITY_HEADERS)
+        origin = headers.get(b"origin", b"").decode("latin-1")
+        if origin:
+            if origin in self.cors:
+                extra += self._cors_headers(origin)
+                if scope["method"] == "OPTIONS" and b"access-control-request-method" in headers:
+                    preflight = Response(status_code=204, headers=dict(self._preflight()))
+                    preflight.raw_headers += extra
+                    await preflight(scope, receive, send)
+                    return
+            elif origin.split("://", 1)[-1].lower() != host.lower():
+                # No CORS by default, and not even an answer the page cannot read: a page
+                # elsewhere must not make the endpoint work, let alone change anything.
+                refused = (
+                    f"a request from a web page of another origin ({origin}) is refused; "
+                    "the endpoint answers such pages only when started with --cors ORIGIN"
                 )
-                await response(scope, receive, send)
+                await _refusal(refused, 403)(scope, receive, send)
                 return
 
         async def send_with_headers(message: Message) -> None:
             if message["type"] == "http.response.start":
-                message["headers"] = list(message.get("headers", [])) + _SECURITY_HEADERS
+                message["headers"] = list(message.get("headers", [])) + extra
             await send(message)
 
         await self.app(scope, receive, send_with_headers)
+
+    @staticmethod
+    def _cors_headers(origin: str) -> list[tuple[bytes, bytes]]:
+        return [
+            (b"access-control-allow-origin", origin.encode("latin-1")),
+            (b"vary", b"Origin"),
+            (b"access-control-expose-headers", b"X-Cadkg-Generation, X-Cadkg-Truncated"),
+        ]
+
+    @staticmethod
+    def _preflight() -> list[tuple[str, str]]:
+        allowed = f"Accept, Authorization, Content-Type, {CLIENT_HEADER}"
+        return [
+            ("access-control-allow-methods", "GET, POST"),
+            ("access-control-allow-headers", allowed),
+            ("access-control-max-age", "600"),
+        ]
+
+
+def _prepare(holder: GraphHolder, settings: Settings) -> None:
+    served = holder.acquire()
+    try:
+        workers = served.workers(pool_maker(settings))
+        if workers is not None:
+            workers.prestart()
+    except Exception as err:  # the first query says it again, as its answer
+        print(f"cadkg serve: query workers not ready: {err}", file=sys.stderr)
+    finally:
+        served.release()
 
 
 async def _watch(endpoint: Endpoint, seconds: float) -> None:
@@ -132,12 +187,17 @@ def create_app(
         watcher = None
         if settings.watch_seconds > 0 and getattr(holder.current.graph, "directory", None) is not None:
             watcher = asyncio.create_task(_watch(endpoint, settings.watch_seconds))
+        # The first query should not wait for the snapshot and the first worker process.
+        ready = asyncio.create_task(asyncio.to_thread(_prepare, holder, settings))
         try:
             yield
         finally:
             if watcher is not None:
                 watcher.cancel()
+            with contextlib.suppress(Exception):
+                await ready
             endpoint.evaluator.shutdown()
+            endpoint.local.shutdown()
             holder.close()
 
     methods = ["GET", "POST"]
@@ -163,7 +223,7 @@ def create_app(
         lifespan=lifespan,
     )
     app.state.endpoint = endpoint
-    return _Guard(app, loopback_hosts_only)
+    return _Guard(app, loopback_hosts_only, settings.cors)
 
 
 def serve(

@@ -9,6 +9,7 @@ import re
 from collections import OrderedDict
 from collections.abc import Awaitable, Callable, Hashable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from starlette.responses import Response
@@ -36,7 +37,13 @@ _SYNTAX = re.compile(r"SPARQL syntax error at line (\d+), column (\d+)")
 
 @dataclass(frozen=True)
 class Settings:
-    """How an endpoint is run: limits, writes, the answer cache, and the store watch."""
+    """How an endpoint is run: limits, writes, the answer cache, the store watch, and what it
+    opens beyond its defaults (docs/server.md, Security).
+
+    ``files_root`` is the only directory ``load_files`` reads from over HTTP (none: refused);
+    ``cors`` the origins whose web pages may call the endpoint; ``allowed_services`` the
+    endpoints a query's ``SERVICE`` may reach (none: every ``SERVICE`` is refused).
+    """
 
     limits: Limits = field(default_factory=Limits)
     allow_update: bool = False
@@ -45,6 +52,9 @@ class Settings:
     warm_entries: int = 32
     watch_seconds: float = 2.0
     retry_after: int = 5
+    files_root: Path | None = None
+    cors: tuple[str, ...] = ()
+    allowed_services: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.allow_update and not self.token:
@@ -58,6 +68,9 @@ class ProtocolError(CadkgError):
         super().__init__(message)
         self.status = status
         self.headers = headers or {}
+
+    def __reduce__(self) -> tuple[Any, ...]:  # raised in a query worker, re-raised here
+        return (type(self), (self.status, str(self), self.headers))
 
 
 @dataclass(frozen=True)
@@ -194,17 +207,25 @@ class Endpoint:
     def __init__(self, holder: GraphHolder, settings: Settings) -> None:
         self.holder = holder
         self.settings = settings
+        # Threads waiting for the query worker processes, and threads for the work done here
+        # (services, info, updates), so a burst of slow queries delays no service call.
         self.evaluator = Evaluator(settings.limits.workers)
+        self.local = Evaluator(settings.limits.workers)
         self.cache = AnswerCache(settings.cache_bytes)
         self.requests = 0
         self.retried = 0
         # How each cached answer is computed, to compute it again on a reloaded graph.
-        self._jobs: OrderedDict[Hashable, Callable[[Served], Callable[[Deadline], Answer]]] = OrderedDict()
+        self._jobs: OrderedDict[Hashable, tuple[Callable[[Served], Callable[[Deadline], Answer]], bool]] = (
+            OrderedDict()
+        )
         self._reloading = asyncio.Lock()
 
     @property
     def limits(self) -> Limits:
         return self.settings.limits
+
+    def _evaluator(self, local: bool) -> Evaluator:
+        return self.local if local else self.evaluator
 
     async def _once(
         self,
@@ -212,17 +233,19 @@ class Endpoint:
         make_job: Callable[[Served], Callable[[Deadline], Answer]],
         key: Hashable | None,
         deadline: Deadline,
+        local: bool,
     ) -> Answer:
+        evaluator = self._evaluator(local)
+
         async def compute() -> Answer:
             served.retain()  # released when the job ends, even after its caller gave up
-            return await self.evaluator.run(
-                make_job(served), Deadline(self.limits.timeout), on_done=served.release
-            )
+            fresh = Deadline(self.limits.timeout)
+            return await evaluator.run(make_job(served), fresh, on_done=served.release)
 
         if key is None:
             served.retain()
-            return await self.evaluator.run(make_job(served), deadline, on_done=served.release)
-        self._jobs[key] = make_job
+            return await evaluator.run(make_job(served), deadline, on_done=served.release)
+        self._jobs[key] = (make_job, local)
         self._jobs.move_to_end(key)
         if len(self._jobs) > 4 * max(self.settings.warm_entries, 1):
             self._jobs.popitem(last=False)
@@ -233,11 +256,15 @@ class Endpoint:
         make_job: Callable[[Served], Callable[[Deadline], Answer]],
         key: Hashable | None,
         deadline: Deadline,
+        *,
+        local: bool = False,
     ) -> tuple[Answer, str]:
-        """Run a job on the current graph in a worker; returns its answer and the generation.
+        """Run a job on the current graph in a thread: a query's (``local`` false: it waits for a
+        worker process) or one doing its work here. Returns its answer and the generation.
 
         A job that fails on a graph replaced meanwhile (its files may be gone) runs once more
-        on the new one, so a reload loses no request.
+        on the new one, so a reload loses no request; so does one that fails on a store rebuilt
+        before the watch noticed, once the new generation is served.
 
         Raises
         ------
@@ -248,14 +275,20 @@ class Endpoint:
         served = self.holder.acquire()
         try:
             try:
-                return await self._once(served, make_job, key, deadline), served.generation
+                return await self._once(served, make_job, key, deadline, local), served.generation
             except (QueryError, StoreError, OSError) as err:
-                if served is self.holder.current or str(err).startswith("SPARQL syntax error"):
+                if str(err).startswith("SPARQL syntax error"):
                     raise
+                if served is self.holder.current:
+                    if not self.holder.stale():
+                        raise
+                    await self.reload(only_if_stale=True)
+                    if served is self.holder.current:
+                        raise
             self.retried += 1
             served.release()
             served = self.holder.acquire()
-            return await self._once(served, make_job, key, deadline), served.generation
+            return await self._once(served, make_job, key, deadline, local), served.generation
         finally:
             served.release()
 
@@ -286,12 +319,12 @@ class Endpoint:
         keys = self.cache.recent(self.holder.current.key, self.settings.warm_entries)
 
         async def one(key: Hashable) -> None:
-            make_job = self._jobs.get(key)
-            if make_job is None:
+            if key not in self._jobs:
                 return
+            make_job, local = self._jobs[key]
             fresh.retain()
             try:
-                answer = await self.evaluator.run(
+                answer = await self._evaluator(local).run(
                     make_job(fresh), Deadline(self.limits.timeout), on_done=fresh.release
                 )
             except Exception:  # the first request for it computes it then
@@ -329,7 +362,8 @@ class Endpoint:
 
             return job
 
-        answer, generation = await self.run(make_job, key, deadline)
+        # Built here, in a thread: the query workers answer SPARQL, not Python callables.
+        answer, generation = await self.run(make_job, key, deadline, local=True)
         return self.respond(answer, generation)
 
     def respond(self, answer: Answer, generation: str) -> Response:
@@ -347,6 +381,18 @@ class Endpoint:
             raise ProtocolError(
                 403, "this endpoint is read-only; start it with --allow-update --token to accept writes"
             )
+        self.check_bearer(authorization)
+
+    def check_holder(self, authorization: str | None, what: str) -> None:
+        """For a change that is not a write to the graph (a reload, a cursor): the token.
+
+        Raises
+        ------
+        ProtocolError
+            403 when the endpoint has no token, 401 without the right bearer token.
+        """
+        if not self.settings.token:
+            raise ProtocolError(403, f"{what} needs the endpoint's token; start it with --token")
         self.check_bearer(authorization)
 
     def check_bearer(self, authorization: str | None) -> None:

@@ -18,6 +18,7 @@ from cadkg.services.session import Session
 __all__ = ["GraphHolder", "Served"]
 
 _serial = itertools.count(1)
+_NONE: Any = object()  # a graph that has no workers (a remote store)
 
 
 class Served:
@@ -34,6 +35,8 @@ class Served:
         self._refs = threading.Lock()
         self._session: Session | None = None
         self._triples: int | None = None
+        self._workers: Any = None
+        self._workers_lock = threading.Lock()
         self._users = 1  # the holder's own reference
         self._closed = False
 
@@ -54,11 +57,40 @@ class Served:
             self._triples = len(self.graph)
         return self._triples
 
+    def workers(self, make: Callable[[Any], Any]) -> Any:
+        """The query workers of this graph as it is now (``make(graph)`` on first use and after
+        an update; ``None`` when it makes none)."""
+        workers = self._workers
+        if workers is None:
+            # Under the writers' lock, so the snapshot never sees half an update.
+            with self.lock, self._workers_lock:
+                if self._closed:
+                    return None
+                if self._workers is None:
+                    made = make(self.graph)
+                    self._workers = _NONE if made is None else made
+                workers = self._workers
+        return None if workers is _NONE else workers
+
+    @property
+    def made_workers(self) -> Any:
+        """The query workers if they were made (see :meth:`workers`), else ``None``."""
+        workers = self._workers
+        return None if workers is _NONE else workers
+
+    def _retire_workers(self) -> None:
+        with self._workers_lock:
+            workers, self._workers = self._workers, None
+        if workers is not None and workers is not _NONE:
+            workers.close()
+
     def edited(self) -> None:
-        """After an update: new cache keys, and a session built afresh from the changed graph."""
+        """After an update: new cache keys, and a session and workers made afresh from the
+        changed graph. Call under :attr:`lock`."""
         self.edits += 1
         self._session = None
         self._triples = None
+        self._retire_workers()
 
     def retain(self) -> None:
         with self._refs:
@@ -70,6 +102,8 @@ class Served:
             last = self._users == 0 and not self._closed
             if last:
                 self._closed = True
+        if last:
+            self._retire_workers()
         if last and self.owned:
             self.graph.close()
 

@@ -1,18 +1,16 @@
 """What protects the endpoint: a time limit, a result-row cap, a body-size limit, bounded workers.
 
-pyoxigraph cannot cancel a query. Evaluation runs in a bounded pool of worker threads
-(the engine releases the GIL while it evaluates, so the event loop stays free), and
-each request has a :class:`Deadline`:
+Each request has a :class:`Deadline`, and its work runs in a bounded pool of threads (an
+:class:`Evaluator`), so the event loop stays free:
 
 - the client gets its answer, or a 503 time-out, within the limit (measured from the
   request's arrival, so waiting for a free worker counts);
 - a query still waiting for a worker when its time is up never starts;
-- a query whose solutions stream (no ``ORDER BY``, ``GROUP BY``, aggregate or ``DISTINCT``
-  over everything) stops at the next solution after its deadline;
-- a blocking step of the engine (a sort, a grouping, the first solution of a join that
-  finds nothing for long) cannot be interrupted: it runs to its end in the background,
-  holding one worker, and its result is dropped. At most ``workers`` such steps run at
-  once, so a burst of slow queries delays the others instead of overloading the machine.
+- a query's thread waits for a worker process (:mod:`cadkg.server.isolation`), where a query
+  whose solutions stream (no ``ORDER BY``, ``GROUP BY``, aggregate or ``DISTINCT`` over
+  everything) stops at the next solution after its deadline, and any other (a sort, a
+  grouping, a join that finds nothing for long: pyoxigraph cannot cancel them) is killed
+  with its process. Either way its core is idle again and its worker free.
 """
 
 from __future__ import annotations
@@ -25,7 +23,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import TypeVar
 
-from cadkg.errors import CadkgError
+from cadkg.errors import CadkgError, TimeLimitError
 
 __all__ = ["BodyTooLargeError", "Deadline", "Evaluator", "Limits", "TimeLimitError"]
 
@@ -46,10 +44,6 @@ class Limits:
             raise ValueError(f"limits must be positive: {self}")
 
 
-class TimeLimitError(CadkgError):
-    """A request ran past its time limit."""
-
-
 class BodyTooLargeError(CadkgError):
     """A request body is larger than the limit."""
 
@@ -63,6 +57,14 @@ class Deadline:
         self.seconds = seconds
         self.at = time.monotonic() + seconds
         self._abandoned = False
+
+    @classmethod
+    def until(cls, at: float, seconds: float) -> Deadline:
+        """The deadline at the monotonic time ``at`` (of any process: the clock is the system's),
+        of a limit of ``seconds``."""
+        deadline = cls(seconds)
+        deadline.at = at
+        return deadline
 
     def remaining(self) -> float:
         return self.at - time.monotonic()

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
 from urllib.parse import parse_qsl
 
 import pyoxigraph as ox
@@ -22,10 +21,8 @@ from starlette.requests import Request
 from starlette.responses import Response
 
 from cadkg.errors import CadkgError, QueryError, StoreError
-from cadkg.graph import KnowledgeGraph
-from cadkg.server.columns import with_star_order
+from cadkg.outbound import check_outbound
 from cadkg.server.context import (
-    TRUNCATED_HEADER,
     Answer,
     Endpoint,
     ProtocolError,
@@ -34,21 +31,12 @@ from cadkg.server.context import (
     syntax_message,
 )
 from cadkg.server.holder import Served
+from cadkg.server.isolation import QuerySpec, embedded, query_job
 from cadkg.server.limits import BodyTooLargeError, Deadline
-from cadkg.server.results import (
-    GRAPH_FORMATS,
-    RESULT_FORMATS,
-    Format,
-    NotAcceptableError,
-    negotiate,
-    read_solutions,
-    read_triples,
-    write_boolean,
-    write_graph,
-    write_table,
-)
+from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, Format, NotAcceptableError, negotiate
+from cadkg.store import PREFIXES
 
-__all__ = ["Operation", "evaluate", "graph_store", "read_body", "read_operation", "sparql"]
+__all__ = ["Operation", "graph_store", "read_body", "read_operation", "sparql"]
 
 _FORM = "application/x-www-form-urlencoded"
 _QUERY = "application/sparql-query"
@@ -165,54 +153,11 @@ async def read_operation(request: Request, limit: int) -> Operation:
     )
 
 
-def _embedded(graph: Any) -> bool:
-    """Whether ``graph`` is the embedded store (a remote one answers only :meth:`raw_query`)."""
-    return isinstance(graph, KnowledgeGraph) and type(graph).raw_query is KnowledgeGraph.raw_query
-
-
 def _maybe(accept: str | None, fmt: str | None, formats: dict[str, Format]) -> Format | NotAcceptableError:
     try:
         return negotiate(accept, fmt, formats)
     except NotAcceptableError as err:
         return err
-
-
-def evaluate(
-    run: Callable[[], Any],
-    results_fmt: Format | NotAcceptableError,
-    graph_fmt: Format | NotAcceptableError,
-    max_rows: int,
-    deadline: Deadline,
-) -> Answer:
-    """Run a query and write its answer, reading at most ``max_rows`` rows (or triples).
-
-    Raises
-    ------
-    QueryError, TimeLimitError, NotAcceptableError
-        From the query, the deadline, or a format that cannot carry this kind of answer.
-    """
-    result = run()
-    try:
-        if isinstance(result, bool | ox.QueryBoolean):
-            if isinstance(results_fmt, NotAcceptableError):
-                raise results_fmt
-            return Answer(write_boolean(bool(result), results_fmt), results_fmt.content_type)
-        if hasattr(result, "variables"):
-            if isinstance(results_fmt, NotAcceptableError):
-                raise results_fmt
-            table = read_solutions(result, max_rows, deadline)
-            body, fmt = write_table(table, results_fmt), results_fmt
-        else:
-            if isinstance(graph_fmt, NotAcceptableError):
-                raise graph_fmt
-            table = read_triples(result, max_rows, deadline)
-            body, fmt = write_graph(table.rows, graph_fmt), graph_fmt
-    finally:
-        # pyoxigraph's result iterators must be dropped on the thread that made them, not by
-        # the event loop when it discards the traceback of an error.
-        del result
-    headers = ((TRUNCATED_HEADER, str(max_rows)),) if table.truncated else ()
-    return Answer(body, fmt.content_type, headers=headers)
 
 
 def fail(err: Exception, text: str = "", retry_after: int = 5) -> Response:
@@ -226,20 +171,6 @@ def fail(err: Exception, text: str = "", retry_after: int = 5) -> Response:
     return error_response(status, message, headers)
 
 
-def _run_query(served: Served, op: Operation) -> Any:
-    graph = served.graph
-    if _embedded(graph):
-        # execute() keeps the parser's whole message ("expected one of ...") for the 400.
-        if not op.has_dataset:
-            return graph.execute(op.text)
-        return graph.execute(op.text, default_graphs=op.default_graphs, named_graphs=op.named_graphs)
-    if op.has_dataset:
-        raise ProtocolError(
-            400, "default-graph-uri and named-graph-uri are not supported on a remote store; use GRAPH"
-        )
-    return graph.raw_query(op.text)
-
-
 async def sparql(request: Request) -> Response:
     """``/sparql``: SPARQL 1.1 Protocol queries (GET, POST) and updates (POST)."""
     endpoint: Endpoint = request.app.state.endpoint
@@ -248,6 +179,8 @@ async def sparql(request: Request) -> Response:
     try:
         op = await read_operation(request, endpoint.limits.max_body)
         text = op.text
+        # Before anything runs, on any store: a remote one would fetch for us just the same.
+        check_outbound(text, endpoint.settings.allowed_services, PREFIXES)
         if op.update:
             return await _update(endpoint, request, op, deadline)
         accept = request.headers.get("accept")
@@ -255,12 +188,17 @@ async def sparql(request: Request) -> Response:
         graph_fmt = _maybe(accept, op.fmt, GRAPH_FORMATS)
         if isinstance(results_fmt, NotAcceptableError) and isinstance(graph_fmt, NotAcceptableError):
             raise results_fmt
-        max_rows = endpoint.limits.max_rows
+        spec = QuerySpec(
+            op.text,
+            results_fmt,
+            graph_fmt,
+            endpoint.limits.max_rows,
+            default_graphs=op.default_graphs,
+            named_graphs=op.named_graphs,
+        )
 
         def make_job(served: Served) -> Callable[[Deadline], Answer]:
-            return lambda d: evaluate(
-                lambda: with_star_order(_run_query(served, op), op.text), results_fmt, graph_fmt, max_rows, d
-            )
+            return query_job(endpoint.settings, served, spec)
 
         key = ("sparql", op.text, op.default_graphs, op.named_graphs, str(results_fmt), str(graph_fmt))
         answer, generation = await endpoint.run(make_job, key, deadline)
@@ -276,7 +214,7 @@ async def _update(endpoint: Endpoint, request: Request, op: Operation, deadline:
 
     def make_job(served: Served) -> Callable[[Deadline], Answer]:
         def job(_: Deadline) -> Answer:
-            if not _embedded(served.graph):
+            if not embedded(served.graph):
                 raise ProtocolError(501, "updates are not supported on a remote store; use cadkg push")
             with served.lock:
                 served.graph.execute(op.text, update=True)
@@ -288,7 +226,7 @@ async def _update(endpoint: Endpoint, request: Request, op: Operation, deadline:
     # An update is never retried on another graph: it ran, or it failed as a whole.
     served = endpoint.holder.acquire()
     try:
-        answer = await endpoint.evaluator.run(make_job(served), deadline)
+        answer = await endpoint.local.run(make_job(served), deadline)
         return endpoint.respond(answer, served.generation)
     finally:
         served.release()
@@ -349,14 +287,15 @@ async def _read_graph(
     fmt = negotiate(request.headers.get("accept"), None, GRAPH_FORMATS)
     inner = "?s ?p ?o" if graph_iri is None else f"GRAPH <{graph_iri}> {{ ?s ?p ?o }}"
     text = f"CONSTRUCT {{ ?s ?p ?o }} WHERE {{ {inner} }}"
-    max_rows = endpoint.limits.max_rows
+    spec = QuerySpec(text, fmt, fmt, endpoint.limits.max_rows, {})
 
     def make_job(served: Served) -> Callable[[Deadline], Answer]:
+        answer = query_job(endpoint.settings, served, spec)
+
         def job(d: Deadline) -> Answer:
             if graph_iri is not None and graph_iri not in served.graph.named_graphs():
                 raise ProtocolError(404, f"no graph <{graph_iri}> in the store")
-            answer = evaluate(lambda: served.graph.raw_query(text), fmt, fmt, max_rows, d)
-            return answer
+            return answer(d)
 
         return job
 
@@ -389,7 +328,7 @@ async def _write_graph(
     try:
 
         def job(_: Deadline) -> Answer:
-            if not _embedded(served.graph):
+            if not embedded(served.graph):
                 raise ProtocolError(501, "writes are not supported on a remote store; use cadkg push")
             with served.lock:
                 existed = graph_iri in served.graph.named_graphs()
@@ -405,7 +344,7 @@ async def _write_graph(
             status = 201 if method in ("PUT", "POST") and not existed else 204
             return Answer(b"", "text/plain; charset=utf-8", status)
 
-        answer = await endpoint.evaluator.run(job, deadline)
+        answer = await endpoint.local.run(job, deadline)
         return endpoint.respond(answer, served.generation)
     except (QueryError, StoreError) as err:
         raise ProtocolError(400, str(err)) from None

@@ -1,7 +1,7 @@
 // The 3D view of the cell: what /api/scene gives, drawn with three.js; meshes streamed as
 // binary STL from /api/mesh. Click an object for its label and facts (a DESCRIBE); pick a
 // component for its pins with their screw and hole poses (cad_service); step through the
-// wires with group_connection_provider. It renders only when something changed.
+// the robot's wires in the order group_connection_provider gives them. It renders only when something changed.
 
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
@@ -532,25 +532,30 @@ export class CellView {
     this.fit(box);
   }
 
-  /** The next wire of group_connection_provider: its path as a tube, its ends as the pins. */
+  /** The next wire the robot makes, in the order group_connection_provider hands them out (the
+   * scene's routes, robot's first to last): its path as a tube, its ends as the pins. The page
+   * keeps its own place, so looking at wires moves no cursor of the served cell. */
   async nextWire() {
-    const result = await getJson(`/api/group_connection_provider?client=${CLIENT}`);
-    if (result.end) {
+    const robot = this.data.routes.filter((r) => r.performer === "robot");
+    this.wireIndex = this.wireIndex === undefined ? 0 : this.wireIndex + 1;
+    if (this.wireIndex >= robot.length) {
+      this.wireIndex = undefined;
       $("cell-status").textContent = "the connection list is done; Next wire starts it again";
-      await getJson(`/api/reset_connection_list?client=${CLIENT}`);
       return;
     }
-    const route = this.data.routes.find((r) => r.label === result.wire);
-    const component = this.data.components.find((c) => c.label === result.origin.label);
-    const frame = (component && this.matrixOf(component.frame)) || (route && this.matrixOf(route.frame)) || new THREE.Matrix4();
-    const path = result.path_keypoints.map((p) => vector(p).applyMatrix4(frame));
-    await this.select({ kind: "wire", label: `wire ${result.wire} (list position ${result.list_position})`, iri: route ? route.iri : null });
+    const route = robot[this.wireIndex];
+    const frame = this.matrixOf(route.frame) || new THREE.Matrix4();
+    const path = [];
+    for (let i = 0; i + 2 < route.points.length; i += 3) {
+      path.push(new THREE.Vector3(route.points[i], route.points[i + 1], route.points[i + 2]).applyMatrix4(frame));
+    }
+    await this.select({ kind: "wire", label: `wire ${route.label} (list position ${route.position})`, iri: route.iri });
     this.addRoute(path);
     const box = new THREE.Box3().setFromPoints(path).expandByScalar(this.size * 0.03);
     this.fit(box.applyMatrix4(this.root.matrixWorld)); // the wire, end to end
     this.extraLabels = [
-      { text: `${result.origin.label}:${result.origin.pin}`, position: path[0] },
-      { text: `${result.destination.label}:${result.destination.pin}`, position: path[path.length - 1] },
+      { text: route.origin, position: path[0] },
+      { text: route.destination, position: path[path.length - 1] },
     ];
     this.setLabels();
   }

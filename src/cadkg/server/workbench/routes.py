@@ -1,10 +1,10 @@
 """The JSON routes behind the page's workbench, all read-only.
 
-- ``GET /api/terms``: what the editor completes (:func:`cadkg.server.terms.completion_terms`).
+- ``GET /api/terms``: what the editor completes (:func:`cadkg.server.workbench.terms.completion_terms`).
 - ``GET /api/queries/<name>/bound?param=value``: a named query's text with its parameters
   bound as the ``VALUES`` block the server itself would add, so the page shows (and keeps,
   when the text is edited) exactly what runs.
-- ``GET /api/scene``: the cell in 3D (:func:`cadkg.server.scene.cell_scene`).
+- ``GET /api/scene``: the cell in 3D (:func:`cadkg.server.workbench.scene.cell_scene`).
 - ``GET /api/mesh/<path>``: one binary STL mesh of the served store's files directory, by its
   ``ck:meshUri``.
 """
@@ -22,14 +22,11 @@ from cadkg.query.named import NamedQuery, coerce_params, named_queries
 from cadkg.server.context import Answer, Endpoint, json_response, status_of
 from cadkg.server.holder import Served
 from cadkg.server.limits import Deadline
-from cadkg.server.scene import cell_scene, mesh_path
-from cadkg.server.terms import completion_terms
+from cadkg.server.workbench.scene import cell_scene, mesh_path
+from cadkg.server.workbench.terms import completion_terms
 from cadkg.sparql_text import bind_values, values_clause
 
-__all__ = ["WRITING_SERVICES", "bound", "find_named", "mesh", "scene", "terms"]
-
-# Services that change the served graph: they need the endpoint's token like any write.
-WRITING_SERVICES = frozenset({"load_files"})
+__all__ = ["bound", "find_named", "mesh", "scene", "terms"]
 
 
 def _error(err: Exception) -> Response:

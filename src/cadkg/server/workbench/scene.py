@@ -6,7 +6,7 @@ scene item, each component's original, corner and target, the profile's own fram
 meshes in their frames (:func:`~cadkg.services.frames.marker_specs`). To that it adds what
 a click needs (each object's IRI, label and component), each item's box (drawn when its mesh
 file is not at hand, as on a remote store), the wires' routing keypoints of the derived model,
-and the profile's points of interest (:mod:`cadkg.server.scene_extras`).
+and the profile's points of interest (:mod:`cadkg.server.workbench.scene_extras`).
 
 Poses stay in their parent frames; the page composes them (three.js does that per frame), so
 the server does no geometry. Meshes are listed once per distinct content: a cabinet's
@@ -20,7 +20,7 @@ from pathlib import Path, PurePosixPath
 from typing import Any
 
 from cadkg.errors import CadkgError
-from cadkg.server.scene_extras import profile_extras
+from cadkg.server.workbench.scene_extras import profile_extras
 from cadkg.services.frames import marker_specs, static_frames
 from cadkg.usecases.iema.extract import Placements, placements
 
@@ -206,6 +206,11 @@ def cell_scene(graph: Any, session: Any) -> dict[str, Any]:
             "iri": step.iri,
             "frame": model.frame,
             "performer": step.performer,
+            # What group_connection_provider hands out for this wire: the page steps through the
+            # robot's wires itself, so that looking at them moves no cursor of the served cell.
+            "position": step.position,
+            "origin": f"{step.origin.label}:{step.origin.pin}",
+            "destination": f"{step.destination.label}:{step.destination.pin}",
             "points": [value for pose in step.keypoints for value in _round(pose.position)],
         }
         for step in model.steps
@@ -219,7 +224,12 @@ def cell_scene(graph: Any, session: Any) -> dict[str, Any]:
     extras = profile_extras(graph, session, profile, frame_names, problems)
     return {
         "profile": profile or "iema",
-        "frames": [{"name": f.child, "parent": f.parent, **_pose(f.pose)} for f in frames],
+        # By name: the same scene whatever order the store gave the frames in (the page
+        # composes them by parent, in any order).
+        "frames": [
+            {"name": f.child, "parent": f.parent, **_pose(f.pose)}
+            for f in sorted(frames, key=lambda f: f.child)
+        ],
         "objects": objects,
         "meshes": meshes.entries,
         "components": sorted(components.values(), key=lambda c: c["label"]),

@@ -6,7 +6,7 @@
   route over them;
 - harnesses (vw, and any cell holding a ``ck:Harness`` with a topology): nodes and segments,
   at the coordinates the graph gives (a node's ``ck:hasPose``), else laid out in a plane from
-  the segment lengths (:func:`cadkg.server.harness_layout.layout`), and said so.
+  the segment lengths (:func:`cadkg.server.workbench.harness_layout.layout`), and said so.
 
 Each is read through the profile's services or the ontology's terms, as a client would.
 """
@@ -16,7 +16,7 @@ from __future__ import annotations
 from typing import Any
 
 from cadkg.errors import CadkgError
-from cadkg.server.harness_layout import layout
+from cadkg.server.workbench.harness_layout import layout
 from cadkg.services.service import to_jsonable
 from cadkg.services.table import call
 

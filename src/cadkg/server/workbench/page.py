@@ -17,7 +17,7 @@ from starlette.responses import FileResponse, HTMLResponse, Response
 
 __all__ = ["DIST", "STATIC", "bundle_missing", "favicon", "page"]
 
-STATIC = Path(__file__).resolve().parent / "static"
+STATIC = Path(__file__).resolve().parents[1] / "static"
 DIST = STATIC / "dist"
 _BUILD = (
     "build it from a cadkg source checkout with <code>bash scripts/setup.sh</code> "

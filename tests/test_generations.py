@@ -1,0 +1,93 @@
+"""What killed builds and servers leave in a store directory: removed by the next successful
+build, unless a live process holds it."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import cadkg
+from cadkg.generations import claim
+from tests.conftest import IEMA, ROOT, synthetic_manifest
+from tests.test_cli import CADKG
+
+HOLD = "import sys, time; from pathlib import Path; from cadkg.generations import claim; " \
+    "held = claim(Path(sys.argv[1])); print('held', flush=True); time.sleep(600)"  # fmt: skip
+
+
+def _entries(store: Path) -> list[str]:
+    return sorted(p.name for p in store.iterdir())
+
+
+def _live(store: Path) -> str:
+    return (store / "CURRENT").read_text().strip()
+
+
+def test_a_build_killed_midway_is_removed_by_the_next(tmp_path: Path) -> None:
+    store = tmp_path / "store"
+    manifest = synthetic_manifest(tmp_path / "cell", 20_000, cabinet=False)
+    cadkg.build(IEMA, store).close()
+    first = _live(store)
+    process = subprocess.Popen(
+        [*CADKG, "build", str(manifest), "--store", str(store)],
+        cwd=ROOT,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    try:
+        deadline = time.monotonic() + 120
+        while not any(p.is_dir() and p.name != first for p in store.glob("gen-*")):
+            assert process.poll() is None, "the build ended before it could be killed"
+            assert time.monotonic() < deadline, "the build wrote no generation"
+            time.sleep(0.02)
+        time.sleep(0.3)
+    finally:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait(30)
+    left = [name for name in _entries(store) if name.startswith("gen-") and name != first]
+    assert len(left) == 1 and _live(store) == first  # what kill -9 leaves, the store intact
+
+    cadkg.build(IEMA, store).close()
+    assert _entries(store) == ["CURRENT", _live(store)]
+
+
+def test_a_generation_a_live_process_holds_is_kept(tmp_path: Path) -> None:
+    store = tmp_path / "store"
+    cadkg.build(IEMA, store).close()
+    building = store / "gen-20990101T000000-5ee1ab1e"  # another build, still writing
+    building.mkdir()
+    (building / "000008.sst").write_bytes(b"being written")
+    dead = store / "gen-20200101T000000-dead0000"  # one whose build was killed
+    dead.mkdir()
+    (store / f".CURRENT.{dead.name}").write_text(dead.name + "\n")
+    abandoned = store / ".snapshot-0123456789ab"  # the query workers' copy of a killed server
+    abandoned.mkdir()
+    holder = subprocess.Popen(
+        [sys.executable, "-c", HOLD, str(building)], cwd=ROOT, stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
+        cadkg.build(IEMA, store).close()
+        assert _entries(store) == sorted(["CURRENT", _live(store), building.name, f".{building.name}.lock"])
+    finally:
+        holder.kill()
+        holder.wait(30)
+    cadkg.build(IEMA, store).close()
+    assert _entries(store) == ["CURRENT", _live(store)]
+
+
+def test_a_claim_is_exclusive_and_released(tmp_path: Path) -> None:
+    entry = tmp_path / "gen-x"
+    held = claim(entry)
+    assert held is not None
+    assert claim(entry, wait=False) is None
+    held.release()
+    again = claim(entry, wait=False)
+    assert again is not None
+    again.release()
+    assert list(tmp_path.iterdir()) == []
