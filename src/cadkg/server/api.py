@@ -232,6 +232,42 @@ async def service(request: Request) -> Response:
         return _error(err)
 
 
+async def assign(request: Request) -> Response:
+    """``POST /api/assign`` (the token): who does a wire (``kind=wire``, ``id`` its number), a
+    component (its label) or an operation (its list position): ``performer=robot|human``. Kept in
+    the store's assignment graph as ``cadkg assign`` keeps it; the cursor services skip a
+    person's work from their next call on, each client's cursor staying where it was."""
+    endpoint: Endpoint = request.app.state.endpoint
+    deadline = Deadline(endpoint.limits.timeout)
+    try:
+        _check_change(endpoint, request, "assign", _GRAPH)
+        params = await _params(request, endpoint.limits.max_body)
+        missing = [key for key in ("kind", "id", "performer") if not params.get(key)]
+        if missing:
+            raise QueryError(f"assign: missing parameter {', '.join(missing)}; give kind, id and performer")
+
+        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+            def job(_: Deadline) -> Answer:
+                with served.lock:
+                    cursors = served.session().dump()
+                    target = served.graph.assign(params["kind"], params["id"], params["performer"])
+                    served.edited()
+                    served.session().load(cursors)
+                data = {
+                    "success": True,
+                    "message": f"{params['kind']} {params['id']} → {params['performer']}",
+                    "target": target,
+                }
+                return Answer(json.dumps(data).encode(), "application/json")
+
+            return job
+
+        answer, generation = await endpoint.run(make_job, None, deadline, local=True)
+        return endpoint.respond(answer, generation)
+    except CadkgError as err:
+        return _error(err)
+
+
 async def queries(request: Request) -> Response:
     """``GET /api/queries``: the named queries, their parameters and text."""
     return json_response(

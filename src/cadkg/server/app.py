@@ -216,6 +216,7 @@ def create_app(
             Route("/api/terms", workbench.terms, methods=["GET"]),
             Route("/api/scene", workbench.scene, methods=["GET"]),
             Route("/api/mesh/{path:path}", workbench.mesh, methods=["GET"]),
+            Route("/api/assign", api.assign, methods=["GET", "POST"]),
             Route("/api/{service}", api.service, methods=methods),
             Route("/reload", api.reload, methods=["POST"]),
             Mount("/static", StaticFiles(directory=STATIC), name="static"),
