@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Literal
 
 from cadkg.errors import format_location
 from cadkg.ontology.terms import ontology_path
+from cadkg.registry import use_case
 
 if TYPE_CHECKING:
     from cadkg.store import GraphStore
@@ -107,6 +108,15 @@ def _semantic(kg: GraphStore) -> list[Finding]:
     return findings
 
 
+def _use_case_checks(kg: GraphStore) -> list[Finding]:
+    rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
+    try:
+        checks = use_case(str(rows[0]["p"]) if rows else "").checks
+    except KeyError:
+        return []
+    return list(checks(kg)) if checks is not None else []
+
+
 def _duplicate_wire_numbers(kg: GraphStore) -> list[Finding]:
     """Wires sharing a number are fine when they form one chain through shared pins
     (EPLAN numbers potential jumpers that way); each further chain is an error."""
@@ -178,8 +188,10 @@ def _shacl(kg: GraphStore) -> list[Finding]:
 def validate(kg: GraphStore, *, shacl: bool = True) -> list[Finding]:
     """All findings, sorted by location: SHACL shapes (on every graph but the derived
     one), unknown labels, duplicate wire numbers (wires of one number that do not form one
-    chain through shared pins), pins whose component model has no data for them."""
+    chain through shared pins), pins whose component model has no data for them, and the
+    checks of the cell's use case (:attr:`cadkg.usecase.UseCase.checks`)."""
     findings = _semantic(kg)
+    findings.extend(_use_case_checks(kg))
     if shacl:
         findings.extend(_shacl(kg))
     return sorted(set(findings))

@@ -51,9 +51,13 @@ def default_namespace(profile: str) -> str:
 
 
 def srv_type(name: str) -> Any:
-    """The ``cadkg_interfaces`` service class of a service name (``cad_service`` → ``CadService``)."""
+    """The ``cadkg_interfaces`` service class of a service (``cad_service`` → ``CadService``;
+    a service that names its own type, that type)."""
     module = importlib.import_module("cadkg_interfaces.srv")
-    return getattr(module, convert.srv_type_name(name))
+    service = services.SERVICES.get(name)
+    return getattr(
+        module, convert.ros_type_of(service) if service is not None else convert.srv_type_name(name)
+    )
 
 
 @functools.cache
@@ -150,9 +154,12 @@ class CadkgNode:
         group = ReentrantCallbackGroup()
         self._services = [
             node.create_service(
-                srv_type(name), f"{self.namespace}/{name}", self._callback(name), callback_group=group
+                srv_type(s.name),
+                convert.ros_service_name(s, self.namespace),
+                self._callback(s.name),
+                callback_group=group,
             )
-            for name in (s.name for s in services.services_for(self.profile))
+            for s in services.services_for(self.profile)
         ]
         sparql_type = srv_type("sparql")
         reload_type = srv_type("reload")
