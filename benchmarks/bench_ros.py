@@ -13,7 +13,7 @@ example, and this process:
    compared with the in-process result converted the way the node converts it.
 
 Cases: ``cad_service label=F1500.1`` on ``examples/iema-switchgear`` and ``cable_info
-name=W101`` on ``examples/elvez-cell``. The table gives p50 and p99 in µs, the ratio
+name=CA5`` on ``examples/elvez-cell``. The table gives p50 and p99 in µs, the ratio
 ROS / in-process p50, and the target (round trip p50 ≤ 2 ms). Nothing is asserted.
 
 Usage::
@@ -63,7 +63,7 @@ class Case:
 
 CASES = (
     Case("iema", "iema-switchgear", "cad_service", {"label": "F1500.1"}),
-    Case("elvez", "elvez-cell", "cable_info", {"name": "W101"}),
+    Case("elvez", "elvez-cell", "cable_info", {"name": "CA5"}),
 )
 
 

@@ -342,7 +342,7 @@ class KnowledgeGraph(GraphStore):
         if self.read_only:
             raise StoreError("the store is open read-only")
         with paused_gc():
-            data = read_source(Path(path), rel_path, kind, base_iri, frame)
+            data = read_source(Path(path), rel_path, kind, base_iri, frame, profile=self._profile())
         self._write_files(data.files)
         # One update request is one transaction: the old graph goes only if the new one lands.
         # The graph IRI is minted by us and every term of the data is escaped by the mapping.
@@ -354,6 +354,10 @@ class KnowledgeGraph(GraphStore):
         self.derive()
         self.reports.append(data.report)
         return data.report
+
+    def _profile(self) -> str:
+        rows = self.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
+        return str(rows[0]["p"]) if rows else ""
 
     def _changing(self) -> None:
         self._forget_model()

@@ -162,15 +162,20 @@ def reader_for(kind: str) -> Reader:
         raise KeyError(f"unknown kind {kind!r}; known kinds: {', '.join(sorted(readers))}") from None
 
 
-def sniff_kind(path: str | Path, head: bytes | None = None) -> str:
+def sniff_kind(path: str | Path, head: bytes | None = None, profile: str = "") -> str:
     """The kind of a file from its suffix, or from its first bytes when the suffix is shared.
+
+    When no reader's sniffer claims a file whose suffix several readers share, the reader of
+    that suffix without a sniffer decides: the one of the cell's use case (``profile``) before
+    the core one (an ELVEZ cell reads its ``.x3d`` and ``.wri`` files as platform files).
 
     Raises
     ------
     IngestError
         When no reader claims the file.
     """
-    readers: Iterable[Reader] = _table().readers.values()
+    table = _table()
+    readers: Iterable[Reader] = table.readers.values()
     suffix = Path(path).suffix.lower()
     candidates = [r for r in readers if suffix in r.suffixes]
     if len(candidates) == 1:
@@ -187,6 +192,10 @@ def sniff_kind(path: str | Path, head: bytes | None = None) -> str:
     sniffed = [r for r in candidates or readers if r.sniff is not None and r.sniff(head)]
     if len(sniffed) == 1:
         return sniffed[0].kind
+    if not sniffed:
+        fallback = _fallback(table, [r for r in candidates if r.sniff is None], profile)
+        if fallback is not None:
+            return fallback.kind
     names = ", ".join(r.kind for r in kinds())
     raise IngestError(
         path,
@@ -194,3 +203,13 @@ def sniff_kind(path: str | Path, head: bytes | None = None) -> str:
         found=suffix or "no suffix",
         expected=f"a 'kind' in the manifest, one of: {names}",
     )
+
+
+def _fallback(table: _Table, unsniffed: list[Reader], profile: str) -> Reader | None:
+    case = table.use_cases.get(profile or DEFAULT_PROFILE)
+    own = {r.kind for r in case.readers} if case is not None else set()
+    others = {r.kind for c in table.use_cases.values() for r in c.readers}
+    for chosen in ([r for r in unsniffed if r.kind in own], [r for r in unsniffed if r.kind not in others]):
+        if len(chosen) == 1:
+            return chosen[0]
+    return None

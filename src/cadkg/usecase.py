@@ -83,3 +83,6 @@ class UseCase:
     frames: Callable[[Session], Iterable[Frame]] | None = None
     markers: Callable[[Session, Path], Iterable[MarkerSpec]] | None = None
     views: Mapping[str, ExportView] = field(default_factory=dict)
+    # Its own checks of a graph for ``cadkg validate``: ``checks(graph)`` gives
+    # :class:`cadkg.query.validate.Finding` s (names one file gives and no other defines ...).
+    checks: Callable[[Any], Iterable[Any]] | None = None

@@ -56,18 +56,24 @@ def test_elvez_publishes_every_element_and_point_of_interest() -> None:
         session = Session(kg.cell_model(), kg=kg)
         placed = placements(kg)
         frames = {f.child: f for f in static_frames(placed, session.model, "elvez", session)}
-        # G4 is ID000005; its key frame hangs in it (examples/elvez-cell/README.md, step 4).
-        assert frames["G4_key"].parent == "ID000005"
-        key = _compose(frames, "G4_key", "cell_top_corner")
-        base = _compose(frames, "robot_base", "cell_top_corner")
+        # J1 is ID0002 of the platform; its guide's key centre hangs in it, the scene in the
+        # platform's frame, as the reference node names them (examples/elvez-cell/README.md).
+        assert frames["ID0002platformguide1"].parent == "ID0002platform"
+        assert frames["ID0002platform"].parent == "ID0001platform"
+        assert frames["ID0001platform"].parent == "platform_rf"
+        assert frames["ID0002combs"].parent == "ID0001combs"  # the same CAD ID on another platform
+        key = _compose(frames, "ID0002platformguide1", "cell")
+        base = _compose(frames, "robot_base", "cell")
         in_base = base.inverse() * key
-        assert in_base.position == pytest.approx((0.705, 0.0913397, 0.12), abs=1e-6)
-        assert in_base.orientation == pytest.approx((0, 0, 0.2588190, 0.9659258), abs=1e-6)
+        assert in_base.position == pytest.approx((0.662, -0.305, 0.345), abs=1e-12)
+        assert in_base.close_to(Pose((0.662, -0.305, 0.345), (0.0, 0.0, -(0.5**0.5), 0.5**0.5)), 1e-12)
         assert not any(name.endswith(("/original", "/corner", "/target")) for name in frames)
         specs = marker_specs(placed, session.model, kg.files_dir, "elvez", session)
         elements = {s.text: s for s in specs if s.ns == "elements"}
-        assert elements["G4"].frame_id == "ID000005"
-        stl = Path(elements["G4"].mesh_uri.removeprefix("file://")).read_bytes()
+        assert elements["J1"].frame_id == "ID0002platform"
+        assert {s.frame_id for s in specs} <= set(frames)
+        assert not [s for s in specs if s.ns == "meshes"]  # no mesh in a frame named by a bare CAD ID
+        stl = Path(elements["J1"].mesh_uri.removeprefix("file://")).read_bytes()
         triangles = int.from_bytes(stl[80:84], "little")
         assert triangles > 0 and len(stl) == 84 + 50 * triangles  # a binary STL RViz can load
 

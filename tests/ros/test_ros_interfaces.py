@@ -77,7 +77,7 @@ def test_every_interface_is_built() -> None:
 @pytest.mark.parametrize("name", sorted(SERVICES))
 def test_srv_matches_service_and_converter(name: str) -> None:
     """Request: the service's parameters (+ client for cursors); response: convert's fields."""
-    request, _ = service(convert.srv_type_name(name))
+    request, _ = service(convert.ros_type_of(SERVICES[name]))
     assert set(request) - {"client"} == set(SERVICES[name].params)
     for param, kind in SERVICES[name].params.items():
         expected = {

@@ -20,18 +20,30 @@ from tests.ros.test_ros_interfaces import INTERFACES, fields, service
 
 # Parameters of one successful and one failing call of each service.
 CALLS: dict[str, tuple[str, list[dict[str, str]]]] = {
-    "guide_info": (
-        "elvez-cell",
-        [{"name": "G4"}, {"name": "G4", "frame": "assembly_platform"}, {"name": "G99"}],
-    ),
-    "cable_info": ("elvez-cell", [{"name": "W101"}, {"name": "C10"}]),
-    "con_info": ("elvez-cell", [{"name": "C12"}, {"name": "C30"}, {"name": "W101"}]),
+    "guide_info": ("elvez-cell", [{"name": "J1"}, {"name": "J2.1", "frame": "platform_rf"}, {"name": "J99"}]),
+    "cable_info": ("elvez-cell", [{"name": "CA5"}, {"name": "WH1"}]),
+    "con_info": ("elvez-cell", [{"name": "WH1"}, {"name": "GR12"}, {"name": "CA1"}]),
     "wh_info": ("elvez-cell", [{"number": "1"}, {"number": "9"}]),
     "all_tools": ("elvez-cell", [{}]),
-    "tool_info": ("elvez-cell", [{"name": "gripper_left"}, {"name": "nothing"}]),
+    "tool_info": ("elvez-cell", [{"name": "gripper"}, {"name": "nothing"}]),
     "all_op": ("elvez-cell", [{}]),
     "index_op": ("elvez-cell", [{"index": "1"}, {"index": "99"}]),
-    "wh_routes": ("elvez-cell", [{"number": "2"}, {"number": "0"}]),
+    "wh_routes": ("elvez-cell", [{"number": "1"}, {"number": "0"}]),
+    "CAD_platform.connector_info": ("elvez-cell", [{"label": "WH1"}, {"label": "K1"}, {"label": "CA1"}]),
+    "CAD_platform.cable_info": ("elvez-cell", [{"label": "CA5"}, {"label": "WH1"}]),
+    "CAD_platform.tray_info": ("elvez-cell", [{"box": "B1", "tray": "2"}, {"box": "B3", "tray": "1"}]),
+    "CAD_platform.jig_info": ("elvez-cell", [{"jig": "J3"}, {"jig": "C1"}, {"jig": "B1"}]),
+    "CAD_platform.guide_info": ("elvez-cell", [{"jig": "J1", "guide": "1"}, {"jig": "J1", "guide": "2"}]),
+    "CAD_platform.taping_spot_info": ("elvez-cell", [{"jig": "J3", "spot": "1"}, {"jig": "J1", "spot": "1"}]),
+    "CAD_platform.all_guides": ("elvez-cell", [{}]),
+    "CAD_platform.next_operation": ("elvez-cell", [{}]),
+    "CAD_platform.reset_sequence_list": ("elvez-cell", [{}]),
+    "CAD_platform.reset_sequence_list_to": ("elvez-cell", [{"index": "2"}, {"index": "9"}]),
+    "CAD_platform.index_operation": ("elvez-cell", [{"index": "8"}, {"index": "9"}]),
+    "CAD_platform.all_operations": ("elvez-cell", [{}]),
+    "CAD_platform.all_cad_components": ("elvez-cell", [{}]),
+    "CAD_platform.tool_info": ("elvez-cell", [{"name": "gripper"}, {"name": "gun"}, {"name": "glue"}]),
+    "CAD_platform.get_tools_service": ("elvez-cell", [{}]),
     "harness_topology": ("vw-harness", [{"harness": "DOOR-L"}, {"harness": "DOOR-L", "view": "wires"}, {}]),
     "get_pin_positions": ("elimco-bench", [{"use_centroid": "true"}, {"use_centroid": "false"}]),
     "pin_frames": ("elimco-bench", [{}]),
@@ -88,7 +100,7 @@ def check(data: Any, kind: str) -> None:
 @pytest.mark.parametrize("name", sorted(CALLS))
 def test_results_convert_to_their_response(sessions: dict[str, Session], name: str) -> None:
     example, calls = CALLS[name]
-    _, response_fields = service(convert.srv_type_name(name))
+    _, response_fields = service(convert.ros_type_of(SERVICES[name]))
     outcomes = []
     for params in calls:
         result = call(sessions[example], name, params)

@@ -212,7 +212,7 @@ def test_without_a_files_root_load_files_is_refused(tmp_path: Path) -> None:
 
 def test_services_that_change_state_are_the_documented_ones() -> None:
     documented = (ROOT / "docs" / "server.md").read_text(encoding="utf-8")
-    table = dict(re.findall(r"^\| `(\w+)` \| (graph|cursor|reads) \|", documented, re.MULTILINE))
+    table = dict(re.findall(r"^\| `([\w.]+)` \| (graph|cursor|reads) \|", documented, re.MULTILINE))
     assert {name: kind for name, kind in table.items() if kind != "reads"} == CHANGES
     assert set(table) == set(SERVICES)
 

@@ -53,6 +53,7 @@ def read_source(
     frame: str | None = None,
     sink: Callable[[str, bytes], None] | None = None,
     on_record: Callable[[object], None] | None = None,
+    profile: str = "",
 ) -> GraphData:
     """Read one file with the reader of its kind and map it into its named graph.
 
@@ -61,6 +62,8 @@ def read_source(
     returned ``ntriples`` is empty; a reader that streams its records is then mapped row by
     row, so ``sink`` may have had part of a file when a later row raises (builds use it for a
     store that a failure discards). ``on_record`` sees every record once it is mapped.
+    ``profile`` is the cell's use case, which picks the reader of a shared suffix that no
+    content tells apart (see :func:`cadkg.registry.sniff_kind`).
 
     Raises
     ------
@@ -68,7 +71,7 @@ def read_source(
         Located errors of the reader; an unknown kind.
     """
     started = time.perf_counter()
-    kind = kind or sniff_kind(path)
+    kind = kind or sniff_kind(path, profile=profile)
     try:
         reader = reader_for(kind)
     except KeyError as err:
@@ -144,4 +147,5 @@ def read_manifest_graphs(
             source.frame,
             sink=sink,
             on_record=on_record(source) if on_record is not None else None,
+            profile=manifest.cell.profile,
         )

@@ -12,6 +12,7 @@ from functools import partial
 from typing import TYPE_CHECKING, Literal
 
 from cadkg.errors import format_location
+from cadkg.registry import use_case
 
 if TYPE_CHECKING:
     from cadkg.store import GraphStore
@@ -115,6 +116,15 @@ def _semantic(kg: GraphStore, progress: Callable[[str, int, int], None] | None) 
     return findings
 
 
+def _use_case_checks(kg: GraphStore) -> list[Finding]:
+    rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
+    try:
+        checks = use_case(str(rows[0]["p"]) if rows else "").checks
+    except KeyError:
+        return []
+    return list(checks(kg)) if checks is not None else []
+
+
 def _duplicate_wire_numbers(kg: GraphStore) -> list[Finding]:
     """Wires sharing a number are fine when they form one chain through shared pins
     (EPLAN numbers potential jumpers that way); each further chain is an error."""
@@ -173,12 +183,14 @@ def validate(
 ) -> list[Finding]:
     """All findings, sorted by location: SHACL shapes (on every graph but the derived
     one), unknown labels, duplicate wire numbers (wires of one number that do not form one
-    chain through shared pins), pins whose component model has no data for them.
+    chain through shared pins), pins whose component model has no data for them, and the
+    checks of the cell's use case (:attr:`cadkg.usecase.UseCase.checks`).
 
     ``progress(stage, done, total)`` is told of each step: stage ``"checks"`` (the semantic
     checks), then ``"shapes"`` (the queries the SHACL shapes compile to).
     """
     findings = _semantic(kg, progress)
+    findings.extend(_use_case_checks(kg))
     if shacl:
         findings.extend(_shacl(kg, None if progress is None else partial(progress, "shapes")))
     return sorted(set(findings))

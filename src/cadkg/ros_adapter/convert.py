@@ -32,6 +32,8 @@ __all__ = [
     "pose_from_msg",
     "request_params",
     "response",
+    "ros_service_name",
+    "ros_type_of",
     "srv_type_name",
     "typed_response",
     "vector",
@@ -405,3 +407,14 @@ def fill(msg: Any, data: Mapping[str, Any], resolve: Callable[[str], Callable[[]
 def srv_type_name(name: str) -> str:
     """The ``cadkg_interfaces`` type of a service: ``get_item_screw_service`` → ``GetItemScrewService``."""
     return "".join(part.capitalize() for part in name.split("_"))
+
+
+def ros_type_of(service: Any) -> str:
+    """The ``cadkg_interfaces`` type of a :class:`~cadkg.services.service.Service`: its own, or
+    its name's (:func:`srv_type_name`)."""
+    return str(service.ros_type or srv_type_name(service.name))
+
+
+def ros_service_name(service: Any, namespace: str) -> str:
+    """Where the node serves a service: its own namespace or ``namespace``, then its ROS name."""
+    return f"{(service.ros_namespace or namespace).rstrip('/')}/{service.ros_name or service.name}"

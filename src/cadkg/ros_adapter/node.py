@@ -54,9 +54,13 @@ def default_namespace(profile: str) -> str:
 
 
 def srv_type(name: str) -> Any:
-    """The ``cadkg_interfaces`` service class of a service name (``cad_service`` → ``CadService``)."""
+    """The ``cadkg_interfaces`` service class of a service (``cad_service`` → ``CadService``;
+    a service that names its own type, that type)."""
     module = importlib.import_module("cadkg_interfaces.srv")
-    return getattr(module, convert.srv_type_name(name))
+    service = services.SERVICES.get(name)
+    return getattr(
+        module, convert.ros_type_of(service) if service is not None else convert.srv_type_name(name)
+    )
 
 
 @functools.cache
@@ -159,9 +163,12 @@ class CadkgNode:
         group = ReentrantCallbackGroup()
         self._services = [
             node.create_service(
-                srv_type(name), self.name_of(name), self._callback(name), callback_group=group
+                srv_type(s.name),
+                self.name_of(s.ros_name or s.name, s.ros_namespace),
+                self._callback(s.name),
+                callback_group=group,
             )
-            for name in (s.name for s in services.services_for(self.profile))
+            for s in services.services_for(self.profile)
         ]
         for name, handler in (
             ("sparql", self._sparql),
@@ -190,10 +197,14 @@ class CadkgNode:
             f"{len(self._services)} services"
         )
 
-    def name_of(self, service: str) -> str:
+    def name_of(self, service: str, namespace: str = "") -> str:
         """The name a service is created with: relative to the node's namespace unless the
-        ``namespace`` parameter is absolute."""
-        return f"{self.namespace}/{service}"
+        ``namespace`` parameter, or the service's own namespace (``namespace``), is absolute."""
+        if namespace:
+            prefix = namespace.rstrip("/") if namespace.startswith("/") else namespace.strip("/")
+        else:
+            prefix = self.namespace
+        return f"{prefix}/{service}"
 
     # -- services ---------------------------------------------------------------------
     def _callback(self, name: str) -> Any:

@@ -66,6 +66,9 @@ CHANGES = {
     "reset_to_connection_list": _CURSOR,
     "rail_scanner": _CURSOR,
     "reset_rail_scanner": _CURSOR,
+    "CAD_platform.next_operation": _CURSOR,
+    "CAD_platform.reset_sequence_list": _CURSOR,
+    "CAD_platform.reset_sequence_list_to": _CURSOR,
 }
 """The services that change something over HTTP: the served graph, or the caller's cursor (a
 provider hands out the next wire and moves on). Every other service only reads. The table of

@@ -9,8 +9,8 @@ Frame names (``child`` of each static transform):
 * per component ``LABEL/original``, ``LABEL/corner`` and ``LABEL/target`` in the component's
   frame (the scene's frame, e.g. ``cabinet``), ``LABEL/terminal_start`` for a terminal block;
 * per rail ``LABEL/start``;
-* elvez: every platform element under its CAD id and each point of interest (``G4_key``,
-  ``G4_key_corner`` ...) in its element, as the reference's Figure 25 orders them;
+* elvez: every platform element as ``<CAD ID><platform>`` (``ID0002platform``) and the
+  keypoints the reference CAD platform node broadcasts in its element (``ID0002platformguide1``);
 * elimco: ``pins_centroid`` and a frame per bench pin (``pin_<name>``, and ``_a``/``_b`` for
   the two pins of a double pin), as the ``pin_frames`` service gives them.
 
@@ -21,7 +21,7 @@ iema profile only. Each use case gives its own frames and markers through its de
 Markers: one ``MESH_RESOURCE`` per scene item with a mesh, in the item's own frame, with a
 ``file://`` URI under the store's files directory; one ``ARROW`` per pin with a screw pose,
 from 2 cm above the screw (along the screw's z) down to the screw, in the component's frame;
-for elvez one ``MESH_RESOURCE`` per platform element with its model's STL, in its own frame.
+for elvez one ``MESH_RESOURCE`` per platform element, in its own frame.
 """
 
 from __future__ import annotations

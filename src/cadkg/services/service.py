@@ -33,6 +33,12 @@ class Service:
     run: Callable[..., Any]
     profile: str = ""
     optional: frozenset[str] = frozenset()
+    # Over ROS: the service's own namespace (else the use case's), its name there (else
+    # ``name``) and its .srv type (else ``name`` in PascalCase), for a service that mirrors
+    # another node's (``/CAD_platform/guide_info`` beside ``/elvez/guide_info``).
+    ros_namespace: str = ""
+    ros_name: str = ""
+    ros_type: str = ""
 
 
 def parse_pose(text: str) -> Pose:
@@ -101,7 +107,8 @@ def on_model(fn: Callable[..., Any], model_of: Callable[[Session], Any]) -> Call
 
 def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable[..., Service]:
     """The maker of ``profile``'s services answered from its model:
-    ``make(name, description, params, answer, optional=())`` (see :func:`on_model`)."""
+    ``make(name, description, params, answer, optional=(), **ros)`` (see :func:`on_model`;
+    ``ros``: ``ros_namespace``, ``ros_name``, ``ros_type`` of :class:`Service`)."""
 
     def make(
         name: str,
@@ -109,6 +116,7 @@ def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable
         params: Mapping[str, type],
         answer: Callable[..., Any],
         optional: Iterable[str] = (),
+        **ros: str,
     ) -> Service:
         return Service(
             name,
@@ -117,6 +125,7 @@ def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable
             on_model(answer, model_of),
             profile=profile,
             optional=frozenset(optional),
+            **ros,
         )
 
     return make

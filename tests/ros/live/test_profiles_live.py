@@ -72,14 +72,14 @@ def close(actual: tuple[float, ...], expected: tuple[float, ...], tol: float = 1
 
 
 def test_every_service_of_the_profile_answers(ros: Any, profile: tuple[str, Server]) -> None:
-    from cadkg.ros_adapter.convert import srv_type_name
+    from cadkg.ros_adapter.convert import ros_service_name, ros_type_of
     from cadkg.services.table import services_for
 
     name, server = profile
     namespace = NAMESPACES[name]
     call = _call(ros, server, namespace)
     expected = {
-        f"{namespace}/{s.name}": [f"cadkg_interfaces/srv/{srv_type_name(s.name)}"] for s in services_for(name)
+        ros_service_name(s, namespace): [f"cadkg_interfaces/srv/{ros_type_of(s)}"] for s in services_for(name)
     }
     wait_for(
         ros,
@@ -89,27 +89,61 @@ def test_every_service_of_the_profile_answers(ros: Any, profile: tuple[str, Serv
     )
 
     if name == "elvez":
-        g4 = call(srv.GuideInfo, "guide_info", name="G4", frame="")
-        assert g4.success and g4.id == "ID000005" and g4.frame == "robot_base"
-        p, q = g4.key_frame.position, g4.key_frame.orientation
-        assert close((p.x, p.y, p.z), (0.705, 0.0913397, 0.12))
-        assert close((q.x, q.y, q.z, q.w), (0.0, 0.0, 0.2588190, 0.9659258))
-        assert close((g4.key_length, g4.key_gap, g4.key_height), (0.030, 0.006, 0.025))
-        assert not call(srv.GuideInfo, "guide_info", name="G99", frame="").success
-        cable = call(srv.CableInfo, "cable_info", name="W101")
-        assert cable.success and cable.wh == 1 and cable.connector == "C11"
-        assert call(srv.ConInfo, "con_info", name="C12").success
-        assert call(srv.WhInfo, "wh_info", number=2).success
-        tools = call(srv.AllTools, "all_tools")
-        assert list(tools.names) == ["gripper_left", "gripper_right", "taping_gun"]
-        assert call(srv.ToolInfo, "tool_info", name="taping_gun").success
-        plan = call(srv.AllOp, "all_op")
-        assert plan.success and [op.index for op in plan.operations] == list(
-            range(1, len(plan.operations) + 1)
+        j1 = call(srv.GuideInfo, "guide_info", name="J1", frame="")
+        assert j1.success and j1.id == "ID0002" and j1.frame == "robot_base"
+        p, q = j1.key_frame.position, j1.key_frame.orientation
+        assert close((p.x, p.y, p.z), (0.662, -0.305, 0.345))
+        assert close((q.x, q.y, q.z, q.w), (0.0, 0.0, -0.7071068, 0.7071068))
+        assert close((j1.key_length, j1.key_gap, j1.key_height), (0.010, 0.008, 0.030))
+        assert not call(srv.GuideInfo, "guide_info", name="J99", frame="").success
+        cable = call(srv.CableInfo, "cable_info", name="CA5")
+        assert (
+            cable.success
+            and cable.wh == 1
+            and cable.connector == "GR12"
+            and list(cable.con_index) == [4, 0, 1, 0]
         )
+        assert call(srv.ConInfo, "con_info", name="WH1").success
+        assert call(srv.WhInfo, "wh_info", number=2).success
+        assert list(call(srv.AllTools, "all_tools").names) == ["gun", "gripper"]
+        assert call(srv.ToolInfo, "tool_info", name="gun").success
+        plan = call(srv.AllOp, "all_op")
+        assert plan.success and [op.index for op in plan.operations] == list(range(1, 10))
         first = call(srv.IndexOp, "index_op", index=1)
-        assert first.success and first.type == "insert" and first.tool == "gripper_left"
-        assert call(srv.WhRoutes, "wh_routes", number=3).success
+        assert first.success and first.type == "EC" and list(first.spot) == ["C1.1.L"]
+        assert call(srv.WhRoutes, "wh_routes", number=1).success
+        reference = _call(ros, server, "/CAD_platform")
+        guide = reference(srv.PlatformGuideInfo, "guide_info", jig="J1", guide="1")
+        p = guide.data.key_center_frame.position
+        assert guide.success and close((p.x, p.y, p.z), (0.662, -0.305, 0.345))
+        assert list(guide.data.collisions) == [0.0, 0.01, -0.008, 0.022]
+        unset = guide.data.jig_corner_frame.orientation
+        assert (unset.x, unset.y, unset.z, unset.w) == (0.0, 0.0, 0.0, 1.0)
+        connector = reference(srv.ConnectorInfo, "connector_info", label="WH1")
+        assert connector.wh == "1" and [c.label for c in connector.cables][:2] == ["CA1", "CA2"]
+        assert reference(srv.PlatformCableInfo, "cable_info", label="CA5").length == 620.0
+        assert reference(srv.TrayInfo, "tray_info", box="B1", tray="2").wh == "2"
+        assert len(reference(srv.JigInfo, "jig_info", jig="J3").taping_spots) == 1
+        assert reference(srv.TapingSpotInfo, "taping_spot_info", jig="J3", spot="1").success
+        assert [g.id for g in reference(srv.GuideAllInfo, "all_guides").data] == [
+            "J1",
+            "J2",
+            "J3",
+            "J3",
+            "J4",
+        ]
+        assert len(reference(srv.AllCadComponents, "all_cad_components").data) == 8
+        assert list(reference(srv.GetList, "get_tools_service").data) == ["gun", "gripper"]
+        assert reference(srv.PlatformToolInfo, "tool_info", name="gripper").type == "gripper"
+        assert len(reference(srv.AllOperations, "all_operations", client="").data) == 9
+        step = reference(srv.NextOperation, "next_operation", client="arm")
+        assert (step.type, step.spot[0].jig, step.spot[0].side, step.end) == ("EC", "C1", "L", False)
+        assert reference(srv.NextOperation, "next_operation", client="arm").type == "PC"
+        assert reference(srv.NextOperation, "next_operation", client="other").type == "EC"
+        last = reference(srv.IndexOperation, "index_operation", index=8, client="arm")
+        assert (last.type, last.index, last.end) == ("TJ", 0, True)
+        assert not reference(srv.ResetTo, "reset_sequence_list_to", index=9, client="arm").success
+        assert reference(srv.ResetSequenceList, "reset_sequence_list", client="arm").success
     elif name == "elimco":
         centred = call(
             srv.GetPinPositions, "get_pin_positions", use_centroid=True, pin_connector_distance=0.0
@@ -144,9 +178,9 @@ def test_every_service_of_the_profile_answers(ros: Any, profile: tuple[str, Serv
 def test_tf_static_and_markers_of_the_profile(ros: Any, profile: tuple[str, Server]) -> None:
     name, server = profile
     if name == "elvez":
-        frames = _frames(ros, server, "G4_key")
-        assert frames["G4_key"].header.frame_id == "ID000005"
-        assert {"G4_key_corner", "robot_base", "assembly_platform", "ID000001"} <= set(frames)
+        frames = _frames(ros, server, "ID0002platformguide1")
+        assert frames["ID0002platformguide1"].header.frame_id == "ID0002platform"
+        assert {"ID0002combs", "robot_base", "platform_rf", "ID000002ATC_ATC_base_gun"} <= set(frames)
         meshes: list[Marker] = []
 
         def keep(message: MarkerArray) -> None:
@@ -157,9 +191,9 @@ def test_tf_static_and_markers_of_the_profile(ros: Any, profile: tuple[str, Serv
             wait_for(ros, lambda: bool(meshes), 60.0, server)
         finally:
             ros.destroy_subscription(subscription)
-        g4 = next(m for m in meshes if m.text == "G4")
-        assert g4.type == Marker.MESH_RESOURCE and g4.header.frame_id == "ID000005"
-        assert Path(g4.mesh_resource.removeprefix("file://")).is_file()
+        j1 = next(m for m in meshes if m.text == "J1")
+        assert j1.type == Marker.MESH_RESOURCE and j1.header.frame_id == "ID0002platform"
+        assert Path(j1.mesh_resource.removeprefix("file://")).is_file()
     elif name == "elimco":
         frames = _frames(ros, server, "pins_centroid")
         assert any(f.startswith("pin_") for f in frames)

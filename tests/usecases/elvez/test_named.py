@@ -1,9 +1,8 @@
-"""The ELVEZ named queries on the example: the graph answers the process and harness questions."""
+"""The ELVEZ named queries on the example: the graph answers the sequence and harness questions."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
-from decimal import Decimal
 
 import pyoxigraph as ox
 import pytest
@@ -27,88 +26,67 @@ def test_the_queries_are_declared() -> None:
     queries = named_queries()
     for name in (
         "elvez-operations-at-spot",
-        "elvez-tool-of-operation",
         "elvez-cable-length-per-harness",
         "elvez-harness-cables",
         "elvez-plan",
     ):
         assert queries[name].description
+    assert "elvez-tool-of-operation" not in queries  # the sequence names no tools
     assert [p.name for p in queries["elvez-operations-at-spot"].params] == ["label"]
-    assert [(p.name, p.type) for p in queries["elvez-tool-of-operation"].params] == [("index", "integer")]
+    assert [(p.name, p.type) for p in queries["elvez-harness-cables"].params] == [("harness", "string")]
 
 
-def test_operations_that_touch_guide_g4(kg: KnowledgeGraph) -> None:
-    rows = kg.named_query("elvez-operations-at-spot", label="G4").rows
-    assert [(r["index"], r["type"]) for r in rows] == [
-        (3, "route"),
-        (7, "route"),
-        (8, "route"),
-        (9, "tape"),
-        (12, "route"),
-        (13, "route"),
-        (14, "tape"),
+def test_operations_at_jig_j1(kg: KnowledgeGraph) -> None:
+    rows = kg.named_query("elvez-operations-at-spot", label="J1").rows
+    assert [(r["order"], r["code"], r["labels"]) for r in rows] == [
+        (3, "RC", "GR11"),
+        (4, "RC", "GR12"),
+        (5, "T", "WH1"),
     ]
-    assert rows[0]["components"] == "W104;W105;W106" and rows[0]["tool"] == "gripper_right"
-    assert [r["index"] for r in kg.named_query("elvez-operations-at-spot", label="H1").rows] == [1]
-
-
-def test_tool_of_operation_7(kg: KnowledgeGraph) -> None:
-    (row,) = kg.named_query("elvez-tool-of-operation", index=7).rows
-    assert (row["type"], row["tool"], row["toolType"], row["slot"]) == (
-        "route",
-        "gripper_right",
-        "gripper",
-        "ATC2",
-    )
-    (tape,) = kg.named_query("elvez-tool-of-operation", index="4").rows
-    assert (tape["tool"], tape["slot"]) == ("taping_gun", "ATC3")
+    assert rows[0]["spots"] == "J1.1;J2.1;J3.1"
+    assert [r["order"] for r in kg.named_query("elvez-operations-at-spot", label="C2").rows] == [6]
 
 
 def test_total_cable_length_per_harness(kg: KnowledgeGraph) -> None:
     rows = kg.named_query("elvez-cable-length-per-harness").rows
-    # Sums of the length_mm column of harness-components.csv, per harness (README).
-    assert [(r["harness"], r["label"], r["cables"], r["totalLengthM"]) for r in rows] == [
-        (1, "WH1", 6, Decimal("2.45")),
-        (2, "WH2", 10, Decimal("5.43")),
-        (3, "WH3", 11, Decimal("4.18")),
+    # Sums of the length column of Components_definition.csv, per harness (README).
+    assert [(r["harness"], r["firstConnector"], r["cables"], float(r["totalLengthM"])) for r in rows] == [
+        ("1", "WH1", 5, pytest.approx(2.69)),
+        ("2", "WH2", 2, pytest.approx(0.76)),
     ]
 
 
 def test_a_length_stated_by_two_files_counts_once() -> None:
     graph = KnowledgeGraph.build(ELVEZ)
     try:
-        # Another file stating the same harness label and the same cable lengths again.
+        # Another file stating the same cable lengths again.
         another = ox.NamedNode("urn:another-file")
-        rows = graph.raw_query(
-            "SELECT ?h ?label ?cable ?length WHERE { ?h a ck:Harness ; ck:label ?label ;"
-            " ck:hasBranch/ck:containsCable ?cable . ?cable ck:lengthM ?length }"
-        )
-        for row in rows:
-            graph._store.add(ox.Quad(row["h"], ox.NamedNode(CK + "label"), row["label"], another))
+        for row in graph.raw_query("SELECT ?cable ?length WHERE { ?cable a ck:Cable ; ck:lengthM ?length }"):
             graph._store.add(ox.Quad(row["cable"], ox.NamedNode(CK + "lengthM"), row["length"], another))
         assert "urn:another-file" in graph.named_graphs()
         rows = graph.named_query("elvez-cable-length-per-harness").rows
-        assert [(r["cables"], r["totalLengthM"]) for r in rows] == [
-            (6, Decimal("2.45")),
-            (10, Decimal("5.43")),
-            (11, Decimal("4.18")),
+        assert [(r["cables"], float(r["totalLengthM"])) for r in rows] == [
+            (5, pytest.approx(2.69)),
+            (2, pytest.approx(0.76)),
         ]
     finally:
         graph.close()
 
 
-def test_harness_cables_end_to_end(kg: KnowledgeGraph) -> None:
-    rows = kg.named_query("elvez-harness-cables", harness=3).rows
-    assert len(rows) == 11
-    assert [(r["cable"], r["fromConnector"], r["fromCavity"], r["toConnector"], r["toCavity"]) for r in rows][
-        -2:
-    ] == [
-        ("W310", "C30", 10, "C33", 2),
-        ("W311", "C30", 12, "C33", 3),
+def test_harness_cables_with_their_cavities(kg: KnowledgeGraph) -> None:
+    rows = kg.named_query("elvez-harness-cables", harness="1").rows
+    assert [(r["cable"], r["row"], r["endConnector"], r["colour"]) for r in rows] == [
+        ("CA1", 0, "GR11", "Yellow"),
+        ("CA3", 1, "GR11", "Blue"),
+        ("CA2", 2, "GR11", "Green"),
+        ("CA4", 3, "GR12", "Red"),
+        ("CA5", 4, "GR12", "Brown"),
     ]
 
 
-def test_plan_query_is_the_plan(kg: KnowledgeGraph) -> None:
+def test_plan_query_is_the_sequence(kg: KnowledgeGraph) -> None:
     rows = kg.named_query("elvez-plan").rows
-    assert [r["index"] for r in rows] == list(range(1, 15))
-    assert rows[9]["spots"] == "H3;CH3" and rows[9]["components"] == "C30"
+    assert [(r["order"], r["code"]) for r in rows] == list(
+        enumerate(["EC", "PC", "RC", "RC", "T", "EC", "PC", "RC", "TJ"], start=1)
+    )
+    assert rows[3]["spots"] == "J1.1;J3.2" and rows[3]["labels"] == "GR12"

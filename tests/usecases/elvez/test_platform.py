@@ -1,9 +1,10 @@
-"""The merge of scenes, element models and WRI tables into one frame tree, and what breaks it."""
+"""The frame tree of the cell, the points of interest of an element's definition, and cells
+whose files do not agree (the build goes through, the services and cadkg validate say what is
+missing)."""
 
 from __future__ import annotations
 
 import math
-import re
 import shutil
 from pathlib import Path
 
@@ -13,9 +14,12 @@ from cadkg.errors import NotFound, QueryError
 from cadkg.geometry.frames import quaternion_from_rpy
 from cadkg.geometry.poses import Pose
 from cadkg.graph import KnowledgeGraph
+from cadkg.query.validate import validate
 from cadkg.services.session import Session
 from cadkg.services.table import call
-from cadkg.usecases.elvez.platform import FrameTree, element_type
+from cadkg.usecases.elvez.files.definitions import PlacedBox
+from cadkg.usecases.elvez.files.xml_fields import rotation_xyz
+from cadkg.usecases.elvez.platform import FrameTree, tape_spot_centre, xyz_angles
 from tests.conftest import ROOT
 
 EXAMPLE = ROOT / "examples" / "elvez-cell"
@@ -44,7 +48,6 @@ def test_pose_walks_up_and_down_the_tree(tree: FrameTree) -> None:
     assert tree.pose("base", "element").close_to(tree.pose("element", "base").inverse(), 1e-12)
     assert tree.pose("cell", "cell").close_to(Pose(), 0.0)
     assert tree.rooted("element")[0] == "cell"
-    assert ("cell", "element") not in {(p, c) for p, c, _ in tree.transforms()}
     assert ("platform", "element") in {(p, c) for p, c, _ in tree.transforms()}
 
 
@@ -63,19 +66,19 @@ def test_a_cycle_is_reported() -> None:
         cyclic.rooted("a")
 
 
-@pytest.mark.parametrize(
-    ("label", "kind"),
-    [
-        ("G4", "guide"),
-        ("H1", "guide"),
-        ("CH2", "connector_holder"),
-        ("ATC3", "atc_slot"),
-        ("FS1", "flat_surface"),
-    ],
-)
-def test_element_type_from_the_label_prefix(label: str, kind: str) -> None:
-    assert element_type(label) == kind
-    assert element_type("Q1") == element_type("12") == "element"
+@pytest.mark.parametrize("angles", [(0.3, -0.2, 1.1), (-1.57, 0.0, -1.57), (0.0, 1.2, 3.0)])
+def test_the_definition_angles_are_read_back(angles: tuple[float, float, float]) -> None:
+    assert xyz_angles(rotation_xyz(*angles)) == pytest.approx(angles, abs=1e-12)
+
+
+def test_a_taping_spot_beside_its_guide_and_one_straight_ahead() -> None:
+    spot = PlacedBox("1", (0.03, 0.04, 0.005), Pose((0.015, 0.0, 0.06)), 1, "1")
+    centre = tape_spot_centre(spot, Pose((0.005, 0.02, 0.075)))
+    along = math.hypot(0.01, 0.02) * math.cos(1.57 - math.atan(2.0))
+    assert centre.close_to(Pose((0.03, along, 0.075)), 1e-15)
+    # The guide right in front of the corner: the reference divides by zero; a right angle here.
+    ahead = tape_spot_centre(spot, Pose((0.015, 0.02, 0.07)))
+    assert ahead.close_to(Pose((0.03, 0.02 * math.cos(1.57 - math.pi / 2), 0.07)), 1e-15)
 
 
 def _copy(tmp_path: Path) -> Path:
@@ -89,54 +92,73 @@ def _session(manifest: Path) -> Session:
     return Session(kg.cell_model(), kg=kg)
 
 
-def test_cad_ids_repeated_across_platforms_are_refused(tmp_path: Path) -> None:
+def test_two_scenes_of_one_platform_name_are_refused(tmp_path: Path) -> None:
     cell = _copy(tmp_path)
-    for name in ("holder/holder.x3d", "holder/holder.wri"):
-        path = cell / name
-        path.write_text(path.read_text().replace("ID000101", "ID000001"))
-    session = _session(cell / "manifest.toml")
+    (cell / "other").mkdir()
+    shutil.copy(cell / "combs_cad.x3d", cell / "other" / "platform_cad.x3d")
+    manifest = cell / "manifest.toml"
+    manifest.write_text(
+        manifest.read_text() + '\n[[source]]\npath = "other/platform_cad.x3d"\nframe = "combs_rf"\n'
+    )
     with pytest.raises(
-        QueryError, match=r"frame 'ID000001' is placed more than once.*unique across the cell"
+        QueryError, match=r"frame 'ID0001platform' is placed more than once \(and 2 more frames\)"
     ):
-        call(session, "guide_info", {"name": "G4"})
+        call(_session(manifest), "guide_info", {"name": "J1"})
 
 
-def test_without_a_robot_base_the_answer_says_so(tmp_path: Path) -> None:
+def test_without_a_robot_base_the_answers_are_in_the_cell(tmp_path: Path) -> None:
     cell = _copy(tmp_path)
     manifest = cell / "manifest.toml"
     manifest.write_text(manifest.read_text().replace('child = "robot_base"', 'child = "robot_mount"'))
-    session = _session(manifest)
-    result = call(session, "guide_info", {"name": "G4"})
-    assert (result.success, result.message) == (False, "G4: no frame 'robot_base'")
-    assert call(session, "guide_info", {"name": "G4", "frame": "cell_top_corner"}).success
+    result = call(_session(manifest), "guide_info", {"name": "J1"})
+    assert (result.success, result.frame) == (True, "cell")
+    # README: J1 at (0.4 - 0.05, 0.2 + 0.10, 0.7 + 0.01) in the cell, turned 90°.
+    assert result.origin_frame.close_to(Pose((0.35, 0.30, 0.71), yaw(90)), 1e-12)
 
 
-def test_a_model_without_key_frames_is_named_in_the_message(tmp_path: Path) -> None:
+def test_a_cell_whose_files_do_not_agree(tmp_path: Path) -> None:
     cell = _copy(tmp_path)
-    models = cell / "assembly" / "assembly-models.xml"
-    text = models.read_text()
-    models.write_text(re.sub(r'    <frame name="key_corner" x="-5"[^\n]*\n', "", text, count=1))
-    result = call(_session(cell / "manifest.toml"), "guide_info", {"name": "G4"})
-    assert result.success and result.key_frame is not None and result.key_corner_frame is None
-    assert result.message.endswith("; model 0009 defines no key_corner frame")
+    sequence = cell / "Assembly_sequence.csv"
+    sequence.write_bytes(sequence.read_bytes().replace(b"6;EC;WH2;C2.1.R", b"6;EC;WH3;C3.1.R"))
+    harnesses = cell / "WH_configuration.xml"
+    harnesses.write_text(harnesses.read_text().replace('tray="B1.2"', 'tray="B3.1"'))
+    ids = cell / "platform_ids.wri"
+    ids.write_bytes(ids.read_bytes().replace(b"ID0005\tJ4\t0015", b"ID0005\tJ4\t0099"))
+    jigs = cell / "Jigs_definition_v2.xml"
+    jigs.write_text(jigs.read_text().replace('xcenter="10" ycenter="10" xcolli="40" ycolli="20"', ""))
+    manifest = cell / "manifest.toml"
+    kg = KnowledgeGraph.build(manifest)  # the build goes through
+    session = Session(kg.cell_model(), kg=kg)
+    step = call(session, "CAD_platform.index_operation", {"index": "5"})
+    assert step.success and step.type == "EC"
+    assert step.message == (
+        "operation 5 (order 6): EC WH3 at C3.1.R; WH3 is in no harness of the harness configuration and "
+        "not in the components; spot C3.1: C3 is on no platform"
+    )
+    assert call(session, "CAD_platform.connector_info", {"label": "WH3"}).success is False
+    assert call(session, "CAD_platform.tray_info", {"box": "B3", "tray": "1"}).message == (
+        "no box 'B3'; known: B1 (harness tray B3.1 names it)"
+    )
+    assert call(session, "CAD_platform.guide_info", {"jig": "J4", "guide": "1"}).message == (
+        "J4 (platform_ids.wri:5) is of model 0099, which no definition gives"
+    )
+    found = [(f.location, f.severity, f.message) for f in validate(kg, shacl=False) if f.check == "elvez"]
+    assert found == [
+        ("Assembly_sequence.csv:3", "error", "spot J4.1: J4 has no definition (model 0099)"),
+        (
+            "Assembly_sequence.csv:7",
+            "error",
+            "WH3 is in no harness of the harness configuration and not in the components",
+        ),
+        ("Assembly_sequence.csv:7", "error", "spot C3.1: C3 is on no platform"),
+        ("Assembly_sequence.csv:8", "error", "spot J4.1: J4 has no definition (model 0099)"),
+        ("WH_configuration.xml:14", "error", "tray B3.1 of harness 2: no box B3 on the platforms"),
+        ("platform_ids.wri:5", "error", "J4: no definition of model 0099"),
+    ]
+    kg.close()
 
 
-def test_plan_references_the_other_files_do_not_define(tmp_path: Path) -> None:
-    cell = _copy(tmp_path)
-    plan = cell / "action-plan.csv"
-    plan.write_text(
-        plan.read_text()
-        .replace("7,route,W205;", "7,route,W299;")
-        .replace("G1;G4;G6,gripper_right", "G1;G9;G6,drill")
-    )
-    session = _session(cell / "manifest.toml")
-    result = call(session, "index_op", {"index": "7"})
-    assert result.success
-    assert result.message == (
-        "operation 7: route; spot G9 is not on any platform; W299 is not a cable of the harness files; "
-        "tool drill is not in the tools file"
-    )
-    assert call(session, "all_op", {}).message.startswith(
-        "14 operations; operation 7: spot G9 is not on any platform"
-    )
-    assert call(session, "index_op", {"index": "8"}).message == "operation 8: route"
+def test_the_example_is_consistent() -> None:
+    kg = KnowledgeGraph.build(EXAMPLE / "manifest.toml")
+    assert validate(kg) == []
+    kg.close()

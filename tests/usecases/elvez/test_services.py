@@ -1,4 +1,4 @@
-"""Every ELVEZ service (Table 2 and the route traversal) on the example cell, and unknown names.
+"""The services of D3.1 Table 2 and the route traversal on the example cell, and unknown names.
 
 Expected values are read from the example's files or computed by hand in its README.
 """
@@ -15,12 +15,18 @@ from cadkg.geometry.poses import Pose
 from cadkg.graph import KnowledgeGraph
 from cadkg.services.session import Session
 from cadkg.services.table import SERVICES, call, services_for
-from cadkg.usecases.elvez import answers as elvez
-from cadkg.usecases.elvez.answers import BranchInfo, CableRoute, ElvezModel, OperationInfo
+from cadkg.usecases.elvez.answers import BranchInfo, CableRoute, OperationInfo
+from cadkg.usecases.elvez.model import ElvezModel, build_model
 from tests.conftest import ROOT
 
 ELVEZ = ROOT / "examples" / "elvez-cell" / "manifest.toml"
 TABLE_2 = ("guide_info", "cable_info", "con_info", "wh_info", "all_tools", "tool_info", "all_op", "index_op")
+REFERENCE = (
+    "connector_info", "cable_info", "tray_info", "jig_info", "guide_info", "taping_spot_info", "all_guides",
+    "next_operation", "reset_sequence_list", "reset_sequence_list_to", "index_operation", "all_operations",
+    "all_cad_components", "tool_info", "get_tools_service",
+)  # fmt: skip
+S = math.sqrt(0.5)
 
 
 @pytest.fixture(scope="module")
@@ -37,77 +43,76 @@ def session(kg: KnowledgeGraph) -> Session:
 
 @pytest.fixture(scope="module")
 def model(kg: KnowledgeGraph) -> ElvezModel:
-    return elvez.build_model(kg)
+    return build_model(kg)
 
 
 def yaw(degrees: float) -> tuple[float, float, float, float]:
     return quaternion_from_rpy(0.0, 0.0, math.radians(degrees))
 
 
-def test_the_profile_registers_table_2_and_the_traversal() -> None:
+def test_the_profile_registers_table_2_the_traversal_and_the_reference_node() -> None:
     names = [s.name for s in services_for("elvez")]
-    assert names == [*TABLE_2, "wh_routes"]
+    assert names == [*TABLE_2, "wh_routes", *(f"CAD_platform.{n}" for n in REFERENCE)]
     assert SERVICES["guide_info"].optional == frozenset({"frame"})
+    reference = SERVICES["CAD_platform.guide_info"]
+    assert (reference.ros_namespace, reference.ros_name, reference.ros_type) == (
+        "CAD_platform",
+        "guide_info",
+        "PlatformGuideInfo",
+    )
+    assert SERVICES["guide_info"].ros_namespace == ""
 
 
 def test_the_model_is_built_once_per_session(session: Session) -> None:
     first = call(session, "all_tools", {})
     assert call(session, "all_tools", {}) == first
-    assert session.profile_model("elvez", lambda kg: None) is session.profile_model(
-        "elvez", elvez.build_model
-    )
+    assert session.profile_model("elvez", lambda kg: None) is session.profile_model("elvez", build_model)
+
+
+def test_elements_are_scoped_by_platform(model: ElvezModel) -> None:
+    assert model.reference == "robot_base"
+    by_frame = {e.frame: e.label for e in model.elements}
+    # ID0002 is J1 on the platform and C1 on the combs; T1 is a table of the platform and the ATC.
+    assert (by_frame["ID0002platform"], by_frame["ID0002combs"]) == ("J1", "C1")
+    assert by_frame["ID0001platform"] == by_frame["ID000001ATC"] == "T1"
+    assert model.element("T1") is None  # tables are not looked up by label
+    element = model.element("J3")
+    assert element is not None and element.where == "platform_ids.wri:4"
 
 
 # -- guides ---------------------------------------------------------------------------------------------
 
 
-def test_the_assembly_platform_has_eight_guides(model: ElvezModel) -> None:
-    guides = model.platforms.of_kind("guide")
-    on_assembly = sorted(g.label for g in guides if g.platform == "assembly_platform")
-    assert on_assembly == [f"G{i}" for i in range(1, 9)]
-    assert sorted(g.label for g in guides if g.platform == "holder_platform") == [
-        f"H{i}" for i in range(1, 7)
-    ]
-    assert sorted(e.label for e in model.platforms.of_kind("atc_slot")) == ["ATC1", "ATC2", "ATC3"]
-
-
-def test_every_guide_answers_with_its_key(model: ElvezModel) -> None:
-    for guide in model.platforms.of_kind("guide"):
-        result = elvez.guide_info(model, guide.label)
-        assert result.success, result.message
-        assert result.key_frame is not None and result.key_corner_frame is not None
-        assert result.key_length > 0 and result.key_gap > 0 and result.key_height > 0
+def test_guide_info_of_j1_in_the_robot_base(session: Session) -> None:
+    result = call(session, "guide_info", {"name": "J1.1"})
+    assert (result.success, result.id, result.frame) == (True, "ID0002", "robot_base")
+    assert result.origin_frame.close_to(Pose((0.65, -0.30, 0.21), yaw(-90)), 1e-12)
+    assert result.key_frame.close_to(Pose((0.662, -0.305, 0.345), yaw(-90)), 1e-12)
+    assert result.key_corner_frame.close_to(Pose((0.658, -0.30, 0.33), yaw(-90)), 1e-12)
+    assert result.dimensions == (0.01, 0.024, 0.15)
+    assert (result.key_length, result.key_gap, result.key_height) == (0.01, 0.008, 0.03)
+    assert call(session, "guide_info", {"name": "J1"}) == result  # J1 has one guide
 
 
 def test_guide_info_in_another_frame(session: Session) -> None:
-    # G4's key in its platform: the X3D pose of G4 (30° about z, on FS1 at z = 0.01) times the
-    # model's key frame (10 mm along x, 40 mm up, 90° about z); see the example README.
-    result = call(session, "guide_info", {"name": "G4", "frame": "assembly_platform"})
-    assert result.frame == "assembly_platform"
-    expected = Pose((0.3 + 0.01 * math.cos(math.pi / 6), 0.1 + 0.01 * math.sin(math.pi / 6), 0.07), yaw(120))
-    assert result.key_frame.close_to(expected, 1e-12)
-    local = call(session, "guide_info", {"name": "G4", "frame": "ID000005"})
-    assert local.key_frame.close_to(Pose((0.01, 0.0, 0.04), yaw(90)), 1e-12)
+    local = call(session, "guide_info", {"name": "J2", "frame": "ID0003platform"})
     assert local.origin_frame.close_to(Pose(), 1e-12)
-    assert local.id == "ID000005"
-    assert local.dimensions == pytest.approx((0.04, 0.03, 0.05))
-    assert (local.key_length, local.key_gap, local.key_height) == pytest.approx((0.03, 0.006, 0.025))
-
-
-def test_guide_on_the_holder_platform_turned_half_a_turn(session: Session) -> None:
-    result = call(session, "guide_info", {"name": "H5", "frame": "cell_top_corner"})
-    assert result.key_frame.close_to(Pose((0.35, 1.15, 0.095), yaw(180)), 1e-12)
-    assert result.key_corner_frame.close_to(Pose((0.358, 1.152, 0.08), yaw(180)), 1e-12)
+    assert local.key_frame.close_to(Pose((0.005, 0.012, 0.135)), 1e-12)
+    turned = call(session, "guide_info", {"name": "J2"})
+    assert turned.key_frame.close_to(Pose((0.655, -0.388, 0.345)), 1e-6)  # 1.570796 for 90°
 
 
 @pytest.mark.parametrize(
     ("params", "message"),
     [
-        ({"name": "G99"}, "no guide 'G99' on the platforms; guides: G1, G2, G3, G4"),
-        ({"name": "ATC1"}, "ATC1 is of type atc_slot, not a guide"),
-        ({"name": "CH1"}, "CH1 is of type connector_holder, not a guide"),
-        ({"name": "G4", "frame": "nowhere"}, "G4: no frame 'nowhere'"),
-        ({"name": "G4", "frame": "gripper_left_wrist"}, "are not connected"),
+        (
+            {"name": "J99"},
+            "no guide 'J99' on the platforms; guides: C1.1, C2.1, J1.1, J2.1, J3.1, J3.2, J4.1",
+        ),
+        ({"name": "J3"}, "J3 has no guide '(none given)'; guides: 1, 2"),
+        ({"name": "J1.7"}, "J1 has no guide '7'; guides: 1"),
+        ({"name": "B1"}, "no guide 'B1'"),
+        ({"name": "J1", "frame": "nowhere"}, "J1: no frame 'nowhere'"),
     ],
 )
 def test_guide_info_failures(session: Session, params: dict[str, str], message: str) -> None:
@@ -121,21 +126,25 @@ def test_guide_info_failures(session: Session, params: dict[str, str], message: 
 
 
 def test_cable_info(session: Session) -> None:
-    result = call(session, "cable_info", {"name": "W101"})
-    assert (result.success, result.message) == (True, "cable W101")
-    assert result.color == (255, 0, 0)
-    assert (result.length, result.diameter) == pytest.approx((0.42, 0.0016))
-    assert (result.wh, result.connector, result.con_index, result.main_connector) == (1, "C11", (1, 1), "C10")
-    last = call(session, "cable_info", {"name": "W311"})
-    assert (last.wh, last.connector, last.con_index, last.color) == (3, "C33", (12, 3), (255, 105, 180))
+    result = call(session, "cable_info", {"name": "CA5"})
+    assert (result.success, result.message) == (True, "cable CA5")
+    assert (result.color, result.length, result.diameter) == ((165, 42, 42), 0.62, 0.0042)
+    assert (result.wh, result.connector, result.con_index, result.main_connector) == (
+        1,
+        "GR12",
+        (4, 0, 1, 0),
+        "WH1",
+    )
+    first = call(session, "cable_info", {"name": "CA2"})
+    assert (first.connector, first.con_index, first.color) == ("GR11", (2, 0), (0, 128, 0))
 
 
 @pytest.mark.parametrize(
     ("name", "message"),
     [
-        ("C10", "C10 is a connector, not a cable; see con_info"),
-        ("K33", "K33 is a capacitor, not a cable"),
-        ("W999", "no cable 'W999'; cables: W101, W102"),
+        ("WH1", "WH1 is not a cable; see con_info"),
+        ("K1", "K1 is not a cable"),
+        ("CA99", "no cable 'CA99'; cables: CA1, CA2"),
     ],
 )
 def test_cable_info_unknown(session: Session, name: str, message: str) -> None:
@@ -144,107 +153,96 @@ def test_cable_info_unknown(session: Session, name: str, message: str) -> None:
 
 
 def test_con_info(session: Session) -> None:
-    branch = call(session, "con_info", {"name": "C12"})
-    assert branch.success
-    assert (branch.color, branch.wh, branch.cables) == ((255, 255, 255), 1, ("W104", "W105", "W106"))
-    assert branch.dimensions == pytest.approx((0.02, 0.015, 0.012))
-    main = call(session, "con_info", {"name": "C30"})
-    assert main.cables == tuple(f"W3{i:02d}" for i in range(1, 12))
-    assert main.dimensions == pytest.approx((0.055, 0.03, 0.02))
+    first = call(session, "con_info", {"name": "WH1"})
+    assert (first.success, first.color, first.wh) == (True, (255, 255, 255), 1)
+    assert first.cables == ("CA1", "CA2", "CA3", "CA4", "CA5")
+    assert first.dimensions == (0.0329, 0.01464, 0.04655)
+    end = call(session, "con_info", {"name": "GR12"})
+    assert (end.success, end.cables, end.color, end.wh) == (True, ("CA4", "CA5"), (), 1)
+    assert end.message == "connector GR12: not in the components definition (no colour or size)"
 
 
 @pytest.mark.parametrize(
     ("name", "message"),
     [
-        ("W101", "W101 is a cable, not a connector; see cable_info"),
-        ("K33", "K33 is a capacitor, not a connector"),
-        ("C99", "no connector 'C99'; connectors: C10, C11"),
+        ("CA1", "CA1 is a cable, not a connector"),
+        ("K1", "K1 is a device, not a connector"),
+        ("X1", "no connector 'X1'; connectors: WH1, WH2"),
     ],
 )
 def test_con_info_unknown(session: Session, name: str, message: str) -> None:
     result = call(session, "con_info", {"name": name})
-    assert result.success is False and message in result.message
+    assert result.success is False and result.message == message
 
 
 def test_wh_info(session: Session) -> None:
-    counts = []
-    for number in ("1", "2", "3"):
-        result = call(session, "wh_info", {"number": number})
-        assert result.success
-        counts.append(sum(len(b.cables) for b in result.branches))
-    assert counts == [6, 10, 11]
     first = call(session, "wh_info", {"number": "1"})
-    assert first.connector == "C10"
-    assert first.branches == (
-        BranchInfo("C11", ("W101", "W102", "W103")),
-        BranchInfo("C12", ("W104", "W105", "W106")),
-    )
+    assert (first.success, first.connector) == (True, "WH1")
+    assert first.branches == (BranchInfo("GR11", ("CA1", "CA2", "CA3")), BranchInfo("GR12", ("CA4", "CA5")))
     missing = call(session, "wh_info", {"number": "4"})
-    assert (missing.success, missing.message) == (False, "no harness 4; harnesses: 1, 2, 3")
+    assert (missing.success, missing.message) == (False, "no harness 4; harnesses: 1, 2")
 
 
 # -- tools ----------------------------------------------------------------------------------------------
 
 
 def test_all_tools(session: Session) -> None:
-    result = call(session, "all_tools", {})
-    assert (result.success, result.names) == (True, ("gripper_left", "gripper_right", "taping_gun"))
+    assert call(session, "all_tools", {}).names == ("gun", "gripper")
 
 
 def test_tool_info(session: Session) -> None:
-    result = call(session, "tool_info", {"name": "gripper_left"})
-    assert (result.success, result.atc_spot) == (True, "ATC1")
-    assert result.dimensions == pytest.approx((0.09, 0.06, 0.14))
-    assert result.base_wrist_frame.close_to(Pose((0.0, 0.0, 0.14), (1.0, 0.0, 0.0, 0.0)), 1e-12)
-    assert result.wrist_action_frame.close_to(Pose((0.0, 0.0, 0.12)), 1e-12)
-    # ATC1's seat is at (-0.8, 0.4, 0.05) in the robot base, turned 90° about z (README); the wrist
-    # is 0.14 m above it, upside down.
-    s = math.sqrt(0.5)
-    assert result.parked_wrist_frame.close_to(Pose((-0.8, 0.4, 0.19), (s, s, 0.0, 0.0)), 1e-12)
+    result = call(session, "tool_info", {"name": "gun"})
+    assert (result.success, result.atc_spot, result.dimensions) == (True, "Agun", (0.22, 0.3, 0.1))
+    assert result.base_wrist_frame.close_to(Pose((0.06, 0.03, 0.14), yaw(90)), 1e-12)
+    assert result.wrist_action_frame.close_to(
+        Pose((0.1, -0.05, 0.08), quaternion_from_rpy(0, math.pi / 2, 0)), 1e-12
+    )
+    # README, "The tools": the station at (-0.15, -0.70, 0.31) turned -90°; the base 90° back.
+    assert result.parked_wrist_frame.close_to(Pose((-0.12, -0.76, 0.45)), 1e-6)
     unknown = call(session, "tool_info", {"name": "screwdriver"})
-    assert unknown.success is False
-    assert unknown.message == "no tool 'screwdriver'; tools: gripper_left, gripper_right, taping_gun"
+    assert (unknown.success, unknown.message) == (False, "no tool 'screwdriver'; tools: gun, gripper")
 
 
-# -- process --------------------------------------------------------------------------------------------
+# -- sequence -------------------------------------------------------------------------------------------
 
 
-def test_all_op_in_plan_order(session: Session) -> None:
+def test_all_op_in_sequence_order(session: Session) -> None:
     result = call(session, "all_op", {})
-    assert result.success
-    assert [op.index for op in result.operations] == list(range(1, 15))
-    assert [op.type for op in result.operations] == [
-        "insert", "route", "route", "tape",
-        "insert", "route", "route", "route", "tape",
-        "insert", "route", "route", "route", "tape",
-    ]  # fmt: skip
-    assert result.operations[0] == OperationInfo(1, "insert", ("H1", "CH1"), ("C10",), "gripper_left")
+    assert (result.success, result.message) == (True, "9 operations")
+    assert [(op.index, op.type) for op in result.operations] == list(
+        enumerate(["EC", "PC", "RC", "RC", "T", "EC", "PC", "RC", "TJ"], start=1)
+    )
+    assert result.operations[0] == OperationInfo(1, "EC", ("C1.1.L",), ("WH1",), "")
+    assert result.operations[2].spot == ("J1.1", "J2.1", "J3.1")
 
 
 def test_index_op(session: Session) -> None:
-    result = call(session, "index_op", {"index": "7"})
+    result = call(session, "index_op", {"index": "4"})
     assert (result.success, result.type, result.spot, result.label, result.tool) == (
         True,
-        "route",
-        ("G1", "G4", "G6"),
-        ("W205", "W206", "W207"),
-        "gripper_right",
+        "RC",
+        ("J1.1", "J3.2"),
+        ("GR12",),
+        "",
     )
-    for index in ("0", "15"):
+    for index in ("0", "10"):
         missing = call(session, "index_op", {"index": index})
-        assert missing.success is False
-        assert missing.message == f"no operation {index}; the plan has operations 1 to 14"
+        assert (missing.success, missing.message) == (
+            False,
+            f"no operation {index}; the sequence has operations 1 to 9",
+        )
 
 
 def test_wh_routes(session: Session) -> None:
-    result = call(session, "wh_routes", {"number": "2"})
-    assert result.success and result.connector == "C20"
-    assert [r.cable for r in result.routes] == [f"W2{i:02d}" for i in range(1, 11)]
-    by_cable = {r.cable: r for r in result.routes}
-    assert by_cable["W205"] == CableRoute(
-        "W205", "C20", 5, "C22", 1, ("G1", "G4", "G6"), ("G1", "G4"), (7, 9)
+    result = call(session, "wh_routes", {"number": "1"})
+    assert (result.success, result.connector) == (True, "WH1")
+    assert [r.cable for r in result.routes] == ["CA1", "CA2", "CA3", "CA4", "CA5"]
+    assert result.routes[0] == CableRoute(
+        "CA1", "WH1", (0, 0), "GR11", (), ("J1.1", "J2.1", "J3.1"), ("J1.1", "J2.1"), (1, 2, 3, 5)
     )
-    assert by_cable["W201"].guides == ("G1", "G2", "G3")
-    last = call(session, "wh_routes", {"number": "3"}).routes[-1]
-    assert last == CableRoute("W311", "C30", 12, "C33", 3, ("G7", "G4", "G5"), ("G7", "G4"), (13, 14))
+    assert result.routes[4] == CableRoute(
+        "CA5", "WH1", (4, 0), "GR12", (1, 0), ("J1.1", "J3.2"), ("J1.1", "J2.1"), (1, 2, 4, 5)
+    )
+    whole = call(session, "wh_routes", {"number": "2"}).routes[1]
+    assert (whole.guides, whole.tape_spots, whole.operations) == (("J2.1", "J3.1"), ("J3.1",), (6, 7, 8, 9))
     assert call(session, "wh_routes", {"number": "7"}).success is False

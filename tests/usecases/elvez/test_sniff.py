@@ -1,4 +1,6 @@
-"""The ELVEZ kinds share .xml and .csv with others: each file is claimed by exactly one sniffer."""
+"""Every ELVEZ file is recognised from its content: the ELVEZ kinds share .xml and .csv with other
+use cases (each file is claimed by exactly one sniffer), and .x3d and .wri with the core readers
+(the cell's profile picks the reader no content tells apart)."""
 
 from __future__ import annotations
 
@@ -8,24 +10,23 @@ import pytest
 
 from cadkg.errors import IngestError
 from cadkg.registry import kinds, sniff_kind
-from cadkg.usecases.elvez.xml_fields import first_element_name
+from cadkg.usecases.elvez.files.xml_fields import element_names
 from tests.conftest import ROOT
 
 EXAMPLES = ROOT / "examples"
 ELVEZ = EXAMPLES / "elvez-cell"
 IEMA = EXAMPLES / "iema-switchgear"
-ELVEZ_KINDS = ("element-models", "tools", "harness-structure", "harness-components", "action-plan")
+ELVEZ_KINDS = {r.kind for r in kinds() if r.kind.startswith("elvez-")}
 
 ELVEZ_FILES = {
-    "assembly/assembly-models.xml": "element-models",
-    "holder/holder-models.xml": "element-models",
-    "atc/atc-models.xml": "element-models",
-    "tools.xml": "tools",
-    "harness-structure.xml": "harness-structure",
-    "harness-components.csv": "harness-components",
-    "action-plan.csv": "action-plan",
-    "assembly/assembly.x3d": "x3d",
-    "assembly/assembly.wri": "wri",
+    "Jigs_definition_v2.xml": "elvez-definitions",
+    "WH_configuration.xml": "elvez-harnesses",
+    "Components_definition.csv": "elvez-components",
+    "Assembly_sequence.csv": "elvez-sequence",
+    "platform_cad.x3d": "elvez-scene",
+    "combs_ids.wri": "elvez-ids",
+    "stl/platform/0011.STL": "elvez-mesh",
+    "stl/combs/ID0002.STL": "elvez-mesh",
 }
 IEMA_FILES = {
     "components.xml": "component-model",
@@ -35,37 +36,48 @@ IEMA_FILES = {
     "komax-export.csv": "connection-list",
     "connections-fig3.tsv": "connection-list",
     "assignments.csv": "assignments",
+    "scene.x3d": "x3d",
+    "ids.wri": "wri",
 }
 
 
 @pytest.mark.parametrize(("name", "kind"), sorted(ELVEZ_FILES.items()))
 def test_elvez_example_files(name: str, kind: str) -> None:
-    assert sniff_kind(ELVEZ / name) == kind
+    assert sniff_kind(ELVEZ / name, profile="elvez") == kind
 
 
 @pytest.mark.parametrize(("name", "kind"), sorted(IEMA_FILES.items()))
 def test_iema_example_files_keep_their_kinds(name: str, kind: str) -> None:
-    assert sniff_kind(IEMA / name) == kind
+    for profile in ("", "iema", "vw"):
+        assert sniff_kind(IEMA / name, profile=profile) == kind
     head = (IEMA / name).read_bytes()[:16384]
-    elvez = [r.kind for r in kinds() if r.kind in ELVEZ_KINDS and r.sniff is not None and r.sniff(head)]
-    assert elvez == []
+    assert [r.kind for r in kinds() if r.kind in ELVEZ_KINDS and r.sniff is not None and r.sniff(head)] == []
 
 
-@pytest.mark.parametrize("name", sorted(n for n in ELVEZ_FILES if not n.endswith((".x3d", ".wri"))))
+def test_scenes_and_id_tables_are_the_cells_use_case_s() -> None:
+    # The same files in a cell of another profile are read by the core readers.
+    assert sniff_kind(ELVEZ / "platform_cad.x3d", profile="iema") == "x3d"
+    assert sniff_kind(ELVEZ / "platform_ids.wri") == "wri"
+    assert sniff_kind(IEMA / "scene.x3d", profile="elvez") == "elvez-scene"
+
+
+@pytest.mark.parametrize("name", sorted(n for n in ELVEZ_FILES if n.endswith((".xml", ".csv"))))
 def test_only_one_sniffer_claims_each_elvez_file(name: str) -> None:
     head = (ELVEZ / name).read_bytes()[:16384]
     assert [r.kind for r in kinds() if r.sniff is not None and r.sniff(head)] == [ELVEZ_FILES[name]]
 
 
-def test_first_element_skips_declaration_and_comments() -> None:
-    head = b'\xef\xbb\xbf<?xml version="1.0"?>\n<!-- <tools> in a comment -->\n<?pi x?>\n<harness_structure>'
-    assert first_element_name(head) == "harness_structure"
-    assert first_element_name(b"<!-- never closed <tools>") is None
-    assert first_element_name(b"plain text") is None
+def test_element_names_skip_declaration_and_comments() -> None:
+    head = (
+        b'\xef\xbb\xbf<?xml version="1.0"?>\n<!-- <jig> in a comment -->\n<?pi x?>\n<data>\n<!--x-->\n<box>'
+    )
+    assert element_names(head) == ["data", "box"]
+    assert element_names(b"<!-- never closed <jig>") == []
+    assert element_names(b"plain text") == []
 
 
 def test_an_xml_no_reader_knows(tmp_path: Path) -> None:
     path = tmp_path / "other.xml"
     path.write_text("<robots><robot/></robots>")
     with pytest.raises(IngestError, match=r"other\.xml: cannot tell the kind of this file"):
-        sniff_kind(path)
+        sniff_kind(path, profile="elvez")

@@ -56,6 +56,8 @@ class Node:
     line: int
     def_name: str | None = None
     use_of: Node | None = None
+    # The line of the first DEF of a name this node gives again (read leniently; see parse_x3d).
+    redefines: int | None = None
     fields: dict[str, Field] = field(default_factory=dict)
     nodes: dict[str, list[Node]] = field(default_factory=dict)
 

@@ -44,7 +44,7 @@ from cadkg.ingest.scene.records import (
     transform_matrix,
 )
 
-__all__ = ["read_scene"]
+__all__ = ["STRICT", "WalkOptions", "read_scene"]
 
 _MAX_WALK_DEPTH = 300
 
@@ -97,8 +97,27 @@ def _warn(node: Node, reason: str) -> None:
     warnings.warn(IngestWarning(node.source, reason, line=node.line), stacklevel=4)
 
 
+@dataclass(frozen=True, slots=True)
+class WalkOptions:
+    """How forgiving the walk is (the defaults are strict).
+
+    ``skip_broken_shapes``: a shape whose coordinates are broken (a point list that is not
+    x y z triples, an index past the points, a DEF name given again on its Coordinate) is
+    skipped with one warning naming its line instead of stopping the read; the item keeps
+    its frame. ``transforms_only``: only DEF-named Transforms are items; the shapes of a
+    DEF-named Group count for the Transform around it.
+    """
+
+    skip_broken_shapes: bool = False
+    transforms_only: bool = False
+
+
+STRICT = WalkOptions()
+
+
 class _Walk:
-    def __init__(self, top: Path, parsers: dict[str, Parser]) -> None:
+    def __init__(self, top: Path, parsers: dict[str, Parser], options: WalkOptions = STRICT) -> None:
+        self.options = options
         # The directory as named, so a scene reached through a symbolic link keeps its neighbours.
         self.top_dir = top.parent.resolve()
         self.display_dir = top.parent
@@ -136,7 +155,7 @@ class _Walk:
         if kind in _GROUPS:
             if kind == "Transform" and not _TRANSFORM_FIELDS.keys().isdisjoint(node.fields):
                 world = world @ self.transform(node)
-            if node.def_name is not None:
+            if node.def_name is not None and (kind == "Transform" or not self.options.transforms_only):
                 item = self.new_item(node, world, item, use)
             for child in self.children(node):
                 self.visit(child, world, item, use, depth + 1)
@@ -208,7 +227,7 @@ class _Walk:
             target = geometry.use_of or geometry
             key = id(target)
             if key not in self.meshes:
-                self.meshes[key] = self.mesh(target)
+                self.meshes[key] = self.mesh(target, item)
             part = self.meshes[key]
             if part is None:
                 continue
@@ -218,7 +237,7 @@ class _Walk:
             vertices, faces = part
             item.parts.append((apply_affine(item.inverse @ world, vertices), faces))
 
-    def mesh(self, node: Node) -> Part | None:
+    def mesh(self, node: Node, item: _Item | None = None) -> Part | None:
         kind = node.type
         if kind == "Box":
             return box_mesh(self.sizes(node, "size", (2.0, 2.0, 2.0)))
@@ -233,9 +252,9 @@ class _Walk:
             (height,) = self.sizes(node, "height", (2.0,))
             return cone_mesh(radius, height)
         if kind == "IndexedFaceSet":
-            return self.indexed(node, "coordIndex", fan_triangulate)
+            return self.indexed(node, "coordIndex", fan_triangulate, item)
         if kind == "IndexedTriangleSet":
-            return self.indexed(node, "index", self.triangles)
+            return self.indexed(node, "index", self.triangles, item)
         _warn(node, f"{kind} geometry is not read; skipped")
         return None
 
@@ -254,7 +273,9 @@ class _Walk:
     def triangles(self, index: Ints) -> Ints:
         return index[: index.size - index.size % 3].reshape(-1, 3)
 
-    def indexed(self, node: Node, name: str, triangulate: Callable[[Ints], Ints]) -> Part | None:
+    def indexed(
+        self, node: Node, name: str, triangulate: Callable[[Ints], Ints], item: _Item | None = None
+    ) -> Part | None:
         coords = [c.use_of or c for c in node.nodes.get("coord", [])]
         if not coords:
             if ints_of(node, name).size:
@@ -264,27 +285,58 @@ class _Walk:
         if coord.type not in _COORDINATES:
             _warn(coord, f"{coord.type} coordinates are not read; {node.type} skipped")
             return None
-        points = floats_of(coord, "point")
-        if points.size % 3:
-            raise IngestError(
-                coord.source,
-                f"'point' of {coord.type} has {points.size} numbers",
-                line=coord.fields["point"].line,
-                expected="x y z triples (a multiple of 3 numbers)",
+        broken: list[IngestError] = []
+        if coord.redefines is not None:
+            broken.append(
+                IngestError(
+                    coord.source,
+                    f"DEF name {coord.def_name or '?'} given twice (first on line {coord.redefines})",
+                    line=coord.line,
+                )
             )
-        points = points.reshape(-1, 3)
-        index = ints_of(node, name)
+        try:
+            points = floats_of(coord, "point")
+        except IngestError as err:
+            broken.append(err)
+            points = None
+        if points is not None and points.size % 3:
+            broken.append(
+                IngestError(
+                    coord.source,
+                    f"'point' of {coord.type} has {points.size} numbers",
+                    line=coord.fields["point"].line,
+                    expected="x y z triples (a multiple of 3 numbers)",
+                )
+            )
+        try:
+            index = ints_of(node, name)
+        except IngestError as err:
+            broken.append(err)
+            index = np.empty(0, dtype=np.int64)
+        # Unreadable points cannot be indexed: the index is not checked against them.
+        readable = points is not None
+        whole = np.empty(0) if points is None else points[: points.size - points.size % 3]
+        points = whole.reshape(-1, 3)
         minimum = 0 if name == "index" else -1
         bad = index[(index < minimum) | (index >= len(points))]
-        if bad.size:
-            raise IngestError(
-                node.source,
-                f"{name} {int(bad[0])} of {node.type} is out of range",
-                line=node.fields[name].line,
-                found=int(bad[0]),
-                expected=f"{'-1 or ' if minimum < 0 else ''}an index below {len(points)} "
-                f"(the {coord.type} has {len(points)} points)",
+        if bad.size and readable:
+            broken.append(
+                IngestError(
+                    node.source,
+                    f"{name} {int(bad[0])} of {node.type} is out of range",
+                    line=node.fields[name].line,
+                    found=int(bad[0]),
+                    expected=f"{'-1 or ' if minimum < 0 else ''}an index below {len(points)} "
+                    f"(the {coord.type} has {len(points)} points)",
+                )
             )
+        if broken:
+            if not self.options.skip_broken_shapes:
+                raise broken[0]
+            owner = f" of item {item.node.def_name}" if item is not None else ""
+            reasons = "; ".join(err.reason + (f" ({err.found!r})" if err.found else "") for err in broken)
+            _warn(node, f"shape{owner} skipped, its item keeps its frame: {reasons}")
+            return None
         faces = triangulate(index)
         if not len(faces):
             return None
@@ -402,11 +454,13 @@ def _vec3(values: Floats) -> Vec3:
     return (float(values[0]), float(values[1]), float(values[2]))
 
 
-def read_scene(path: str | Path, parse: Parser, parsers: dict[str, Parser]) -> list[SceneItem]:
+def read_scene(
+    path: str | Path, parse: Parser, parsers: dict[str, Parser], options: WalkOptions = STRICT
+) -> list[SceneItem]:
     """Read the scene file ``path`` with ``parse`` and any Inline files it names with the parser
     of their suffix in ``parsers``, as items."""
     top = Path(path)
-    walk = _Walk(top, parsers)
+    walk = _Walk(top, parsers, options)
     parsed = parse(top)
     walk.add_file(top, parsed)
     walk.chain.append(top.resolve())

@@ -7,6 +7,8 @@ attacks cannot start. See docs/formats/scene.md for what is read.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -17,7 +19,7 @@ from cadkg.ingest.scene.nodes import MAX_NESTING, Field, Node, ParsedFile
 from cadkg.ingest.text import xml_document
 from cadkg.ingest.xml_input import parse_untrusted_xml
 
-__all__ = ["X3D_NAMESPACE", "parse_x3d"]
+__all__ = ["ITEM_NODES", "X3D_NAMESPACE", "parse_x3d", "x3d_parser"]
 
 X3D_NAMESPACE = "http://www.web3d.org/specifications/x3d-namespace"
 _EXPECTED = "an X3D document: <X3D> holding a <Scene>"
@@ -26,6 +28,11 @@ _STATEMENTS = frozenset(
     {"ROUTE", "ProtoDeclare", "ExternProtoDeclare", "IMPORT", "EXPORT", "IS", "field", "fieldValue"}
 )
 _NOT_FIELDS = frozenset({"DEF", "USE", "containerField"})
+# Nodes whose DEF name may name an item (or hold items); a name given twice on one of them
+# is always an error, whatever the mode.
+ITEM_NODES = frozenset(
+    {"Group", "Transform", "Collision", "Anchor", "Switch", "LOD", "Billboard", "StaticGroup", "Inline"}
+)
 _DEFAULT_CONTAINER = {
     "Appearance": "appearance",
     "Coordinate": "coord",
@@ -37,15 +44,25 @@ _DEFAULT_CONTAINER = {
 }
 
 
-def parse_x3d(path: Path) -> ParsedFile:
-    """Parse one X3D file into scene nodes (Inline files are not followed here)."""
+def parse_x3d(path: Path, *, tolerate_geometry_defs: bool = False) -> ParsedFile:
+    """Parse one X3D file into scene nodes (Inline files are not followed here).
+
+    With ``tolerate_geometry_defs``, a DEF name given again on a node that cannot be an item
+    (a ``Coordinate``, as Blender's exporter writes for shared meshes) is not an error here:
+    the node records the first DEF's line and the walk skips its shape with a warning.
+    """
     try:
         data = path.read_bytes()
     except OSError as err:
         raise IngestError(path, f"cannot read the file: {err.strerror}") from err
     document = xml_document(path, data, expected=_EXPECTED)
     root = parse_untrusted_xml(path, document, what="X3D", expected=_EXPECTED, allow_doctype=True)
-    return _Builder(path).document(root)
+    return _Builder(path, tolerate_geometry_defs).document(root)
+
+
+def x3d_parser(*, tolerate_geometry_defs: bool = False) -> Callable[[Path], ParsedFile]:
+    """:func:`parse_x3d` with its options bound, as the walk calls parsers."""
+    return partial(parse_x3d, tolerate_geometry_defs=tolerate_geometry_defs)
 
 
 def _local(element: Any) -> str:
@@ -53,10 +70,11 @@ def _local(element: Any) -> str:
 
 
 class _Builder:
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, tolerate_geometry_defs: bool = False) -> None:
         self.path = path
         self.source = str(path)
         self.defs: dict[str, Node] = {}
+        self.tolerate = tolerate_geometry_defs
 
     def document(self, root: Any) -> ParsedFile:
         namespace = etree.QName(root).namespace
@@ -141,6 +159,9 @@ class _Builder:
 
     def define(self, node: Node, name: str) -> None:
         first = self.defs.get(name)
+        if first is not None and self.tolerate and node.type not in ITEM_NODES:
+            node.def_name, node.redefines = name, first.line
+            return
         if first is not None:
             raise IngestError(
                 self.path,

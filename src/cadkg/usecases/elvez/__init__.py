@@ -1,10 +1,11 @@
-"""ELVEZ: assembling wire harnesses on guides (D3.1 section 4.3, services of Table 2).
+"""ELVEZ: assembling wire harnesses on jigs and guides (D3.1 section 4.3, Table 2).
 
-Three platforms (the assembly platform with its jigs and guides, the combs, the automatic
-tool changer) are merged into one frame tree, so every point of interest (a guide's key, a
-taping spot) has a pose in the robot base frame; the harnesses, their components, the tools
-and the assembly sequence are read beside them, and the services give the guides, cables,
-connectors, harnesses, tools and operations the planner asks for.
+The cell's own files are read as they are: three platforms (the assembly platform with its
+jigs, the combs holding the harnesses' connectors, the automatic tool changer), each a Blender
+X3D scene with its WRI ID table and an STL folder; the element definitions of the jigs,
+combs, boxes and ATC stations; the wiring harnesses, their components and the assembly
+sequence. The services give what the robot's planner asks for: D3.1 Table 2's and those of the
+reference's CAD platform node, with every point of interest in the robot's base frame.
 """
 
 from __future__ import annotations
@@ -14,54 +15,66 @@ from importlib import resources
 from cadkg.ingest.reader import Reader
 from cadkg.usecase import UseCase
 from cadkg.usecases.elvez import mapping as _mapping  # noqa: F401  (registers the record mappings)
-from cadkg.usecases.elvez.action_plan import looks_like_action_plan, read_action_plan
-from cadkg.usecases.elvez.element_models import looks_like_element_models, read_element_models
-from cadkg.usecases.elvez.harness_components import looks_like_harness_components, read_harness_components
-from cadkg.usecases.elvez.harness_structure import looks_like_harness_structure, read_harness_structure
+from cadkg.usecases.elvez.checks import findings
+from cadkg.usecases.elvez.files.components import looks_like_components, read_components
+from cadkg.usecases.elvez.files.definitions import looks_like_element_definitions, read_element_definitions
+from cadkg.usecases.elvez.files.harnesses import looks_like_harness_configuration, read_harness_configuration
+from cadkg.usecases.elvez.files.platforms import read_platform_ids, read_platform_mesh, read_platform_scene
+from cadkg.usecases.elvez.files.sequence import looks_like_sequence, read_sequence
 from cadkg.usecases.elvez.services import SERVICES, element_meshes, platform_frames
-from cadkg.usecases.elvez.tools import looks_like_tools, read_tools
 
 __all__ = ["USE_CASE"]
 
 USE_CASE = UseCase(
     name="elvez",
-    title="wire harness assembly on guides (D3.1 section 4.3, Table 2)",
+    title="wire harness assembly on jigs and guides (D3.1 section 4.3, Table 2)",
     section="4.3",
     readers=(
         Reader(
-            "element-models",
+            "elvez-scene",
+            (".x3d",),
+            read_platform_scene,
+            "ELVEZ platform scene (Blender X3D, mm; in an elvez cell): element frames, broken shapes skipped",
+        ),
+        Reader(
+            "elvez-ids",
+            (".wri",),
+            read_platform_ids,
+            "ELVEZ platform WRI table (in an elvez cell): CAD ID, label (T/J/B/C/A + name), commercial code",
+        ),
+        Reader(
+            "elvez-mesh",
+            (".stl",),
+            read_platform_mesh,
+            "ELVEZ element mesh (STL in mm, binary or ASCII) of the platform its folder names",
+        ),
+        Reader(
+            "elvez-definitions",
             (".xml",),
-            read_element_models,
-            "Platform element models XML (<element_models>): size, key frames, key size, STL mesh",
-            looks_like_element_models,
+            read_element_definitions,
+            "ELVEZ element definitions (Jigs_definition_v2.xml): jigs, combs, boxes, ATC stations",
+            looks_like_element_definitions,
         ),
         Reader(
-            "tools",
+            "elvez-harnesses",
             (".xml",),
-            read_tools,
-            "Robot tools XML (<tools>): ATC slot, base-to-wrist and wrist-to-action frames, size",
-            looks_like_tools,
+            read_harness_configuration,
+            "ELVEZ wiring harnesses (WH_configuration.xml): first connector, tray, end connectors, cables",
+            looks_like_harness_configuration,
         ),
         Reader(
-            "harness-structure",
-            (".xml",),
-            read_harness_structure,
-            "Harness structure XML (<harness_structure>): main connector, branches, cables, pins",
-            looks_like_harness_structure,
+            "elvez-components",
+            (".csv",),
+            read_components,
+            "ELVEZ components (Components_definition.csv): connectors, cables, devices; colour, sizes in mm",
+            looks_like_components,
         ),
         Reader(
-            "harness-components",
-            (".csv", ".tsv"),
-            read_harness_components,
-            "Harness components: name, type, red, green, blue, diameter_mm, length_mm, x/y/z_mm",
-            looks_like_harness_components,
-        ),
-        Reader(
-            "action-plan",
-            (".csv", ".tsv"),
-            read_action_plan,
-            "ELVEZ action plan: index, operation (insert/route/tape), components, spots, tool",
-            looks_like_action_plan,
+            "elvez-sequence",
+            (".csv",),
+            read_sequence,
+            "ELVEZ assembly sequence (Assembly_sequence.csv): Order;Type of operation;Label;Spot",
+            looks_like_sequence,
         ),
     ),
     services=SERVICES,
@@ -69,4 +82,5 @@ USE_CASE = UseCase(
     ros_namespace="/elvez",
     frames=platform_frames,
     markers=element_meshes,
+    checks=findings,
 )

@@ -1,26 +1,24 @@
-"""The ELVEZ services of the reference's Table 2, transport-free, and the harness route traversal.
+"""The ELVEZ services of D3.1 Table 2 (``/elvez/...``), transport-free, and the harness route
+traversal, answered from the ELVEZ model (:mod:`cadkg.usecases.elvez.model`).
 
-:func:`build_model` (:mod:`cadkg.usecases.elvez.model`) reads the graph once into an
-:class:`ElvezModel`; every service is a plain function of that model
-returning a frozen dataclass whose first fields are ``success`` and ``message``. An unknown
-name gives ``success=False`` and a message saying what is known, never an exception.
-
-Units: metres, radians, unit quaternions ``(x, y, z, w)``; colours are red, green, blue from 0
-to 255. Poses are in the robot base frame (``robot_base``) unless ``frame`` names another frame
-of the cell. See docs/elvez-services.md.
+Every result's first fields are ``success`` and ``message``; an unknown name gives
+``success=False`` and a message saying what is known, never an exception. Units: metres,
+radians, unit quaternions ``(x, y, z, w)``; colours red, green, blue from 0 to 255 (from the
+colour names of the components file). Poses are in the model's reference frame (``robot_base``
+when the manifest places it, else the cell) unless ``frame`` names another. A guide is named
+``J4.1`` (element and guide) or ``J4`` when its element has one guide. See docs/elvez-services.md.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
-
-import networkx as nx
 
 from cadkg.errors import CadkgError
 from cadkg.geometry.poses import Pose
-from cadkg.usecases.elvez.model import BranchInfo, ElvezModel, OperationInfo, build_model
-from cadkg.usecases.elvez.platform import PlatformElement
+from cadkg.usecases.elvez.files.harnesses import EndConnector, WiringHarness
+from cadkg.usecases.elvez.files.sequence import SequenceStep
+from cadkg.usecases.elvez.model import ElvezModel, known, unresolved
+from cadkg.usecases.elvez.platform import key_centre
 
 __all__ = [
     "AllOpResult",
@@ -29,7 +27,6 @@ __all__ = [
     "CableInfoResult",
     "CableRoute",
     "ConInfoResult",
-    "ElvezModel",
     "GuideInfoResult",
     "IndexOpResult",
     "OperationInfo",
@@ -38,7 +35,6 @@ __all__ = [
     "WhRoutesResult",
     "all_op",
     "all_tools",
-    "build_model",
     "cable_info",
     "con_info",
     "guide_info",
@@ -48,15 +44,10 @@ __all__ = [
     "wh_routes",
 ]
 
-_SHOWN = 12
-
-
-# -- results ---------------------------------------------------------------------------------------------
-
 
 @dataclass(frozen=True)
 class GuideInfoResult:
-    """``/elvez/guide_info``: a guide's CAD ID, size, origin and key frames and key size."""
+    """``/elvez/guide_info``: the element's CAD ID, size, origin, key centre and corner, key size."""
 
     success: bool
     message: str
@@ -73,7 +64,8 @@ class GuideInfoResult:
 
 @dataclass(frozen=True)
 class CableInfoResult:
-    """``/elvez/cable_info``; ``con_index`` is [cavity at the main connector, cavity at ``connector``]."""
+    """``/elvez/cable_info``; ``con_index`` is the cavity [row, column] in the main connector,
+    then in ``connector`` when the harness configuration gives it."""
 
     success: bool
     message: str
@@ -99,9 +91,15 @@ class ConInfoResult:
 
 
 @dataclass(frozen=True)
-class WhInfoResult:
-    """``/elvez/wh_info``: the main connector and the branches of a harness."""
+class BranchInfo:
+    """A branch of a harness: its end connector and its cables (wh_info)."""
 
+    connector: str
+    cables: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class WhInfoResult:
     success: bool
     message: str
     connector: str = ""
@@ -117,7 +115,8 @@ class AllToolsResult:
 
 @dataclass(frozen=True)
 class ToolInfoResult:
-    """``/elvez/tool_info``; ``parked_wrist_frame`` is where the wrist meets the tool in its slot."""
+    """``/elvez/tool_info``: the tool's ATC station, its base in the station's frame, its end in
+    the base's frame, its size, and where its base (the wrist's seat) is when it is parked."""
 
     success: bool
     message: str
@@ -126,6 +125,17 @@ class ToolInfoResult:
     wrist_action_frame: Pose | None = None
     dimensions: tuple[float, ...] = ()
     parked_wrist_frame: Pose | None = None
+
+
+@dataclass(frozen=True)
+class OperationInfo:
+    """One operation: its order, code, spots (``J4.1``, ``C1.1.L``) and labels; no tool is given."""
+
+    index: int
+    type: str
+    spot: tuple[str, ...]
+    label: tuple[str, ...]
+    tool: str
 
 
 @dataclass(frozen=True)
@@ -147,13 +157,14 @@ class IndexOpResult:
 
 @dataclass(frozen=True)
 class CableRoute:
-    """How one cable runs: from a main-connector cavity, through guides, to a branch-connector cavity."""
+    """How one cable runs: from its cavity in the main connector, through guides in route
+    order, to its end connector; where it is taped and which operations handle it (orders)."""
 
     cable: str
     from_connector: str
-    from_pin: int
+    from_cavity: tuple[int, ...]
     to_connector: str
-    to_pin: int
+    to_cavity: tuple[int, ...]
     guides: tuple[str, ...]
     tape_spots: tuple[str, ...]
     operations: tuple[int, ...]
@@ -167,296 +178,231 @@ class WhRoutesResult:
     routes: tuple[CableRoute, ...] = ()
 
 
-# -- the model ---------------------------------------------------------------------------------------------
-
-
-def _known(names: Any) -> str:
-    listed = sorted(names)
-    if not listed:
-        return "none"
-    shown = ", ".join(listed[:_SHOWN])
-    return shown + (f" and {len(listed) - _SHOWN} more" if len(listed) > _SHOWN else "")
-
-
-# -- Table 2 -------------------------------------------------------------------------------------------------
-
-
-def _element(model: ElvezModel, name: str, kind: str, what: str) -> PlatformElement | str:
-    element = model.platforms.elements.get(name.strip())
-    if element is None:
-        known = [e.label for e in model.platforms.of_kind(kind)]
-        return f"no {what} {name!r} on the platforms; {what}s: {_known(known)}"
-    if element.kind != kind:
-        return f"{element.label} is of type {element.kind}, not a {what}"
-    return element
+def _number(harness: WiringHarness) -> int:
+    return int(harness.id) if harness.id.isdigit() else 0
 
 
 def guide_info(model: ElvezModel, name: str, frame: str = "") -> GuideInfoResult:
-    """A guide's CAD ID, dimensions, origin frame, key frame, key corner frame and key size.
-
-    Poses are in ``frame`` (the robot base when empty); lengths in metres.
-    """
-    element = _element(model, name, "guide", "guide")
-    if isinstance(element, str):
-        return GuideInfoResult(False, element)
-    reference = frame.strip() or model.platforms.robot_base
-    missing = [k for k in ("key", "key_corner") if k not in element.keyframes]
-    try:
-        origin = model.platforms.pose(element.frame, reference)
-        key, corner = (
-            model.platforms.pose(element.keyframes[k].frame, reference) if k in element.keyframes else None
-            for k in ("key", "key_corner")
+    """A guide's element (CAD ID, size, origin) and key (centre, corner, size), in ``frame``."""
+    label, _, couple = name.strip().partition(".")
+    element = model.element(label)
+    if element is None or element.type not in ("jig", "comb"):
+        return GuideInfoResult(
+            False, f"no guide {name!r} on the platforms; guides: {known(_guide_names(model))}"
         )
+    definition = model.definition(element)
+    guides = definition.guides if definition is not None else ()
+    if not couple and len(guides) == 1:
+        couple = guides[0].couple
+    guide = next((g for g in guides if g.couple == couple), None)
+    if definition is None or guide is None:
+        couples = known([g.couple for g in guides])
+        return GuideInfoResult(
+            False, f"{element.label} has no guide {couple or '(none given)'!r}; guides: {couples}"
+        )
+    reference = frame.strip() or model.reference
+    try:
+        origin = model.pose(element.frame, reference)
     except CadkgError as err:
         return GuideInfoResult(False, f"{element.label}: {err}", id=element.cad_id)
-    message = f"guide {element.label} ({element.cad_id}, model {element.model or '?'}) in frame {reference}"
-    if missing:
-        message += f"; model {element.model or '?'} defines no {' or '.join(missing)} frame"
-    if element.key_length is None:
-        message += f"; model {element.model or '?'} gives no key size"
     return GuideInfoResult(
         success=True,
-        message=message,
+        message=f"guide {element.label}.{guide.couple} ({element.cad_id} on {element.platform}, "
+        f"model {definition.model}) in frame {reference}",
         id=element.cad_id,
-        dimensions=element.dimensions or (),
+        dimensions=definition.size,
         origin_frame=origin,
-        key_frame=key,
-        key_corner_frame=corner,
-        key_length=element.key_length or 0.0,
-        key_gap=element.key_gap or 0.0,
-        key_height=element.key_height or 0.0,
+        key_frame=origin * key_centre(guide.key),
+        key_corner_frame=origin * guide.key.corner,
+        key_length=guide.key.length,
+        key_gap=guide.key.gap,
+        key_height=guide.key.height,
         frame=reference,
     )
 
 
+def _guide_names(model: ElvezModel) -> list[str]:
+    names = []
+    for element in model.elements:
+        definition = model.definition(element)
+        if element.type in ("jig", "comb") and definition is not None:
+            names += [f"{element.label}.{g.couple}" for g in definition.guides]
+    return names
+
+
 def cable_info(model: ElvezModel, name: str) -> CableInfoResult:
-    """A cable's colour, length, diameter, harness, branch connector and cavity indices."""
+    """A cable's colour, length, diameter, harness, end connector and cavities."""
     name = name.strip()
-    cable = model.cables.get(name)
-    if cable is None:
-        if name in model.connectors:
-            return CableInfoResult(
-                False, f"{name} is a {model.connectors[name].kind}, not a cable; see con_info"
-            )
-        return CableInfoResult(False, f"no cable {name!r}; cables: {_known(model.cables)}")
-    main, end = model.ends.get(name, (None, None))
-    number = model.harness_of.get(name, 0)
+    component = model.components.get(name)
+    found = model.harness_of(name)
+    cable = found[2] if found is not None else None
+    if cable is None and (component is None or component.kind != "cable"):
+        if component is not None or found is not None:
+            return CableInfoResult(False, f"{name} is not a cable; see con_info")
+        cables = [c.label for c in model.components.values() if c.kind == "cable"]
+        return CableInfoResult(False, f"no cable {name!r}; cables: {known(cables)}")
     notes = []
-    if number == 0:
-        notes.append("in no harness of the harness structure")
-    if cable.length is None or cable.diameter is None or not cable.color:
-        notes.append("not in the components list (no colour, length or diameter)")
+    if found is None or cable is None or found[1] is None:
+        notes.append("in no harness of the harness configuration")
+    if component is None:
+        notes.append("not in the components definition (no colour, length or diameter)")
+    harness, end = (found[0], found[1]) if found is not None else (None, None)
+    cavities = (*cable.first_cavity, *(cable.end_cavity or ())) if cable is not None else ()
     return CableInfoResult(
         success=True,
         message=f"cable {name}" + (": " + "; ".join(notes) if notes else ""),
-        color=cable.color,
-        length=cable.length or 0.0,
-        diameter=cable.diameter or 0.0,
-        wh=number,
-        connector=end.connector if end else "",
-        con_index=tuple(e.pin for e in (main, end) if e is not None),
-        main_connector=main.connector if main else "",
+        color=(component.rgb or ()) if component is not None else (),
+        length=(component.length or 0.0) if component is not None else 0.0,
+        diameter=(component.diameter or 0.0) if component is not None else 0.0,
+        wh=_number(harness) if harness is not None else 0,
+        connector=end.label if end is not None else "",
+        con_index=cavities,
+        main_connector=harness.first_connector if harness is not None else "",
     )
-
-
-def _cables_at(model: ElvezModel, connector: str) -> tuple[str, ...]:
-    ends = [
-        (end.pin, cable)
-        for cable, pair in model.ends.items()
-        for end in pair
-        if end is not None and end.connector == connector
-    ]
-    return tuple(cable for _, cable in sorted(ends))
 
 
 def con_info(model: ElvezModel, name: str) -> ConInfoResult:
-    """A connector's colour, dimensions, harness and the cables that end in it (by cavity)."""
+    """A connector's colour, size, harness and the cables that end in it (file order)."""
     name = name.strip()
-    connector = model.connectors.get(name)
-    if connector is None or connector.kind != "connector":
-        if name in model.cables:
-            return ConInfoResult(False, f"{name} is a cable, not a connector; see cable_info")
-        if connector is not None:
-            return ConInfoResult(False, f"{name} is a {connector.kind}, not a connector")
-        known = [c.name for c in model.connectors.values() if c.kind == "connector"]
-        return ConInfoResult(False, f"no connector {name!r}; connectors: {_known(known)}")
-    number = model.harness_of.get(name, 0)
+    component = model.components.get(name)
+    found = model.harness_of(name)
+    if (component is None or component.kind != "connector") and (found is None or found[2] is not None):
+        if component is not None or found is not None:
+            return ConInfoResult(
+                False, f"{name} is a {component.kind if component else 'cable'}, not a connector"
+            )
+        connectors = [c.label for c in model.components.values() if c.kind == "connector"]
+        return ConInfoResult(False, f"no connector {name!r}; connectors: {known(connectors)}")
+    cables: tuple[str, ...] = ()
+    notes = []
+    harness = found[0] if found is not None else None
+    if found is None:
+        notes.append("in no harness of the harness configuration")
+    else:
+        ends: tuple[EndConnector, ...] = found[0].end_connectors if found[1] is None else (found[1],)
+        cables = tuple(c.label for e in ends for c in e.cables)
+    if component is None:
+        notes.append("not in the components definition (no colour or size)")
     return ConInfoResult(
         success=True,
-        message=f"connector {name}" + ("" if number else ": in no harness of the harness structure"),
-        color=connector.color,
-        dimensions=connector.dimensions,
-        wh=number,
-        cables=_cables_at(model, name),
+        message=f"connector {name}" + (": " + "; ".join(notes) if notes else ""),
+        color=(component.rgb or ()) if component is not None else (),
+        dimensions=(component.size or ()) if component is not None else (),
+        wh=_number(harness) if harness is not None else 0,
+        cables=cables,
     )
 
 
+def _harness(model: ElvezModel, number: int) -> WiringHarness | str:
+    match = next((h for h in model.harnesses if h.id == str(number) or _number(h) == number), None)
+    if match is None:
+        return f"no harness {number}; harnesses: {known([h.id for h in model.harnesses])}"
+    return match
+
+
 def wh_info(model: ElvezModel, number: int) -> WhInfoResult:
-    """A harness's main connector and, per branch, its connector and cables (structure order)."""
-    harness = model.harnesses.get(number)
-    if harness is None:
-        return WhInfoResult(
-            False, f"no harness {number}; harnesses: {_known(str(n) for n in model.harnesses)}"
-        )
-    count = sum(len(b.cables) for b in harness.branches)
+    """A harness's first connector and, per end connector, its cables (file order)."""
+    harness = _harness(model, number)
+    if isinstance(harness, str):
+        return WhInfoResult(False, harness)
+    branches = tuple(BranchInfo(e.label, tuple(c.label for c in e.cables)) for e in harness.end_connectors)
+    count = sum(len(b.cables) for b in branches)
     return WhInfoResult(
         True,
-        f"harness {number}: {len(harness.branches)} branches, {count} cables",
-        harness.main_connector,
-        harness.branches,
+        f"harness {harness.id}: {len(branches)} branches, {count} cables",
+        harness.first_connector,
+        branches,
     )
 
 
 def all_tools(model: ElvezModel) -> AllToolsResult:
-    """The names of every tool."""
-    return AllToolsResult(True, f"{len(model.tools)} tools", tuple(model.tools))
+    """The names of every tool (the ATC stations' labels without their ``A``)."""
+    names = tuple(e.tool for e in model.tools())
+    return AllToolsResult(True, f"{len(names)} tools", names)
 
 
 def tool_info(model: ElvezModel, name: str) -> ToolInfoResult:
-    """A tool's ATC slot, base-to-wrist and wrist-to-action frames, dimensions, and where the
-    wrist meets it in its slot (in the robot base frame)."""
-    tool = model.tools.get(name.strip())
+    """A tool's ATC station, base and end frames, size, and where its base is when parked."""
+    station = model.element("A" + name.strip())
+    if station is None or station.type != "atc_station":
+        return ToolInfoResult(False, f"no tool {name!r}; tools: {known([e.tool for e in model.tools()])}")
+    definition = model.definition(station)
+    tool = definition.tool if definition is not None else None
     if tool is None:
-        return ToolInfoResult(False, f"no tool {name!r}; tools: {_known(model.tools)}")
-    message = f"tool {tool.name} ({tool.kind}) in slot {tool.atc_slot}"
+        return ToolInfoResult(False, f"{station.label} is of model {station.model}, which defines no tool")
+    message = f"{tool.kind} {station.tool} at {station.label} ({station.cad_id} on {station.platform})"
     parked = None
-    slot = model.platforms.elements.get(tool.atc_slot)
-    if slot is None:
-        message += f"; slot {tool.atc_slot!r} is not on any platform"
-    elif tool.base_wrist is not None:
-        seat = slot.keyframes.get("key")
-        try:
-            parked = model.platforms.pose(seat.frame if seat else slot.frame) * tool.base_wrist
-        except CadkgError as err:
-            message += f"; {err}"
-        if seat is None:
-            message += (
-                f"; model {slot.model or '?'} of {slot.label} defines no key frame: its origin is the seat"
-            )
-    return ToolInfoResult(
-        success=True,
-        message=message,
-        atc_spot=tool.atc_slot,
-        base_wrist_frame=tool.base_wrist,
-        wrist_action_frame=tool.wrist_action,
-        dimensions=tool.dimensions,
-        parked_wrist_frame=parked,
-    )
+    try:
+        parked = model.pose(station.frame) * tool.base
+    except CadkgError as err:
+        message += f"; {err}"
+    return ToolInfoResult(True, message, station.label, tool.base, tool.end, tool.size, parked)
 
 
-def _unresolved(model: ElvezModel, op: OperationInfo) -> list[str]:
-    """What an operation names that the other files do not define."""
-    notes = [f"spot {s} is not on any platform" for s in op.spot if s not in model.platforms.elements]
-    if op.type == "insert":
-        notes += [
-            f"{c} is not a connector of the harness files" for c in op.label if c not in model.connectors
-        ]
-    else:
-        notes += [f"{c} is not a cable of the harness files" for c in op.label if c not in model.cables]
-    if op.tool not in model.tools:
-        notes.append(f"tool {op.tool or '(none)'} is not in the tools file")
-    return notes
+def _spots(step: SequenceStep) -> tuple[str, ...]:
+    return tuple(f"{s.jig}.{s.guide}" + (f".{s.side}" if s.side else "") for s in step.spots)
+
+
+def _operation(step: SequenceStep) -> OperationInfo:
+    return OperationInfo(step.order, step.code, _spots(step), step.labels, "")
 
 
 def all_op(model: ElvezModel) -> AllOpResult:
-    """Every operation of the plan, in plan order; the message names what the plan refers to in vain."""
-    notes = [f"operation {op.index}: {note}" for op in model.operations for note in _unresolved(model, op)]
-    message = f"{len(model.operations)} operations" + ("; " + "; ".join(notes) if notes else "")
-    return AllOpResult(True, message, tuple(model.operations))
+    """Every operation in sequence order; the message names what they refer to in vain."""
+    notes = [f"operation {s.order}: {n}" for s in model.sequence for n in unresolved(model, s)]
+    message = f"{len(model.sequence)} operations" + ("; " + "; ".join(notes) if notes else "")
+    return AllOpResult(True, message, tuple(_operation(s) for s in model.sequence))
 
 
 def index_op(model: ElvezModel, index: int) -> IndexOpResult:
-    """The operation at position ``index`` (1-based) of the plan."""
-    matches = [op for op in model.operations if op.index == index]
+    """The operation whose order (the sequence's first column, from 1) is ``index``."""
+    matches = [s for s in model.sequence if s.order == index]
     if not matches:
-        last = model.operations[-1].index if model.operations else 0
-        return IndexOpResult(False, f"no operation {index}; the plan has operations 1 to {last}")
+        orders = [s.order for s in model.sequence]
+        span = f"{min(orders)} to {max(orders)}" if orders else "none"
+        return IndexOpResult(False, f"no operation {index}; the sequence has operations {span}")
     if len(matches) > 1:
-        return IndexOpResult(
-            False, f"{len(matches)} operations have index {index}; the graph holds several plans"
-        )
-    op = matches[0]
-    notes = _unresolved(model, op)
-    message = f"operation {index}: {op.type}" + ("; " + "; ".join(notes) if notes else "")
+        return IndexOpResult(False, f"{len(matches)} operations have order {index}")
+    step = matches[0]
+    notes = unresolved(model, step)
+    message = f"operation {index}: {step.code}" + ("; " + "; ".join(notes) if notes else "")
+    op = _operation(step)
     return IndexOpResult(True, message, op.type, op.spot, op.label, op.tool)
 
 
-# -- traversal ---------------------------------------------------------------------------------------------
-
-
-def _related(view: nx.MultiDiGraph, node: str, relation: str, *, reverse: bool = False) -> list[str]:
-    edges = view.in_edges(node, keys=True) if reverse else view.out_edges(node, keys=True)
-    return [(u if reverse else v) for u, v, key in edges if key == relation]
-
-
 def wh_routes(model: ElvezModel, number: int) -> WhRoutesResult:
-    """For each cable of a harness: the connectors and cavities it runs between, the guides the
-    plan routes it through (in plan order) and the spots where it is taped.
+    """For each cable of a harness: its cavities, the guides the sequence routes it through (in
+    route order), the spots where it is taped and the operations that handle it.
 
-    The walk follows the graph's relations (networkx): harness → branch → cable → pins →
-    connectors, and cable ← operations → spots.
+    An operation handles a cable when it names the cable, its end connector or its harness's
+    first connector (the whole harness); RC gives guides, T and TJ taping spots.
     """
-    harness = model.harnesses.get(number)
-    if harness is None:
-        return WhRoutesResult(
-            False, f"no harness {number}; harnesses: {_known(str(n) for n in model.harnesses)}"
-        )
-    view = model.view
-    labels = nx.get_node_attributes(view, "label")
-    by_index = {op.index: op for op in model.operations}
-    index_of = model.operation_index
+    harness = _harness(model, number)
+    if isinstance(harness, str):
+        return WhRoutesResult(False, harness)
     routes = []
-    problems = []
-    for branch in _related(view, harness.iri, "hasBranch"):
-        for cable in _related(view, branch, "containsCable"):
-            name = labels.get(cable, "")
-            ends = [
-                next(
-                    (
-                        labels.get(c, "")
-                        for p in _related(view, cable, relation)
-                        for c in _related(view, p, "pinOf")
-                    ),
-                    "",
-                )
-                for relation in ("fromPin", "toPin")
-            ]
-            guides: list[str] = []
-            tapes: list[str] = []
-            indices = sorted(
-                index_of[op] for op in _related(view, cable, "involves", reverse=True) if op in index_of
-            )
-            for index in indices:
-                op = by_index.get(index)
-                if op is None:
-                    continue
-                spots = [s for s in op.spot if _is_guide(model, s)] if op.type == "route" else list(op.spot)
-                target = guides if op.type == "route" else tapes if op.type == "tape" else None
-                if target is not None:
-                    target.extend(s for s in spots if s not in target)
-            if not any(by_index[i].type == "route" for i in indices if i in by_index):
-                problems.append(name)
-            pair = model.ends.get(name, (None, None))
+    unrouted = []
+    for end in harness.end_connectors:
+        for cable in end.cables:
+            names = {cable.label, end.label, harness.first_connector}
+            steps = [s for s in model.sequence if names & set(s.labels)]
+            guides = [spot for s in steps if s.code.upper() == "RC" for spot in _spots(s)]
+            tapes = [spot for s in steps if s.code.upper() in ("T", "TJ") for spot in _spots(s)]
+            if not guides:
+                unrouted.append(cable.label)
             routes.append(
                 CableRoute(
-                    cable=name,
-                    from_connector=ends[0],
-                    from_pin=pair[0].pin if pair[0] else 0,
-                    to_connector=ends[1],
-                    to_pin=pair[1].pin if pair[1] else 0,
-                    guides=tuple(guides),
-                    tape_spots=tuple(tapes),
-                    operations=tuple(indices),
+                    cable.label,
+                    harness.first_connector,
+                    cable.first_cavity,
+                    end.label,
+                    cable.end_cavity or (),
+                    tuple(dict.fromkeys(guides)),
+                    tuple(dict.fromkeys(tapes)),
+                    tuple(s.order for s in steps),
                 )
             )
-    order = {branch.connector: position for position, branch in enumerate(harness.branches)}
-    routes.sort(key=lambda r: (order.get(r.to_connector, len(order)), r.to_pin, r.cable))
-    message = f"harness {number}: {len(routes)} cables from {harness.main_connector}"
-    if problems:
-        message += f"; not routed by the plan: {', '.join(sorted(problems))}"
-    return WhRoutesResult(True, message, harness.main_connector, tuple(routes))
-
-
-def _is_guide(model: ElvezModel, label: str) -> bool:
-    element = model.platforms.elements.get(label)
-    return element is not None and element.kind == "guide"
+    message = f"harness {harness.id}: {len(routes)} cables from {harness.first_connector}"
+    if unrouted:
+        message += f"; not routed by the sequence: {', '.join(unrouted)}"
+    return WhRoutesResult(True, message, harness.first_connector, tuple(routes))

@@ -1,18 +1,20 @@
-"""ELVEZ records → triples: element models, harness components and structure, tools, action plan.
+"""ELVEZ records → triples: platform scenes, WRI tables and meshes, element definitions,
+harnesses, components and the assembly sequence.
 
-IRIs join those of the other files: ``model/0009`` is the model the WRI table's commercial
-code names, ``component/G4`` the element its label names (an operation's spot),
-``component/C10`` a connector and ``cable/W101`` a cable wherever they are mentioned, and
-``operation/7`` the seventh operation of the plan (what ``cadkg assign`` addresses).
-
-Harnesses use the same terms as every harness in the graph: ``ck:Harness ck:hasBranch
-ck:Branch``, ``ck:containsCable ck:Cable``, a cable's ends ``ck:fromPin`` (main connector) and
-``ck:toPin`` (branch connector) are ``ck:Pin`` contacts ``ck:inCavity`` a ``ck:Cavity`` of the
-``ck:Connector`` they are ``ck:pinOf``.
+CAD IDs repeat between platforms, so a platform's element is ``element/PLATFORM/ID`` and its
+frame ``IDPLATFORM`` (``ID0002platform``, the name the reference node gives it on TF), placed in
+its parent element's frame or, for the root, in the frame the manifest gives the scene
+(``platform_rf``). Definitions are ``model/CODE`` (the WRI's commercial code), their parts
+keypoints ``model/CODE/KIND/ID`` with poses in the model's frame. Components and cables are
+``component/LABEL`` and ``cable/LABEL`` wherever they are named; a harness is ``harness/ID``; an
+operation ``operation/SEQUENCE/LINE`` with one ck:Spot per spot.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
+from cadkg.geometry.poses import Pose
 from cadkg.ingest.eplan.labels import PinRef
 from cadkg.mapping.dispatch import map_record
 from cadkg.mapping.nodes import (
@@ -25,165 +27,278 @@ from cadkg.mapping.nodes import (
     model_frame,
     model_node,
     pin_node,
-    placement_pose,
 )
-from cadkg.mapping.writer import TripleWriter, term
-from cadkg.usecases.elvez.action_plan import PlannedOperation
-from cadkg.usecases.elvez.element_models import ElementModel
-from cadkg.usecases.elvez.harness_components import HarnessComponent
-from cadkg.usecases.elvez.harness_structure import HarnessSpec
-from cadkg.usecases.elvez.tools import ToolSpec
+from cadkg.mapping.writer import TripleWriter, term, write_pose
+from cadkg.usecases.elvez.files.components import HarnessComponent
+from cadkg.usecases.elvez.files.definitions import ElementDefinition, Key, PlacedBox
+from cadkg.usecases.elvez.files.harnesses import HarnessCable, WiringHarness
+from cadkg.usecases.elvez.files.platforms import ElementMesh, PlatformId, PlatformItem
+from cadkg.usecases.elvez.files.sequence import SequenceStep
 
-__all__ = ["OPERATION_CLASSES"]
+__all__ = ["OPERATION_CLASSES", "element_frame", "element_mesh_file", "pin_name"]
 
 t = term
 
-OPERATION_CLASSES = {"insert": "InsertOperation", "route": "RouteOperation", "tape": "TapeOperation"}
-"""The ontology class of each operation type of the action plan."""
+OPERATION_CLASSES = {
+    "EC": "ExtractOperation",
+    "PC": "InsertOperation",
+    "RC": "RouteOperation",
+    "T": "TapeOperation",
+    "TJ": "TapeOperation",
+}
+"""The ontology class of each operation code."""
+
+
+def element_frame(cad_id: str, platform: str) -> str:
+    """The frame of a platform element, as the reference node names it: ``ID0002platform``."""
+    return f"{cad_id}{platform}"
+
+
+def element_mesh_file(platform: str, name: str) -> str:
+    """Where a platform mesh is kept in the store's files."""
+    return f"meshes/elvez/{platform}/{name}.stl"
+
+
+def pin_name(cavity: tuple[int, int]) -> str:
+    """The pin name of a connector cavity: row 3, column 0 → ``R3C0``."""
+    return f"R{cavity[0]}C{cavity[1]}"
+
+
+def _platform(w: TripleWriter, name: str) -> str:
+    node = w.iri("platform", name)
+    if w.once(node):
+        w.add(node, t("type"), t("Platform"))
+        w.add(node, t("label"), w.text(name))
+    return node
+
+
+def _element(w: TripleWriter, platform: str, cad_id: str) -> str:
+    node = w.iri("element", platform, cad_id)
+    if w.once(node):
+        w.add(node, t("type"), t("Element"))
+        w.add(node, t("cadId"), w.text(cad_id))
+        w.add(node, t("onPlatform"), _platform(w, platform))
+    return node
 
 
 @map_record.register
-def _(record: ElementModel, w: TripleWriter, source_slug: str) -> None:
-    node = model_node(w, record.number)
-    w.add(node, t("sourceLine"), w.typed(record.line))
-    if record.description:
-        w.add(node, t("description"), w.text(record.description))
-    dimensions(w, node, record.dimensions)
-    frame = model_frame(w, node, record.number)
-    for poi in record.frames:
-        keypoint = w.iri("model", record.number, "keypoint", poi.name)
-        w.add(node, t("definesKeypoint"), keypoint)
-        w.add(keypoint, t("type"), t("Keypoint"))
-        w.add(keypoint, t("label"), w.text(poi.name))
-        w.add(keypoint, t("sourceLine"), w.typed(poi.placement.line))
-        pose = w.iri("model", record.number, "keypoint", poi.name, "pose")
-        w.add(keypoint, t("hasPose"), placement_pose(w, pose, poi.placement, frame))
-    if record.key is not None:
-        w.add(node, t("keyLength"), w.typed(record.key.length))
-        w.add(node, t("keyGap"), w.typed(record.key.gap))
-        w.add(node, t("keyHeight"), w.typed(record.key.height))
+def _(record: PlatformItem, w: TripleWriter, source_slug: str) -> None:
+    element = _element(w, record.platform, record.cad_id)
+    frame = frame_node(w, element_frame(record.cad_id, record.platform))
+    w.add(element, t("hasFrame"), frame)
+    parent = (
+        frame_node(w, element_frame(record.parent_id, record.platform))
+        if record.parent_id is not None
+        else frame_node(w, w.root_frame)
+    )
+    pose = w.iri("pose", "elvez", record.platform, record.cad_id)
+    w.add(frame, t("hasPose"), write_pose(w, pose, record.translation, record.rotation, parent))
+    w.add(pose, t("sourceLine"), w.typed(record.line))
     if record.mesh is not None:
-        rel = f"meshes/models/{record.number}.stl"
-        w.files[rel] = record.mesh
-        mesh = w.iri("mesh", "model", record.number)
-        mesh_node(w, node, mesh, rel)
-        if record.mesh_file:
-            w.add(mesh, t("description"), w.text(f"from {record.mesh_file}"))
+        # On the frame, not the element: the element's CAD ID is not a frame of the cell.
+        rel = element_mesh_file(record.platform, record.cad_id)
+        w.meshes[rel] = record.mesh
+        mesh_node(w, frame, w.iri("mesh", "elvez", record.platform, record.cad_id), rel)
+
+
+@map_record.register
+def _(record: PlatformId, w: TripleWriter, source_slug: str) -> None:
+    element = _element(w, record.platform, record.cad_id)
+    w.add(element, t("label"), w.text(record.label))
+    w.add(element, t("sourceLine"), w.typed(record.line))
+    if record.element_type:
+        w.add(element, t("elementType"), w.text(record.element_type))
+    if record.model is not None:
+        w.add(element, t("instanceOf"), model_node(w, record.model))
+    if record.element_type == "atc_station":
+        w.add(element, t("type"), t("AtcSlot"))
+        name = record.label[1:]
+        tool = w.iri("tool", name)
+        w.add(tool, t("type"), t("Tool"))
+        w.add(tool, t("label"), w.text(name))
+        w.add(tool, t("toolSlot"), element)
+
+
+@map_record.register
+def _(record: ElementMesh, w: TripleWriter, source_slug: str) -> None:
+    rel = element_mesh_file(record.platform, record.name)
+    w.meshes[rel] = record.mesh
+    mesh = w.iri("mesh", "elvez", record.platform, record.name)
+    w.add(mesh, t("type"), t("Mesh"))
+    w.add(mesh, t("meshUri"), f'"{rel}"^^<http://www.w3.org/2001/XMLSchema#anyURI>')
+    w.add(mesh, t("label"), w.text(record.name))
+    w.add(mesh, t("partOf"), _platform(w, record.platform))
+
+
+def _extents(w: TripleWriter, node: str, extents: Sequence[float]) -> None:
+    for name, value in zip(
+        ("collisionXFrom", "collisionXTo", "collisionYFrom", "collisionYTo"), extents, strict=True
+    ):
+        w.add(node, t(name), w.typed(float(value)))
+
+
+def _keypoint(
+    w: TripleWriter, model: str, frame: str, code: str, kind: str, ident: str, pose: Pose | None, line: int
+) -> str:
+    node = w.iri("model", code, kind, ident) if ident else w.iri("model", code, kind)
+    w.add(model, t("definesKeypoint"), node)
+    w.add(node, t("type"), t("Keypoint"))
+    w.add(node, t("keypointKind"), w.text(kind))
+    w.add(node, t("sourceLine"), w.typed(line))
+    if ident:
+        w.add(node, t("label"), w.text(ident))
+    if pose is not None:
+        pose_node = w.under(node, "pose")
+        w.add(node, t("hasPose"), write_pose(w, pose_node, pose.position, pose.orientation, frame))
+    return node
+
+
+def _placed(
+    w: TripleWriter, model: str, frame: str, code: str, kind: str, box: PlacedBox, guide: str
+) -> None:
+    node = _keypoint(w, model, frame, code, kind, box.id or guide, box.corner, box.line)
+    dimensions(w, node, box.size)
+    if guide:
+        w.add(node, t("guideId"), w.text(guide))
+
+
+def _key(w: TripleWriter, model: str, frame: str, code: str, couple: str, key: Key) -> None:
+    node = _keypoint(w, model, frame, code, "key", couple, key.corner, key.line)
+    w.add(node, t("guideId"), w.text(couple))
+    for name, value in (
+        ("keyLength", key.length),
+        ("keyGap", key.gap),
+        ("keyHeight", key.height),
+        ("keyHeightCorner", key.height_corner),
+    ):
+        w.add(node, t(name), w.typed(value))
+    _extents(w, node, key.extents)
+
+
+@map_record.register
+def _(record: ElementDefinition, w: TripleWriter, source_slug: str) -> None:
+    code = record.model
+    model = model_node(w, code)
+    w.add(model, t("modelKind"), w.text(record.kind))
+    w.add(model, t("sourceLine"), w.typed(record.line))
+    dimensions(w, model, record.size)
+    if record.extents is not None:
+        _extents(w, model, record.extents)
+    frame = model_frame(w, model, code)
+    if record.centre is not None and record.footprint is not None:
+        centre = _keypoint(w, model, frame, code, "centre", "", Pose((*record.centre, 0.0)), record.line)
+        dimensions(w, centre, (*record.footprint, 0.0))
+    for guide in record.guides:
+        _key(w, model, frame, code, guide.couple, guide.key)
+        if guide.collision is not None:
+            _placed(w, model, frame, code, "collision", guide.collision, guide.couple)
+    for spot in record.tape_spots:
+        _placed(w, model, frame, code, "tape_spot", spot, spot.guide)
+    for tray in record.trays:
+        _placed(w, model, frame, code, "tray", tray, "")
+    tool = record.tool
+    if tool is not None:
+        w.add(model, t("stationTool"), w.text(tool.kind))
+        for kind, pose in (("tool_base", tool.base), ("tool_end", tool.end), ("gripper_nail", tool.nail)):
+            if pose is not None:
+                _keypoint(w, model, frame, code, kind, "", pose, record.line)
+        for kind, size in (("tool_size", tool.size), ("finger_size", tool.fingers)):
+            if size is not None:
+                dimensions(w, _keypoint(w, model, frame, code, kind, "", None, record.line), size)
+
+
+def _cavity(w: TripleWriter, connector: str, cavity: tuple[int, int]) -> str:
+    node = pin_node(w, PinRef(connector, pin_name(cavity), None, f"{connector}:{pin_name(cavity)}"))
+    if w.once(node + "#cavity"):
+        w.add(node, t("cavityRow"), w.typed(cavity[0]))
+        w.add(node, t("cavityColumn"), w.typed(cavity[1]))
+    return node
+
+
+def _cable(w: TripleWriter, harness: str, first: str, end: str, cable: HarnessCable) -> str:
+    node = cable_node(w, cable.label)
+    w.add(node, t("partOf"), harness)
+    w.add(node, t("sourceLine"), w.typed(cable.line))
+    w.add(node, t("fromPin"), _cavity(w, first, cable.first_cavity))
+    if cable.end_cavity is not None:
+        w.add(node, t("toPin"), _cavity(w, end, cable.end_cavity))
+    return node
+
+
+@map_record.register
+def _(record: WiringHarness, w: TripleWriter, source_slug: str) -> None:
+    harness = w.iri("harness", record.id)
+    main = connector_node(w, record.first_connector)
+    w.add(harness, t("type"), t("Harness"))
+    w.add(harness, t("label"), w.text(record.id))
+    if record.id.isdigit():
+        w.add(harness, t("harnessNumber"), w.typed(int(record.id)))
+    w.add(harness, t("sourceLine"), w.typed(record.line))
+    w.add(harness, t("mainConnector"), main)
+    w.add(harness, t("hasConnector"), main)
+    if record.tray:
+        w.add(harness, t("trayLabel"), w.text(record.tray))
+    for position, end in enumerate(record.end_connectors, start=1):
+        branch = w.iri("branch", record.id, str(position))
+        w.add(harness, t("hasBranch"), branch)
+        w.add(branch, t("type"), t("Branch"))
+        w.add(branch, t("label"), w.text(end.label))
+        w.add(branch, t("sourceLine"), w.typed(end.line))
+        w.add(branch, t("hasConnector"), connector_node(w, end.label))
+        for cable in end.cables:
+            w.add(branch, t("containsCable"), _cable(w, harness, record.first_connector, end.label, cable))
 
 
 @map_record.register
 def _(record: HarnessComponent, w: TripleWriter, source_slug: str) -> None:
     if record.kind == "cable":
-        node = cable_node(w, record.name)
-        if record.diameter_m is not None:
-            w.add(node, t("diameterM"), w.typed(float(record.diameter_m)))
-        if record.length_m is not None:
-            w.add(node, t("lengthM"), w.typed(record.length_m))
+        node = cable_node(w, record.label)
+    elif record.kind == "connector":
+        node = connector_node(w, record.label)
     else:
-        node = (
-            connector_node(w, record.name) if record.kind == "connector" else component_node(w, record.name)
-        )
-        if record.kind == "capacitor":
-            w.add(node, t("type"), t("Capacitor"))
-        if record.dimensions_m is not None:
-            dimensions(w, node, record.dimensions_m)
+        node = component_node(w, record.label)
+        w.add(node, t("type"), t("Device"))
     w.add(node, t("sourceLine"), w.typed(record.line))
+    for name, value in (("colourName", record.colour), ("referenceCode", record.reference)):
+        if value:
+            w.add(node, t(name), w.text(value))
+    if record.device_type:
+        w.add(node, t("deviceType"), w.text(record.device_type))
+    if record.model:
+        w.add(node, t("instanceOf"), model_node(w, record.model))
     if record.rgb is not None:
         w.add(node, t("colourRgb"), w.text(" ".join(str(c) for c in record.rgb)))
-    if record.description:
-        w.add(node, t("description"), w.text(record.description))
-
-
-def _end(w: TripleWriter, connector: str, pin: int) -> str:
-    node = pin_node(w, PinRef(connector, str(pin), None, f"{connector}:{pin}"))
-    if w.once(node + "#cavity"):
-        cavity = w.iri("cavity", connector, str(pin))
-        w.add(node, t("pinIndex"), w.typed(pin))
-        w.add(node, t("inCavity"), cavity)
-        w.add(cavity, t("type"), t("Cavity"))
-        w.add(cavity, t("pinIndex"), w.typed(pin))
-        w.add(connector_node(w, connector), t("hasCavity"), cavity)
-    return node
+    if record.length is not None:
+        w.add(node, t("lengthM"), w.typed(record.length))
+    if record.diameter is not None:
+        w.add(node, t("diameterM"), w.typed(record.diameter))
+    if record.size is not None:
+        dimensions(w, node, record.size)
 
 
 @map_record.register
-def _(record: HarnessSpec, w: TripleWriter, source_slug: str) -> None:
-    number = str(record.number)
-    harness = w.iri("harness", number)
-    main = connector_node(w, record.main_connector)
-    w.add(harness, t("type"), t("Harness"))
-    w.add(harness, t("label"), w.text(f"WH{number}"))
-    w.add(harness, t("harnessNumber"), w.typed(record.number))
-    w.add(harness, t("sourceLine"), w.typed(record.line))
-    w.add(harness, t("mainConnector"), main)
-    w.add(harness, t("hasConnector"), main)
-    for position, spec in enumerate(record.branches, start=1):
-        branch = w.iri("branch", number, str(position))
-        w.add(harness, t("hasBranch"), branch)
-        w.add(branch, t("type"), t("Branch"))
-        w.add(branch, t("label"), w.text(f"WH{number}/{spec.connector}"))
-        w.add(branch, t("sourceLine"), w.typed(spec.line))
-        w.add(branch, t("hasConnector"), connector_node(w, spec.connector))
-        for cable_spec in spec.cables:
-            cable = cable_node(w, cable_spec.name)
-            w.add(branch, t("containsCable"), cable)
-            w.add(cable, t("partOf"), harness)
-            w.add(cable, t("sourceLine"), w.typed(cable_spec.line))
-            w.add(cable, t("fromPin"), _end(w, record.main_connector, cable_spec.main_pin))
-            w.add(cable, t("toPin"), _end(w, spec.connector, cable_spec.pin))
-        for capacitor in spec.capacitors:
-            node = component_node(w, capacitor)
-            w.add(node, t("type"), t("Capacitor"))
-            w.add(node, t("partOf"), branch)
-
-
-@map_record.register
-def _(record: ToolSpec, w: TripleWriter, source_slug: str) -> None:
-    tool = w.iri("tool", record.name)
-    w.add(tool, t("type"), t("Tool"))
-    w.add(tool, t("label"), w.text(record.name))
-    w.add(tool, t("toolType"), w.text(record.kind))
-    w.add(tool, t("sourceLine"), w.typed(record.line))
-    w.add(tool, t("toolSlot"), component_node(w, record.atc_slot))
-    dimensions(w, tool, record.dimensions)
-    base = frame_node(w, f"{record.name}_base")
-    wrist = frame_node(w, f"{record.name}_wrist")
-    action = frame_node(w, f"{record.name}_action")
-    for prop, frame in (("toolBaseFrame", base), ("wristFrame", wrist), ("actionFrame", action)):
-        w.add(tool, t(prop), frame)
-        w.add(tool, t("hasFrame"), frame)
-    for frame, name, placement, parent in (
-        (wrist, "wrist", record.base_to_wrist, base),
-        (action, "action", record.wrist_to_action, wrist),
-    ):
-        w.add(
-            frame, t("hasPose"), placement_pose(w, w.iri("pose", f"{record.name}_{name}"), placement, parent)
-        )
-
-
-@map_record.register
-def _(record: PlannedOperation, w: TripleWriter, source_slug: str) -> None:
+def _(record: SequenceStep, w: TripleWriter, source_slug: str) -> None:
     plan = w.iri("plan", source_slug)
     if w.once(plan):
         w.add(plan, t("type"), t("ActionPlan"))
         w.add(plan, t("label"), w.text(source_slug))
-    op = w.iri("operation", str(record.index))
+    op = w.iri("operation", source_slug, str(record.line))
     w.add(op, t("type"), t("Operation"))
-    w.add(op, t("type"), t(OPERATION_CLASSES[record.kind]))
+    w.add(op, t("type"), t(OPERATION_CLASSES[record.code.upper()]))
+    w.add(op, t("operationCode"), w.text(record.code))
     w.add(op, t("inPlan"), plan)
-    w.add(op, t("sequenceIndex"), w.typed(record.index))
+    w.add(op, t("sequenceIndex"), w.typed(record.order))
     w.add(op, t("sourceLine"), w.typed(record.line))
-    w.add(op, t("spotLabels"), w.text(";".join(record.spots)))
-    w.add(op, t("involvedLabels"), w.text(";".join(record.components)))
-    for label in record.spots:
-        spot = component_node(w, label)
-        if w.once(spot + "#spot"):
-            w.add(spot, t("type"), t("Spot"))
-        w.add(op, t("atSpot"), spot)
-    for name in record.components:
-        # An insert handles a connector; routing and taping handle cables. They are not typed
-        # here: a name the harness files do not define stays an untyped node, which the
-        # services report.
-        w.add(op, t("involves"), w.iri("component" if record.kind == "insert" else "cable", name))
-    tool = w.iri("tool", record.tool)
-    w.add(op, t("usesTool"), tool)
+    w.add(op, t("involvedLabels"), w.text(";".join(record.labels)))
+    w.add(op, t("spotLabels"), w.text(";".join(f"{s.jig}.{s.guide}" for s in record.spots)))
+    for label in record.labels:
+        w.add(op, t("involves"), w.iri("component", label))
+    for position, spot in enumerate(record.spots, start=1):
+        node = w.under(op, "spot", str(position))
+        w.add(op, t("atSpot"), node)
+        w.add(node, t("type"), t("Spot"))
+        w.add(node, t("label"), w.text(spot.jig))
+        w.add(node, t("guideId"), w.text(spot.guide))
+        w.add(node, t("sequenceIndex"), w.typed(position))
+        if spot.side:
+            w.add(node, t("side"), w.text(spot.side))

@@ -1,73 +1,25 @@
-"""Platform elements and their points of interest, in any frame of the cell.
+"""Frames of the ELVEZ cell and the points of interest of its elements.
 
-Three files describe a platform (D3.1 section 4.3, Figure 24): the X3D assembly gives each
-element's pose relative to its parent element, the element models give each model's points
-of interest relative to the model's origin, and the WRI table joins the two (CAD ID → label
-and model number). This module reads what they put in the graph and merges it into one frame
-tree (Figure 25): cell corner → platform → element → ... → key frames, with the robot base
-hanging from the cell corner as the manifest places it. Any frame's pose in any other frame is
-then a walk up the tree.
-
-Frame ids: a platform element's origin frame is its CAD ID (``ID000005``, as the scene names
-it); a point of interest ``key`` of element ``G4`` is the frame ``G4_key``.
+The manifest places each platform in the cell (``cell → platform_rf``), the platform scene
+places its elements (``platform_rf → ID0001platform → ID0002platform``), and an element's
+definition places its keys, collision boxes, taping spots, trays and tool frames in the
+element's frame. :class:`FrameTree` joins the first two; the functions below give the third in
+the element's frame, as the reference node computes them.
 """
 
 from __future__ import annotations
 
-import re
-from collections import defaultdict
+import math
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
 
 from cadkg.errors import NotFound, QueryError
-from cadkg.geometry.poses import IDENTITY, Pose, Vec3
+from cadkg.geometry.poses import IDENTITY, Pose
+from cadkg.usecases.elvez.files.definitions import Key, PlacedBox
 
-if TYPE_CHECKING:
-    from cadkg.graph import KnowledgeGraph
+__all__ = ["FrameTree", "box_centre", "key_centre", "tape_spot_centre", "xyz_angles"]
 
-__all__ = [
-    "ELEMENT_TYPES",
-    "ROBOT_BASE",
-    "FrameTree",
-    "KeyFrame",
-    "PlatformElement",
-    "PlatformModel",
-    "element_type",
-    "platform_model",
-]
-
-ROBOT_BASE = "robot_base"
-"""The frame the services answer in unless told otherwise (placed by the manifest)."""
-
-ELEMENT_TYPES: dict[str, str] = {
-    "G": "guide",
-    "H": "guide",
-    "CH": "connector_holder",
-    "ATC": "atc_slot",
-    "FS": "flat_surface",
-}
-"""Element type by the letters that start its label (``G4`` → guide); add a line for a new type."""
-
-_PREFIX = re.compile(r"^[A-Za-z]+")
-_POSE = "?pose ck:tx ?tx ; ck:ty ?ty ; ck:tz ?tz ; ck:qx ?qx ; ck:qy ?qy ; ck:qz ?qz ; ck:qw ?qw ."
-
-
-def element_type(label: str) -> str:
-    """The type of a platform element from its label's letter prefix; ``element`` when unknown.
-
-    >>> element_type("G4"), element_type("ATC2"), element_type("X9")
-    ('guide', 'atc_slot', 'element')
-    """
-    match = _PREFIX.match(label)
-    return ELEMENT_TYPES.get(match.group(0).upper(), "element") if match else "element"
-
-
-def _pose(row: Mapping[str, Any]) -> Pose:
-    return Pose(
-        (float(row["tx"]), float(row["ty"]), float(row["tz"])),
-        (float(row["qx"]), float(row["qy"]), float(row["qz"]), float(row["qw"])),
-    )
+# The reference's taping-spot formula uses 1.57 for a quarter turn; kept so answers match.
+_QUARTER_TURN = 1.57
 
 
 class FrameTree:
@@ -76,18 +28,10 @@ class FrameTree:
     def __init__(self, parents: Mapping[str, tuple[str, Pose]]) -> None:
         self._parents = dict(parents)
         self._rooted: dict[str, tuple[str, Pose]] = {}
+        self._names = set(self._parents) | {parent for parent, _ in self._parents.values()}
 
     def __contains__(self, name: object) -> bool:
-        return name in self._parents or any(parent == name for parent, _ in self._parents.values())
-
-    def parent(self, name: str) -> str | None:
-        entry = self._parents.get(name)
-        return entry[0] if entry else None
-
-    def local(self, name: str) -> Pose | None:
-        """The pose of ``name`` in its parent frame."""
-        entry = self._parents.get(name)
-        return entry[1] if entry else None
+        return name in self._names
 
     def rooted(self, name: str) -> tuple[str, Pose]:
         """The root of ``name``'s tree and the pose of ``name`` in it.
@@ -141,159 +85,42 @@ class FrameTree:
             yield parent, child, pose
 
 
-@dataclass(frozen=True)
-class KeyFrame:
-    """A point of interest of an element: frame id and pose in the element's origin frame."""
-
-    name: str
-    frame: str
-    local: Pose
+def key_centre(key: Key) -> Pose:
+    """The centre of a guide's key (the middle of its gap) in the element's frame: the key's
+    corner moved half its length, gap and height along its own axes."""
+    return key.corner * Pose((key.length / 2, key.gap / 2, key.height / 2))
 
 
-@dataclass(frozen=True)
-class PlatformElement:
-    """A labelled element of a platform, as the WRI, the scene and its model describe it."""
-
-    label: str
-    cad_id: str
-    kind: str
-    model: str | None
-    platform: str
-    parent: str
-    dimensions: Vec3 | None = None
-    keyframes: Mapping[str, KeyFrame] = field(default_factory=dict)
-    key_length: float | None = None
-    key_gap: float | None = None
-    key_height: float | None = None
-    mesh: str | None = None
-
-    @property
-    def frame(self) -> str:
-        """The element's origin frame: its CAD ID, as the scene names it."""
-        return self.cad_id
+def box_centre(box: PlacedBox) -> Pose:
+    """The centre of a tray's floor: its corner moved half its x and y sizes."""
+    return box.corner * Pose((box.size[0] / 2, box.size[1] / 2, 0.0))
 
 
-@dataclass
-class PlatformModel:
-    """Every platform element with its points of interest, and the frame tree joining them."""
-
-    tree: FrameTree
-    elements: dict[str, PlatformElement]
-    robot_base: str = ROBOT_BASE
-
-    def pose(self, frame: str, reference: str | None = None) -> Pose:
-        """The pose of ``frame`` in ``reference`` (the robot base when None); see FrameTree.pose."""
-        return self.tree.pose(frame, reference or self.robot_base)
-
-    def of_kind(self, kind: str) -> list[PlatformElement]:
-        return [e for e in self.elements.values() if e.kind == kind]
+def xyz_angles(pose: Pose) -> tuple[float, float, float]:
+    """The angles ``R, P, Y`` of a rotation ``Rx(R)·Ry(P)·Rz(Y)`` (the definitions' order)."""
+    x, y, z, w = pose.orientation
+    r00 = 1 - 2 * (y * y + z * z)
+    r01 = 2 * (x * y - z * w)
+    r02 = 2 * (x * z + y * w)
+    r12 = 2 * (y * z - x * w)
+    r22 = 1 - 2 * (x * x + y * y)
+    return (math.atan2(-r12, r22), math.asin(max(-1.0, min(1.0, r02))), math.atan2(-r01, r00))
 
 
-@dataclass
-class _Model:
-    dimensions: Vec3 | None = None
-    key: tuple[float, float, float] | None = None
-    mesh: str | None = None
-    frames: dict[str, Pose] = field(default_factory=dict)
+def tape_spot_centre(spot: PlacedBox, guide: Pose) -> Pose:
+    """The centre of a taping spot in the element's frame, as the reference computes it: half
+    the spot's length along its x, and along its y as far as the cable line through the centre
+    of its guide's key (``guide``), at that centre's height.
 
-
-def _frames(kg: KnowledgeGraph) -> dict[str, tuple[str, Pose]]:
-    found: dict[str, set[tuple[str, Pose]]] = defaultdict(set)
-    for row in kg.query(
-        f"""SELECT DISTINCT ?name ?parent ?tx ?ty ?tz ?qx ?qy ?qz ?qw WHERE {{
-              ?f a ck:Frame ; ck:label ?name ; ck:hasPose ?pose .
-              ?pose ck:parentFrame/ck:label ?parent . {_POSE} }}"""
-    ):
-        found[row["name"]].add((row["parent"], _pose(row)))
-    doubled = sorted(name for name, entries in found.items() if len(entries) > 1)
-    if doubled:
-        raise QueryError(
-            f"frame {doubled[0]!r} is placed more than once"
-            + (f" (and {len(doubled) - 1} more frames)" if len(doubled) > 1 else "")
-            + ": CAD IDs and frame names must be unique across the cell's scenes and manifest"
-        )
-    return {name: next(iter(entries)) for name, entries in found.items()}
-
-
-def _models(kg: KnowledgeGraph) -> dict[str, _Model]:
-    models: dict[str, _Model] = defaultdict(_Model)
-    for row in kg.query(
-        """SELECT DISTINCT ?code ?x ?y ?z ?length ?gap ?height ?mesh WHERE { ?m ck:commercialCode ?code .
-             OPTIONAL { ?m ck:xDim ?x ; ck:yDim ?y ; ck:zDim ?z }
-             OPTIONAL { ?m ck:keyLength ?length ; ck:keyGap ?gap ; ck:keyHeight ?height }
-             OPTIONAL { ?m ck:hasMesh/ck:meshUri ?mesh } }"""
-    ):
-        model = models[row["code"]]
-        if row["x"] is not None:
-            model.dimensions = (float(row["x"]), float(row["y"]), float(row["z"]))
-        if row["length"] is not None:
-            model.key = (float(row["length"]), float(row["gap"]), float(row["height"]))
-        model.mesh = model.mesh or row["mesh"]
-    for row in kg.query(
-        f"""SELECT DISTINCT ?code ?name ?tx ?ty ?tz ?qx ?qy ?qz ?qw WHERE {{
-              ?m ck:commercialCode ?code ; ck:definesKeypoint ?k . ?k ck:label ?name ; ck:hasPose ?pose .
-              {_POSE} }}"""
-    ):
-        models[row["code"]].frames[row["name"]] = _pose(row)
-    return dict(models)
-
-
-def platform_model(kg: KnowledgeGraph, robot_base: str = ROBOT_BASE) -> PlatformModel:
-    """Merge the scenes, element models and WRI tables in the graph into a :class:`PlatformModel`.
-
-    Only labels whose CAD item has a frame in the graph (a scene placed it) are elements.
-
-    Raises
-    ------
-    QueryError
-        When a frame has two different poses (CAD IDs repeated across platform scenes), or a
-        point-of-interest frame id clashes with another frame.
+    The distance is measured from the spot's corner towards the guide, with the angle of that
+    line taken in the first quadrant and a quarter turn of 1.57; a guide straight above or
+    below the corner (no x offset) gives a right angle where the reference divides by zero.
     """
-    parents = _frames(kg)
-    models = _models(kg)
-    items: dict[str, tuple[int, str, str | None]] = {}
-    for row in kg.query(
-        """SELECT DISTINCT ?label ?id ?code ?line WHERE { ?c ck:label ?label ; ck:hasItem ?item .
-             ?item ck:cadId ?id . OPTIONAL { ?item ck:instanceOf/ck:commercialCode ?code }
-             OPTIONAL { ?item ck:sourceLine ?line } }"""
-    ):
-        if row["id"] not in parents:
-            continue
-        entry = (int(row["line"]) if row["line"] is not None else 1 << 30, row["id"], row["code"])
-        # A label drawn as several items is placed by its first item in the WRI table.
-        if row["label"] not in items or entry < items[row["label"]]:
-            items[row["label"]] = entry
-    element_frames = {cad_id for _, cad_id, _ in items.values()}
-    elements: dict[str, PlatformElement] = {}
-    for label, (_, cad_id, code) in sorted(items.items()):
-        parent = parents[cad_id][0]
-        platform = parent
-        seen = {cad_id}
-        while platform in element_frames and platform in parents and platform not in seen:
-            seen.add(platform)
-            platform = parents[platform][0]
-        model = models.get(code or "", _Model())
-        keyframes: dict[str, KeyFrame] = {}
-        for name, local in model.frames.items():
-            frame = f"{label}_{name}"
-            if frame in parents:
-                raise QueryError(
-                    f"point of interest {name!r} of {label} would be frame {frame!r}, which already exists"
-                )
-            parents[frame] = (cad_id, local)
-            keyframes[name] = KeyFrame(name, frame, local)
-        elements[label] = PlatformElement(
-            label=label,
-            cad_id=cad_id,
-            kind=element_type(label),
-            model=code,
-            platform=platform,
-            parent=parent,
-            dimensions=model.dimensions,
-            keyframes=keyframes,
-            key_length=model.key[0] if model.key else None,
-            key_gap=model.key[1] if model.key else None,
-            key_height=model.key[2] if model.key else None,
-            mesh=model.mesh,
-        )
-    return PlatformModel(FrameTree(parents), elements, robot_base)
+    corner = spot.corner
+    dx = guide.position[0] - corner.position[0]
+    dy = guide.position[1] - corner.position[1]
+    distance = math.hypot(dx, dy)
+    angle = math.atan(abs(dy) / abs(dx)) if dx else math.pi / 2
+    turn = _QUARTER_TURN - xyz_angles(corner)[2] - angle
+    along = distance * math.cos(turn)
+    return corner * Pose((spot.size[0] / 2, along, guide.position[2] - corner.position[2]))

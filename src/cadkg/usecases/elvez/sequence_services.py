@@ -1,0 +1,170 @@
+"""The assembly sequence as the reference node serves it: every operation, one by index, and
+a cursor per client that hands out the next one.
+
+The cursor belongs to a client (``client``, ``default`` when empty): ``next_operation`` gives
+the operation at the cursor and moves it on, ``end`` is true on the answer that carries the
+last operation and the cursor starts again; ``index_operation`` (from 0) moves the cursor to an
+operation and answers as ``next_operation`` with the new cursor as ``index``;
+``all_operations`` rewinds it, as the reference does. Every answer gives spots in one form:
+element (``jig``), guide (``id``) and, for EC and PC, ``side``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from cadkg.services.session import Session
+from cadkg.usecases.elvez.files.sequence import SequenceStep
+from cadkg.usecases.elvez.model import PROFILE, ElvezModel, model_of, unresolved
+
+__all__ = [
+    "AllOperationsResult",
+    "IndexOperationResult",
+    "NextOperationResult",
+    "OperationItem",
+    "SequenceCursor",
+    "SequenceResetResult",
+    "SpotData",
+    "all_operations",
+    "index_operation",
+    "next_operation",
+    "reset_sequence_list",
+    "reset_sequence_list_to",
+]
+
+
+@dataclass
+class SequenceCursor:
+    """Where one client is in the sequence: the index (from 0) of its next operation."""
+
+    position: int = 0
+
+    def __post_init__(self) -> None:
+        self.position = int(self.position)  # read back from a cursor file: keep the type
+
+
+@dataclass(frozen=True)
+class SpotData:
+    jig: str
+    id: str
+    side: str
+
+
+@dataclass(frozen=True)
+class OperationItem:
+    type: str
+    label: tuple[str, ...]
+    spot: tuple[SpotData, ...]
+
+
+@dataclass(frozen=True)
+class NextOperationResult:
+    success: bool
+    message: str
+    type: str = ""
+    label: tuple[str, ...] = ()
+    spot: tuple[SpotData, ...] = ()
+    end: bool = False
+
+
+@dataclass(frozen=True)
+class IndexOperationResult:
+    success: bool
+    message: str
+    index: int = 0
+    type: str = ""
+    label: tuple[str, ...] = ()
+    spot: tuple[SpotData, ...] = ()
+    end: bool = False
+
+
+@dataclass(frozen=True)
+class SequenceResetResult:
+    success: bool
+    message: str
+
+
+@dataclass(frozen=True)
+class AllOperationsResult:
+    success: bool
+    message: str
+    data: tuple[OperationItem, ...] = ()
+
+
+def _item(step: SequenceStep) -> OperationItem:
+    return OperationItem(step.code, step.labels, tuple(SpotData(s.jig, s.guide, s.side) for s in step.spots))
+
+
+def _cursor(session: Session, client: str) -> SequenceCursor:
+    return session.cursor(PROFILE, client or "default", SequenceCursor)
+
+
+def _describe(model: ElvezModel, position: int) -> str:
+    step = model.sequence[position]
+    notes = unresolved(model, step)
+    text = (
+        f"operation {position} (order {step.order}): {step.code} {'-'.join(step.labels)} at {step.spot_text}"
+    )
+    return text + ("; " + "; ".join(notes) if notes else "")
+
+
+def _hand_out(model: ElvezModel, cursor: SequenceCursor, position: int) -> tuple[OperationItem, bool, str]:
+    item, message = _item(model.sequence[position]), _describe(model, position)
+    cursor.position = position + 1
+    end = cursor.position >= len(model.sequence)
+    if end:
+        cursor.position = 0
+        message += "; end of the sequence"
+    return item, end, message
+
+
+def next_operation(session: Session, client: str = "default") -> NextOperationResult:
+    """The operation at the client's cursor; the cursor moves on (to 0 after the last)."""
+    model = model_of(session)
+    if not model.sequence:
+        return NextOperationResult(False, "the cell has no assembly sequence")
+    cursor = _cursor(session, client)
+    if cursor.position >= len(model.sequence):
+        cursor.position = 0
+    item, end, message = _hand_out(model, cursor, cursor.position)
+    return NextOperationResult(True, message, item.type, item.label, item.spot, end)
+
+
+def index_operation(session: Session, index: int, client: str = "default") -> IndexOperationResult:
+    """The operation at ``index`` (from 0); the client's cursor moves past it, and ``index``
+    of the answer is where it is now."""
+    model = model_of(session)
+    count = len(model.sequence)
+    if not 0 <= index < count:
+        return IndexOperationResult(
+            False, f"no operation {index}; the sequence has operations 0 to {count - 1}"
+        )
+    cursor = _cursor(session, client)
+    item, end, message = _hand_out(model, cursor, index)
+    return IndexOperationResult(True, message, cursor.position, item.type, item.label, item.spot, end)
+
+
+def reset_sequence_list(session: Session, client: str = "default") -> SequenceResetResult:
+    """Rewind the client's cursor to the first operation."""
+    _cursor(session, client).position = 0
+    return SequenceResetResult(True, "next: operation 0")
+
+
+def reset_sequence_list_to(session: Session, index: int, client: str = "default") -> SequenceResetResult:
+    """Move the client's cursor to operation ``index`` (from 0)."""
+    count = len(model_of(session).sequence)
+    if not 0 <= index < count:
+        return SequenceResetResult(
+            False, f"no operation {index}; the sequence has operations 0 to {count - 1}"
+        )
+    _cursor(session, client).position = index
+    return SequenceResetResult(True, f"next: operation {index}")
+
+
+def all_operations(session: Session, client: str = "default") -> AllOperationsResult:
+    """Every operation in sequence order; rewinds the client's cursor, as the reference does."""
+    model = model_of(session)
+    _cursor(session, client).position = 0
+    notes = [f"operation {i}: {n}" for i, step in enumerate(model.sequence) for n in unresolved(model, step)]
+    message = f"{len(model.sequence)} operations" + ("; " + "; ".join(notes) if notes else "")
+    return AllOperationsResult(True, message, tuple(_item(s) for s in model.sequence))
