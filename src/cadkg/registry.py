@@ -18,6 +18,7 @@ from pathlib import Path
 from cadkg.errors import IngestError, RegistryError
 from cadkg.ingest.formats import READERS
 from cadkg.ingest.reader import Reader
+from cadkg.ingest.sheet import sniff_head
 from cadkg.ingest.text import sniffable_head
 from cadkg.services.service import Service
 from cadkg.usecase import Derivation, UseCase
@@ -183,7 +184,7 @@ def sniff_kind(path: str | Path, head: bytes | None = None) -> str:
             raise IngestError(path, f"cannot read the file: {err.strerror}") from err
         except ValueError:  # a NUL byte in a path given by a service caller
             raise IngestError(repr(str(path)), "cannot read the file: a NUL byte in its name") from None
-    head = sniffable_head(head)
+    head = sniff_head(path, sniffable_head(head))
     sniffed = [r for r in candidates or readers if r.sniff is not None and r.sniff(head)]
     if len(sniffed) == 1:
         return sniffed[0].kind
