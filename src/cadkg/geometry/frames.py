@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-__all__ = ["Quaternion", "normalize_quaternion", "quaternion_from_rpy"]
+__all__ = ["Quaternion", "normalize_quaternion", "quaternion_from_rpy", "quaternion_from_xyz_moving"]
 
 Quaternion = tuple[float, float, float, float]
 """A rotation as ``(x, y, z, w)``, unit length."""
@@ -30,6 +30,23 @@ def quaternion_from_rpy(roll: float, pitch: float, yaw: float) -> Quaternion:
         cr * cp * sy - sr * sp * cy,
         cr * cp * cy + sr * sp * sy,
     )
+
+
+def quaternion_from_xyz_moving(a: float, b: float, c: float) -> Quaternion:
+    """Unit quaternion of ``Rx(a) · Ry(b) · Rz(c)``: turns about the moving X, then Y, then Z axes.
+
+    Not REP 103's roll-pitch-yaw (``Rz · Ry · Rx``); the two agree when at most one angle is
+    non-zero.
+
+    >>> [round(v, 6) for v in quaternion_from_xyz_moving(math.pi / 2, 0.0, math.pi / 2)]
+    [0.5, -0.5, 0.5, 0.5]
+    """
+    ca, sa = math.cos(a / 2), math.sin(a / 2)
+    cb, sb = math.cos(b / 2), math.sin(b / 2)
+    cc, sc = math.cos(c / 2), math.sin(c / 2)
+    # qx(a) ⊗ qy(b) ⊗ qz(c), each (x, y, z, w).
+    x, y, z, w = sa * cb, ca * sb, sa * sb, ca * cb  # qx(a) ⊗ qy(b)
+    return (x * cc + y * sc, y * cc - x * sc, z * cc + w * sc, w * cc - z * sc)
 
 
 def normalize_quaternion(q: Sequence[float], tolerance: float = 1e-3) -> Quaternion:

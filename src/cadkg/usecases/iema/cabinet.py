@@ -189,6 +189,10 @@ class _Deriver:
                 self.item_pose[item] = chained[1]
             elif root_model is not None and self.cell.item_model.get(item) in root_model.children:
                 self.item_pose[item] = origin * root_model.children[self.cell.item_model[item]]
+            elif (mounted := self.cell.models.get(self.cell.item_model.get(item, ""))) is not None and (
+                mounted.mounting is not None
+            ):
+                self.item_pose[item] = origin * mounted.mounting
         inverse = origin.inverse()
         corners: list[Vec3] = []
         for item in items:
@@ -204,6 +208,9 @@ class _Deriver:
         centre = ((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2)
         geometry.target = origin.at((centre[0], centre[1], centre[2] + self.cell.approach_distance))
         geometry.corner = origin.at((lo[0], lo[1], hi[2]))
+        # A model's own corner frame replaces the computed one, as the cell's software does.
+        if root_model is not None and "corner" in root_model.items:
+            geometry.corner = origin * root_model.items["corner"]
         if block:
             geometry.terminal_block = True
             first_box = self.box(root)

@@ -14,7 +14,6 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from typing import Any
 
-from cadkg.geometry.frames import quaternion_from_rpy
 from cadkg.geometry.poses import Pose
 from cadkg.ingest.assignments import Assignment
 from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo
@@ -42,7 +41,7 @@ def _pose(xyz: Iterable[float], quaternion: Iterable[float]) -> Pose:
 
 
 def _placement(placement: Placement) -> Pose:
-    return _pose(placement.xyz, quaternion_from_rpy(*placement.rpy))
+    return _pose(placement.xyz, placement.quaternion())
 
 
 class _Source:
@@ -234,6 +233,10 @@ class InputCollector:
         for child in record.children:
             self._model(child.name)
             model.children[child.name] = _placement(child.relative)
+        for item in record.items:
+            model.items[item.name] = _placement(item.placement)
+        if record.mounting is not None:
+            model.mounting = _placement(record.mounting)
 
 
 _HANDLERS: dict[type, Callable[[InputCollector, Any, _Source], None]] = {

@@ -45,6 +45,8 @@ class ModelInfo:
     screws: dict[str, Pose] = field(default_factory=dict)
     holes: dict[str, Pose] = field(default_factory=dict)
     children: dict[str, Pose] = field(default_factory=dict)
+    items: dict[str, Pose] = field(default_factory=dict)
+    mounting: Pose | None = None
 
     @property
     def couples(self) -> list[str]:
@@ -305,6 +307,16 @@ def _models(tables: _Tables) -> dict[str, ModelInfo]:
                 for pose in tables.values(kind).get(pin, ()):
                     if pose in poses:
                         into[name] = poses[pose]
+    labels = tables.values("label")
+    for node, frames in tables.values("hasItemFrame").items():
+        for key, frame in product(codes.get(node, ()), frames):
+            for name, pose in product(labels.get(frame, ()), tables.values("hasPose").get(frame, ())):
+                if pose in poses:
+                    models.setdefault(key, ModelInfo(key)).items[name] = poses[pose]
+    for node, mountings in tables.values("mountingPose").items():
+        for key, pose in product(codes.get(node, ()), mountings):
+            if pose in poses:
+                models.setdefault(key, ModelInfo(key)).mounting = poses[pose]
     for node, placements in tables.values("hasChildPlacement").items():
         for key, placement in product(codes.get(node, ()), placements):
             children = tables.follow(placement, "childModel", "commercialCode")

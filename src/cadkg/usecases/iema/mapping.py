@@ -49,6 +49,17 @@ def _map_model(w: TripleWriter, model: ComponentModel) -> str:
             if placement is not None:
                 pose = w.iri("model", model.key, "pin", couple.name, kind)
                 w.add(pin, t(f"{kind}Pose"), placement_pose(w, pose, placement, frame))
+    for item in model.items:
+        node_item = w.iri("model", model.key, "item", item.name)
+        w.add(node, t("hasItemFrame"), node_item)
+        w.add(node_item, t("type"), t("ModelItemFrame"))
+        w.add(node_item, t("label"), w.text(item.name))
+        pose = w.iri("model", model.key, "item", item.name, "pose")
+        w.add(node_item, t("hasPose"), placement_pose(w, pose, item.placement, frame))
+    if model.mounting is not None:
+        # In the frame of the root item it is mounted on, which only the cabinet tells.
+        pose = w.iri("model", model.key, "mounting")
+        w.add(node, t("mountingPose"), placement_pose(w, pose, model.mounting, frame))
     for child in model.children:
         place = w.iri("model", model.key, "child", child.name)
         w.add(node, t("hasChildPlacement"), place)
