@@ -100,9 +100,7 @@ class _Limits:
     def refuse(self, reason: str, row: int, column: int, expected: str) -> IngestError:
         row = min(max(row, 1), MAX_ROWS + 1)
         column = min(max(column, 0), MAX_COLUMNS)
-        return IngestError(
-            self.path, reason, cell=cell_address(self.sheet, row, column), expected=expected
-        )
+        return IngestError(self.path, reason, cell=cell_address(self.sheet, row, column), expected=expected)
 
 
 def _tags(

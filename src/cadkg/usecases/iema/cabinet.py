@@ -251,7 +251,7 @@ class _Deriver:
             (item, model)
             for item in geometry.items
             if (model := self.cell.models.get(self.cell.item_model.get(item, ""))) is not None
-            and (model.screws or model.holes)
+            and (model.screws or model.holes or model.points)
         ]
         for info in wired:
             key = pin_key(info)
@@ -271,8 +271,7 @@ class _Deriver:
         pose = self.item_pose.get(item)
         if model is None or pose is None:
             return CadPin(label, name, None, None, item, iri)
-        screw = model.screws.get(couple)
-        hole = model.holes.get(couple)
+        screw, hole = model.frames(couple)
         return CadPin(
             label,
             name,
@@ -300,6 +299,9 @@ class _Deriver:
             return self._pin(geometry.label, key, info.item, info.level or info.name, iri)
         for item, model in modelled:
             if key in model.screws or key in model.holes:
+                return self._pin(geometry.label, key, item, key, iri)
+        for item, model in modelled:
+            if key in model.points:
                 return self._pin(geometry.label, key, item, key, iri)
         return CadPin(geometry.label, key, None, None, None, iri)
 

@@ -18,6 +18,7 @@ from cadkg.geometry.poses import Pose
 from cadkg.ingest.assignments import Assignment
 from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo
 from cadkg.ingest.eplan.labels import PinRef
+from cadkg.ingest.eplan.parts import PartPins
 from cadkg.ingest.manifest import Manifest
 from cadkg.ingest.placement import Placement
 from cadkg.ingest.scene.records import SceneItem
@@ -170,6 +171,11 @@ class InputCollector:
         for model in record.models:
             self._describe(model, source)
 
+    def _part_pins(self, record: PartPins, source: _Source) -> None:
+        model = self._model(record.part)
+        for point in record.points:
+            model.points[point.name] = _pose(point.position, point.orientation)
+
     def _terminal_slot(self, record: TerminalSlot, source: _Source) -> None:
         self._item(record.block, record.cad_id)
         self._blocks.setdefault(record.block, {})[(record.position, record.cad_id, record.terminal)] = None
@@ -246,6 +252,7 @@ _HANDLERS: dict[type, Callable[[InputCollector, Any, _Source], None]] = {
     ComponentModel: InputCollector._component_model,
     ComponentListEntry: InputCollector._component_list_entry,
     TerminalSlot: InputCollector._terminal_slot,
+    PartPins: InputCollector._part_pins,
     SceneItem: InputCollector._scene_item,
     Assignment: InputCollector._assignment,
 }

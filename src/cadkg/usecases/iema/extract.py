@@ -47,10 +47,19 @@ class ModelInfo:
     children: dict[str, Pose] = field(default_factory=dict)
     items: dict[str, Pose] = field(default_factory=dict)
     mounting: Pose | None = None
+    # Connection points of EPLAN's parts management: the hole of a pin no couple places.
+    points: dict[str, Pose] = field(default_factory=dict)
 
     @property
     def couples(self) -> list[str]:
-        return list(dict.fromkeys([*self.screws, *self.holes]))
+        return list(dict.fromkeys([*self.screws, *self.holes, *self.points]))
+
+    def frames(self, couple: str) -> tuple[Pose | None, Pose | None]:
+        """The screw and hole of ``couple``: a component model's couple, else a connection point."""
+        screw, hole = self.screws.get(couple), self.holes.get(couple)
+        if screw is None and hole is None:
+            hole = self.points.get(couple)
+        return screw, hole
 
 
 # Not frozen: a build makes one per pin and one per wire, and a frozen dataclass pays a
@@ -307,6 +316,12 @@ def _models(tables: _Tables) -> dict[str, ModelInfo]:
                 for pose in tables.values(kind).get(pin, ()):
                     if pose in poses:
                         into[name] = poses[pose]
+    for node, points in tables.values("definesConnectionPoint").items():
+        for key, point in product(codes.get(node, ()), points):
+            model = models.setdefault(key, ModelInfo(key))
+            for name, pose in product(names.get(point, ()), tables.values("holePose").get(point, ())):
+                if pose in poses:
+                    model.points[name] = poses[pose]
     labels = tables.values("label")
     for node, frames in tables.values("hasItemFrame").items():
         for key, frame in product(codes.get(node, ()), frames):

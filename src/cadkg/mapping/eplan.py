@@ -1,0 +1,41 @@
+"""EPLAN's own exports → triples: parts-management connection points and bills of materials.
+
+A part's connection points are pins of the commercial model its part number names
+(``model/CODE``, the node the WRI table and the component models share), kept apart from
+the couples of the component models (``model/CODE/point/NAME``, linked by
+``ck:definesConnectionPoint``): where a model has a couple of that name, the couple counts.
+"""
+
+from __future__ import annotations
+
+from cadkg.ingest.eplan.parts import PartPins
+from cadkg.mapping.dispatch import map_record
+from cadkg.mapping.nodes import model_frame, model_node
+from cadkg.mapping.writer import TripleWriter, term, write_pose
+
+__all__: list[str] = []
+
+t = term
+
+
+@map_record.register
+def _(record: PartPins, w: TripleWriter, source_slug: str) -> None:
+    model = model_node(w, record.part)
+    frame = model_frame(w, model, record.part)
+    w.add(model, t("sourceLine"), w.typed(record.line))
+    for point in record.points:
+        pin = w.iri("model", record.part, "point", point.name)
+        w.add(model, t("definesConnectionPoint"), pin)
+        w.add(pin, t("type"), t("ModelPin"))
+        w.add(pin, t("pinName"), w.text(point.name))
+        w.add(pin, t("sourceLine"), w.typed(point.line))
+        pose = w.iri("model", record.part, "point", point.name, "hole")
+        w.add(pin, t("holePose"), write_pose(w, pose, point.position, point.orientation, frame))
+        w.add(pose, t("sourceLine"), w.typed(point.line))
+        for predicate, value in (
+            ("connectionDirection", point.direction_code),
+            ("connectionLevel", point.level),
+            ("pinDeviceTag", point.device_tag),
+        ):
+            if value is not None:
+                w.add(pin, t(predicate), w.text(value))
