@@ -18,8 +18,8 @@ from pathlib import Path
 from lxml import etree
 
 from cadkg.errors import IngestError
-from cadkg.ingest.text import Row, xml_document
-from cadkg.ingest.xml_input import parse_untrusted_xml
+from cadkg.ingest.text import Row
+from cadkg.ingest.xml_input import read_xml_file
 
 __all__ = ["LabellingReport", "canonical", "looks_like_labelling", "read_labelling"]
 
@@ -135,21 +135,7 @@ def read_labelling(path: str | Path) -> LabellingReport:
         On a file that is not ``<EplanLabelling>`` XML, one without column headers, or a line
         whose properties are not the columns in order.
     """
-    try:
-        data = Path(path).read_bytes()
-    except OSError as err:
-        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
-    root = parse_untrusted_xml(
-        path, xml_document(path, data, expected=_EXPECTED), what="EPLAN labelling XML", expected=_EXPECTED
-    )
-    if root.tag != "EplanLabelling":
-        raise IngestError(
-            path,
-            "the root element is not <EplanLabelling>",
-            line=root.sourceline,
-            found=f"<{root.tag}>",
-            expected=_EXPECTED,
-        )
+    root = read_xml_file(path, root="EplanLabelling", what="EPLAN labelling XML", expected=_EXPECTED)
     header: dict[str, str] = {}
     for prop in root.iterfind("./Document/Page/Header/Property"):
         name, value = _property(prop)

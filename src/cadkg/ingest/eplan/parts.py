@@ -20,8 +20,7 @@ from lxml import etree
 
 from cadkg.errors import IngestError, IngestWarning
 from cadkg.geometry.frames import Quaternion, quaternion_from_axes
-from cadkg.ingest.text import xml_document
-from cadkg.ingest.xml_input import parse_untrusted_xml
+from cadkg.ingest.xml_input import read_xml_file
 
 __all__ = ["ConnectionPoint", "PartPins", "looks_like_parts_management", "read_parts_management"]
 
@@ -78,21 +77,7 @@ def read_parts_management(path: str | Path) -> list[PartPins]:
         a name, a point without a name, position or direction, or a zero direction; at
         file:line.
     """
-    try:
-        data = Path(path).read_bytes()
-    except OSError as err:
-        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
-    root = parse_untrusted_xml(
-        path, xml_document(path, data, expected=_EXPECTED), what="parts-management XML", expected=_EXPECTED
-    )
-    if root.tag != "partsmanagement":
-        raise IngestError(
-            path,
-            "the root element is not <partsmanagement>",
-            line=root.sourceline,
-            found=f"<{root.tag}>",
-            expected=_EXPECTED,
-        )
+    root = read_xml_file(path, root="partsmanagement", what="parts-management XML", expected=_EXPECTED)
     return _Reader(path, root).parts()
 
 
