@@ -21,6 +21,7 @@ READERS = kinds()
 BUILTIN_KINDS = [
     "action-plan",
     "assignments",
+    "bill-of-materials",
     "cable-info",
     "component-list",
     "component-model",

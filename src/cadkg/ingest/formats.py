@@ -4,6 +4,7 @@ scenes, KBL harnesses, robot/human assignments. Use cases add their own (see cad
 from __future__ import annotations
 
 from cadkg.ingest.assignments import looks_like_assignments, read_assignments
+from cadkg.ingest.eplan.bill_of_materials import looks_like_bill_of_materials, read_bill_of_materials
 from cadkg.ingest.eplan.connection_files import iter_connections, looks_like_connections, read_connections
 from cadkg.ingest.eplan.parts import looks_like_parts_management, read_parts_management
 from cadkg.ingest.harness.kbl import looks_like_kbl, read_kbl
@@ -30,6 +31,13 @@ READERS: tuple[Reader, ...] = (
         stream=iter_connections,
         description="EPLAN connection list: text (Figure 3, Lista cablaggio, Komax), workbook, labelling XML",
         sniff=looks_like_connections,
+    ),
+    Reader(
+        kind="bill-of-materials",
+        suffixes=(".xlsx", ".xlsm", ".xls", ".ods", ".xml"),
+        read=read_bill_of_materials,
+        description="EPLAN bill of materials (Distinta componenti): workbook or labelling XML",
+        sniff=looks_like_bill_of_materials,
     ),
     Reader(
         kind="parts-management",

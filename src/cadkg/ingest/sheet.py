@@ -260,7 +260,8 @@ def sniff_head(path: str | Path, head: bytes) -> bytes:
     lines = []
     for sheet in book.sheets:
         for row in sheet.rows[:_SNIFF_ROWS]:
-            lines.append("\t".join(cell_text(c)[:_SNIFF_CELL].replace("\t", " ") for c in row.cells))
+            cells = (re.sub(r"\s+", " ", cell_text(c)[:_SNIFF_CELL]) for c in row.cells)
+            lines.append("\t".join(cells))
     return head + _SHEET_TEXT + "\n".join(lines).encode("utf-8", "replace")
 
 

@@ -471,12 +471,12 @@ def _step(
         ends.append(components[info.label].pins[pin_key(info)])
     origin, destination = ends
     base = cell.base
-    ends = [performers.get(node_iri(base, "component", end.label)) for end in (origin, destination)]
+    by_component = [performers.get(node_iri(base, "component", end.label)) for end in (origin, destination)]
     performer = (
         performers.get(wire.iri)
         or performers.get(node_iri(base, "wire", wire.number))
         or performers.get(node_iri(base, "operation", str(wire.position)))
-        or ("human" if "human" in ends else "robot")
+        or ("human" if "human" in by_component else "robot")
     )
     return WireStep(
         position=wire.position,
