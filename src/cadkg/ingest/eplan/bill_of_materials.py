@@ -23,7 +23,7 @@ from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.eplan.labelling import looks_like_labelling, read_labelling
 from cadkg.ingest.eplan.labels import normalize_label
 from cadkg.ingest.sheet import cell_address, cell_text, is_workbook, read_workbook, sheet_text
-from cadkg.ingest.text import Row, parse_decimal
+from cadkg.ingest.text import Row, parse_decimal, read_head, read_text
 
 __all__ = ["BomInfo", "BomLine", "looks_like_bill_of_materials", "read_bill_of_materials"]
 
@@ -120,11 +120,7 @@ def read_bill_of_materials(path: str | Path) -> list[BomInfo | BomLine]:
         When no sheet has the header, a line has no device tag, or a quantity is not a
         positive number; at the cell (``Sheet!D12``) or the ``<Line>``.
     """
-    try:
-        with Path(path).open("rb") as handle:
-            head = handle.read(4096)
-    except OSError as err:
-        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
+    head = read_head(path, expected=_EXPECTED)
     if is_workbook(head):
         return _from_workbook(path)
     if looks_like_labelling(head):
@@ -137,6 +133,7 @@ def read_bill_of_materials(path: str | Path) -> list[BomInfo | BomLine]:
             )
         )
         return [info, *_lines(path, [header, *report.lines], 0, lambda n, c: {"cell": f"<Line> {n}"})]
+    read_text(path, expected=_EXPECTED)  # the located error of an empty or binary file
     raise IngestError(path, "not a workbook nor EPLAN labelling XML", expected=_EXPECTED)
 
 

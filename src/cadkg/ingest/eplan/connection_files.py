@@ -24,7 +24,7 @@ from cadkg.ingest.eplan.connection_list import (
 )
 from cadkg.ingest.eplan.labelling import looks_like_labelling, read_labelling
 from cadkg.ingest.sheet import cell_text, is_workbook, read_workbook, sheet_text
-from cadkg.ingest.text import Row
+from cadkg.ingest.text import Row, read_head
 
 __all__ = ["iter_connections", "looks_like_connections", "read_connections"]
 
@@ -45,11 +45,7 @@ def read_connections(path: str | Path) -> list[_Record]:
 
 def iter_connections(path: str | Path) -> Iterator[_Record]:
     """The records of :func:`read_connections` one by one."""
-    try:
-        with Path(path).open("rb") as handle:
-            head = handle.read(4096)
-    except OSError as err:
-        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
+    head = read_head(path, expected="a connection list")
     if is_workbook(head):
         yield from _from_workbook(path)
     elif looks_like_labelling(head):
