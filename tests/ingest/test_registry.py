@@ -11,6 +11,7 @@ import pytest
 from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.eplan.connection_files import read_connections
 from cadkg.ingest.reader import Reader
+from cadkg.ingest.sheet import SHEET_SUFFIXES
 from cadkg.ingest.wri import read_wri
 from cadkg.registry import kinds, reader_for, register, sniff_kind
 
@@ -36,6 +37,7 @@ BUILTIN_KINDS = [
     "parts-management",
     "path-info",
     "pin-info",
+    "terminal-diagram",
     "terminal-schema",
     "tools",
     "vrml",
@@ -152,7 +154,10 @@ def test_reader_rejects_bad_content_with_a_located_error(
     assert str(err).startswith(str(path))
     if content_id in {"empty", "whitespace", "bom-only", "utf16-bom-only", "utf16-whitespace"}:
         assert err.reason == "the file is empty"
-    if content_id == "zip-header" and reader.kind in {"connection-list", "bill-of-materials"}:
+    if set(reader.suffixes) <= set(SHEET_SUFFIXES):
+        # A reader of workbooks alone reads no text: anything but a workbook is refused as such.
+        assert err.reason.startswith(("the file is empty", "not a workbook", "corrupt workbook"))
+    elif content_id == "zip-header" and reader.kind in {"connection-list", "bill-of-materials"}:
         # Read by its content: a ZIP archive is a workbook.
         assert err.reason.startswith("corrupt workbook")
     elif content_id in {"binary-nul", "zip-header"}:

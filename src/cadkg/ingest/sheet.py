@@ -127,10 +127,12 @@ def cell_text(value: object) -> str:
 def _magic(path: str | Path, expected: str) -> bytes:
     try:
         with Path(path).open("rb") as handle:
-            magic = handle.read(8)
+            magic = handle.read(4097)
     except OSError as err:
         raise IngestError(path, f"cannot read the file: {err.strerror}") from err
-    if not magic:
+    # Blank, or byte-order marks and white space alone (in UTF-8 or UTF-16): nothing to read.
+    bare = magic.replace(b"\xef\xbb\xbf", b"").replace(b"\xff\xfe", b"").replace(b"\xfe\xff", b"")
+    if len(magic) <= 4096 and not bare.replace(b"\x00", b"").strip():
         raise IngestError(path, "the file is empty", expected=expected)
     if not magic.startswith((_ZIP, _OLE2)):
         raise IngestError(path, "not a workbook (not a ZIP archive)", found=magic[:4], expected=expected)

@@ -23,6 +23,7 @@ from cadkg.usecases.iema.emit import derived_graph, derived_ntriples
 from cadkg.usecases.iema.extract import extract
 from cadkg.usecases.iema.persist import dump_model, load_model
 from cadkg.usecases.iema.services import SERVICES, cabinet_frames
+from cadkg.usecases.iema.terminal_diagram import looks_like_terminal_diagram, read_terminal_diagram
 from cadkg.usecases.iema.terminal_schema import looks_like_terminal_schema, read_terminal_schema
 
 __all__ = ["CABINET", "USE_CASE"]
@@ -62,6 +63,13 @@ USE_CASE = UseCase(
             read_terminal_schema,
             "Terminal block schema: terminal items in order along each block, and their levels",
             looks_like_terminal_schema,
+        ),
+        Reader(
+            "terminal-diagram",
+            (".xlsx", ".xlsm", ".xls", ".ods"),
+            read_terminal_diagram,
+            "EPLAN terminal diagram (Schema Morsetti): the rows along each terminal strip, their wire ends",
+            looks_like_terminal_diagram,
         ),
     ),
     services=SERVICES,

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from cadkg.geometry.poses import IDENTITY, Pose, Vec3, bounds, box_corners, closest_point_on_segment
 from cadkg.mapping.writer import node_iri
 from cadkg.usecases.iema.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.usecases.iema.terminal_diagram import items_along
 
 __all__ = ["CadPin", "CellModel", "Cluster", "ComponentGeometry", "Rail", "WireStep", "derive_cell"]
 
@@ -136,7 +137,10 @@ class _Deriver:
         self.item_pose: dict[str, Pose] = {}
         self.item_root: dict[str, str] = {}
         self.item_block: dict[str, str] = {}
-        for block, slots in cell.blocks.items():
+        # Strips a terminal diagram describes take their items from the WRI table in order.
+        along = {label: items_along(rows, cell.items_of.get(label, ())) for label, rows in cell.diagrams.items()}
+        self.blocks = {**along, **cell.blocks}
+        for block, slots in self.blocks.items():
             for _, item, _ in slots:
                 self.item_block[item] = block
 
@@ -168,7 +172,7 @@ class _Deriver:
 
     # -- components -------------------------------------------------------------
     def component(self, label: str, items: list[str], default_frame: str) -> ComponentGeometry:
-        block = self.cell.blocks.get(label)
+        block = self.blocks.get(label)
         if block:
             ordered = [item for _, item, _ in block]
             items = ordered + [i for i in items if i not in ordered]
@@ -261,7 +265,7 @@ class _Deriver:
             geometry.pins[key] = self._resolve(geometry, info, modelled)
 
     def _terminal_name(self, label: str, item: str) -> str | None:
-        for _, slot_item, terminal in self.cell.blocks.get(label, ()):
+        for _, slot_item, terminal in self.blocks.get(label, ()):
             if slot_item == item:
                 return terminal or f"#{item}"
         return None
@@ -287,7 +291,7 @@ class _Deriver:
         """The frames of a pin a wire names, from its item's model; with the pin's IRI."""
         key, iri = pin_key(info), info.iri
         if geometry.terminal_block:
-            for _, item, terminal in self.cell.blocks.get(geometry.label, ()):
+            for _, item, terminal in self.blocks.get(geometry.label, ()):
                 if terminal == info.name:
                     model = self.cell.models.get(self.cell.item_model.get(item, ""))
                     couples = model.couples if model else []
@@ -370,7 +374,7 @@ def _keypoints(start: CadPin, end: CadPin, axes: list[tuple[Vec3, Vec3]]) -> tup
 def derive_cell(cell: CellInputs) -> CellModel:
     """Compute the cabinet's derived geometry from the inputs read out of the graph."""
     deriver = _Deriver(cell)
-    labels = dict.fromkeys([*cell.items_of, *cell.blocks])
+    labels = dict.fromkeys([*cell.items_of, *deriver.blocks])
     default_frame = "cabinet"
     wired: dict[str, list[PinInfo]] = {}
     for info in cell.pins.values():

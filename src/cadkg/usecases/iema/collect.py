@@ -28,6 +28,7 @@ from cadkg.mapping.writer import graph_iri, node_iri
 from cadkg.usecases.iema.component_list import ComponentListEntry
 from cadkg.usecases.iema.component_model import ComponentModel
 from cadkg.usecases.iema.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.usecases.iema.terminal_diagram import DiagramRow
 from cadkg.usecases.iema.terminal_schema import TerminalSlot
 
 __all__ = ["InputCollector"]
@@ -71,6 +72,7 @@ class InputCollector:
         self._meshes: dict[str, str] = {}
         self._models: dict[str, ModelInfo] = {}
         self._blocks: dict[str, dict[tuple[int, str, str | None], None]] = {}
+        self._diagrams: dict[str, dict[str, list[tuple[int, str, str | None]]]] = {}
         self._pins: dict[str, PinInfo] = {}
         self._pin_iris: dict[tuple[str, str, str | None], str] = {}
         self._wires: list[WireInfo] = []
@@ -118,6 +120,7 @@ class InputCollector:
             meshes=dict(self._meshes),
             models=self._models,
             blocks={label: sorted(rows, key=lambda r: (r[0], r[1])) for label, rows in self._blocks.items()},
+            diagrams={label: sorted(by_path[min(by_path)]) for label, by_path in self._diagrams.items()},
             pins=self._pins,
             wires=sorted(self._wires, key=lambda w: (w.source, w.position)),
             # As the graph is read: by graph IRI, then by line (none first).
@@ -175,6 +178,11 @@ class InputCollector:
         model = self._model(record.part)
         for point in record.points:
             model.points[point.name] = _pose(point.position, point.orientation)
+
+    def _diagram_row(self, record: DiagramRow, source: _Source) -> None:
+        if record.kind != "summary":
+            rows = self._diagrams.setdefault(record.strip, {}).setdefault(source.rel, [])
+            rows.append((record.position, record.kind, record.terminal))
 
     def _terminal_slot(self, record: TerminalSlot, source: _Source) -> None:
         self._item(record.block, record.cad_id)
@@ -253,6 +261,7 @@ _HANDLERS: dict[type, Callable[[InputCollector, Any, _Source], None]] = {
     ComponentListEntry: InputCollector._component_list_entry,
     TerminalSlot: InputCollector._terminal_slot,
     PartPins: InputCollector._part_pins,
+    DiagramRow: InputCollector._diagram_row,
     SceneItem: InputCollector._scene_item,
     Assignment: InputCollector._assignment,
 }

@@ -101,6 +101,8 @@ class CellInputs:
     meshes: dict[str, str]
     models: dict[str, ModelInfo]
     blocks: dict[str, list[tuple[int, str, str | None]]]
+    # (position, row kind, terminal) of each strip a terminal diagram describes
+    diagrams: dict[str, list[tuple[int, str, str | None]]]
     pins: dict[str, PinInfo]
     wires: list[WireInfo]
     assignments: list[tuple[str, str, str]]
@@ -163,6 +165,7 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
         meshes=_meshes(tables),
         models=_models(tables),
         blocks=_blocks(tables),
+        diagrams=_diagrams(tables),
         pins=_pins(tables, base) if wiring else {},
         wires=_wires(tables) if wiring else [],
         assignments=[
@@ -353,6 +356,20 @@ def _blocks(tables: _Tables) -> dict[str, list[tuple[int, str, str | None]]]:
     for label, position, ident, term in sorted(rows, key=lambda r: (r[0], r[1], r[2], r[3] or "")):
         blocks[label].append((position, ident, term))
     return dict(blocks)
+
+
+def _diagrams(tables: _Tables) -> dict[str, list[tuple[int, str, str | None]]]:
+    # One file per strip: when several describe it, the one whose path sorts first.
+    paths, labels = tables.values("sourcePath"), tables.values("label")
+    found: dict[str, dict[str, list[tuple[int, str, str | None]]]] = {}
+    for graph, block, row in tables.triples("hasDiagramRow"):
+        position, kind = tables.first(row, "diagramPosition"), tables.first(row, "rowKind")
+        if position is None or kind is None or kind == "summary":
+            continue
+        for label, path in product(labels.get(block, ()), paths.get(graph, ())):
+            rows = found.setdefault(label, {}).setdefault(path, [])
+            rows.append((int(position), kind, tables.first(row, "diagramTerminal")))
+    return {label: sorted(by_path[min(by_path)]) for label, by_path in found.items()}
 
 
 def _pins(tables: _Tables, base: str) -> dict[str, PinInfo]:

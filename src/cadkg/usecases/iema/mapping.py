@@ -21,6 +21,7 @@ from cadkg.mapping.nodes import (
 from cadkg.mapping.writer import TripleWriter, term
 from cadkg.usecases.iema.component_list import ComponentListEntry
 from cadkg.usecases.iema.component_model import ComponentModel
+from cadkg.usecases.iema.terminal_diagram import DiagramRow
 from cadkg.usecases.iema.terminal_schema import TerminalSlot
 
 __all__: list[str] = []
@@ -116,3 +117,30 @@ def _(record: TerminalSlot, w: TripleWriter, source_slug: str) -> None:
             w, PinRef(record.block, record.terminal, level, f"{record.block}:{record.terminal}:{level}")
         )
         w.add(pin, t("onItem"), item)
+
+
+@map_record.register
+def _(record: DiagramRow, w: TripleWriter, source_slug: str) -> None:
+    block = component_node(w, record.strip)
+    if w.once(block + "#block"):
+        w.add(block, t("type"), t("TerminalBlock"))
+    row = w.iri("diagram", source_slug, record.sheet, str(record.line))
+    w.add(block, t("hasDiagramRow"), row)
+    w.add(row, t("type"), t("TerminalDiagramRow"))
+    w.add(row, t("sourceLine"), w.typed(record.line))
+    w.add(row, t("diagramPosition"), w.typed(record.position))
+    w.add(row, t("rowKind"), w.text(record.kind))
+    for predicate, value in (
+        ("diagramTerminal", record.terminal),
+        ("diagramZone", record.zone),
+        ("functionText", record.function),
+        ("terminalType", record.terminal_type),
+    ):
+        if value:
+            w.add(row, t(predicate), w.text(value))
+    for number, (ref, zone) in enumerate(record.destinations, start=1):
+        destination = w.iri("diagram", source_slug, record.sheet, str(record.line), str(number))
+        w.add(row, t("hasDiagramDestination"), destination)
+        w.add(destination, t("diagramDestination"), w.text(ref))
+        if zone:
+            w.add(destination, t("diagramZone"), w.text(zone))
