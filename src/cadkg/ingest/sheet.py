@@ -16,12 +16,13 @@ from __future__ import annotations
 import datetime
 import re
 import struct
+import warnings
 import zipfile
 import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
-from cadkg.errors import IngestError
+from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.sheet_bounds import (
     MAX_CELLS,
     MAX_ROWS,
@@ -43,6 +44,7 @@ __all__ = [
     "is_workbook",
     "read_sheet",
     "read_workbook",
+    "settle_sheets",
     "sheet_text",
     "sniff_head",
     "workbook_strings",
@@ -230,6 +232,22 @@ def read_sheet(path: str | Path) -> tuple[str, list[SheetRow]]:
         if sheet.rows:
             return sheet.name, list(sheet.rows)
     raise IngestError(path, "no sheet holds any value", expected="a sheet with a header row")
+
+
+def settle_sheets(path: str | Path, what: str, found: bool, skipped: list[str], expected: str) -> None:
+    """After picking the sheets that hold ``what`` by their header: refuse a workbook without
+    one, and warn once, naming them, of the sheets left out.
+
+    Raises
+    ------
+    IngestError
+        When no sheet holds ``what``.
+    """
+    if not found:
+        raise IngestError(path, f"no sheet holds {what}", found=", ".join(skipped)[:200], expected=expected)
+    if skipped:
+        reason = f"sheets without {what} skipped: {', '.join(skipped)}"
+        warnings.warn(IngestWarning(path, reason), stacklevel=3)
 
 
 def _zip_mimetype(path: str | Path) -> str:

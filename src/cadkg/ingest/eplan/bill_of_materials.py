@@ -12,17 +12,16 @@ with the value one cell to the right), or as EPLAN's labelling XML. A summarised
 from __future__ import annotations
 
 import re
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
-from cadkg.errors import IngestError, IngestWarning
+from cadkg.errors import IngestError
 from cadkg.ingest.eplan.labelling import looks_like_labelling, read_labelling
 from cadkg.ingest.eplan.labels import normalize_label
-from cadkg.ingest.sheet import cell_address, cell_text, is_workbook, read_workbook, sheet_text
+from cadkg.ingest.sheet import cell_address, cell_text, is_workbook, read_workbook, settle_sheets, sheet_text
 from cadkg.ingest.text import Row, parse_decimal, read_head, read_text
 
 __all__ = ["BomInfo", "BomLine", "looks_like_bill_of_materials", "read_bill_of_materials"]
@@ -147,16 +146,8 @@ def _from_workbook(path: str | Path) -> list[BomInfo | BomLine]:
             skipped.append(sheet.name)
             continue
         found = [_preamble(rows[:at]), *_lines(path, rows, at, _in_sheet(sheet.name))]
-    if found is None:
-        raise IngestError(
-            path, "no sheet holds a bill of materials", found=", ".join(skipped)[:200], expected=_EXPECTED
-        )
-    if skipped:
-        warnings.warn(
-            IngestWarning(path, f"sheets without a bill of materials skipped: {', '.join(skipped)}"),
-            stacklevel=3,
-        )
-    return found
+    settle_sheets(path, "a bill of materials", found is not None, skipped, _EXPECTED)
+    return found or []
 
 
 def _in_sheet(name: str) -> Callable[[int, int], dict[str, Any]]:

@@ -8,12 +8,11 @@ anything else is delimited text (:mod:`.connection_list`).
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from cadkg.errors import IngestError, IngestWarning
+from cadkg.errors import IngestError
 from cadkg.ingest.eplan.connection_list import (
     Connection,
     ConnectionListInfo,
@@ -23,7 +22,7 @@ from cadkg.ingest.eplan.connection_list import (
     looks_like_connection_list,
 )
 from cadkg.ingest.eplan.labelling import looks_like_labelling, read_labelling
-from cadkg.ingest.sheet import cell_text, is_workbook, read_workbook, sheet_text
+from cadkg.ingest.sheet import cell_text, is_workbook, read_workbook, settle_sheets, sheet_text
 from cadkg.ingest.text import Row, read_head
 
 __all__ = ["iter_connections", "looks_like_connections", "read_connections"]
@@ -81,18 +80,9 @@ def _from_workbook(path: str | Path) -> Iterator[_Record]:
             skipped.append(sheet.name)
             continue
         chosen = (sheet.name, rows, *found)
-    if chosen is None:
-        raise IngestError(
-            path,
-            "no sheet holds a connection list",
-            found=", ".join(skipped)[:200],
-            expected="a sheet whose header names 'Componente:pin' (origin and destination) and rows below it",
-        )
-    if skipped:
-        warnings.warn(
-            IngestWarning(path, f"sheets without a connection list skipped: {', '.join(skipped)}"),
-            stacklevel=3,
-        )
+    expected = "a sheet whose header names 'Componente:pin' (origin and destination) and rows below it"
+    settle_sheets(path, "a connection list", chosen is not None, skipped, expected)
+    assert chosen is not None
     name, rows, header_at, columns = chosen
     yield from connection_records(path, rows, header_at, columns, name)
 

@@ -138,7 +138,8 @@ class _Deriver:
         self.item_root: dict[str, str] = {}
         self.item_block: dict[str, str] = {}
         # Strips a terminal diagram describes take their items from the WRI table in order.
-        along = {label: items_along(rows, cell.items_of.get(label, ())) for label, rows in cell.diagrams.items()}
+        items = cell.items_of
+        along = {label: items_along(rows, items.get(label, ())) for label, rows in cell.diagrams.items()}
         self.blocks = {**along, **cell.blocks}
         for block, slots in self.blocks.items():
             for _, item, _ in slots:

@@ -23,14 +23,12 @@ items in the WRI table, as the cell's software does.
 from __future__ import annotations
 
 import re
-import warnings
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
-from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.eplan.labels import normalize_label
-from cadkg.ingest.sheet import Sheet, cell_text, read_workbook, sheet_text
+from cadkg.ingest.sheet import Sheet, cell_text, read_workbook, settle_sheets, sheet_text
 
 __all__ = ["DiagramRow", "items_along", "looks_like_terminal_diagram", "read_terminal_diagram"]
 
@@ -102,15 +100,7 @@ def read_terminal_diagram(path: str | Path) -> list[DiagramRow]:
             skipped.append(sheet.name)
             continue
         records += _Layout(path, sheet, *header, positions).rows()
-    if not records:
-        raise IngestError(
-            path, "no sheet holds a terminal diagram", found=", ".join(skipped)[:200], expected=_EXPECTED
-        )
-    if skipped:
-        warnings.warn(
-            IngestWarning(path, f"sheets without a terminal diagram skipped: {', '.join(skipped)}"),
-            stacklevel=2,
-        )
+    settle_sheets(path, "a terminal diagram", bool(records), skipped, _EXPECTED)
     return records
 
 
