@@ -34,6 +34,7 @@ BUILTIN_KINDS = [
     "harness-text",
     "hose",
     "kbl",
+    "marker-table",
     "parts-management",
     "path-info",
     "pin-info",

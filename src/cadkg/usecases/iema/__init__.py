@@ -21,6 +21,7 @@ from cadkg.usecases.iema.component_list import looks_like_component_list, read_c
 from cadkg.usecases.iema.component_model import looks_like_component_models, read_component_models
 from cadkg.usecases.iema.emit import derived_graph, derived_ntriples
 from cadkg.usecases.iema.extract import extract
+from cadkg.usecases.iema.marker_table import looks_like_marker_table, read_marker_table
 from cadkg.usecases.iema.persist import dump_model, load_model
 from cadkg.usecases.iema.services import SERVICES, cabinet_frames
 from cadkg.usecases.iema.terminal_diagram import looks_like_terminal_diagram, read_terminal_diagram
@@ -70,6 +71,13 @@ USE_CASE = UseCase(
             read_terminal_diagram,
             "EPLAN terminal diagram (Schema Morsetti): the rows along each terminal strip, their wire ends",
             looks_like_terminal_diagram,
+        ),
+        Reader(
+            "marker-table",
+            (".ods", ".xlsx", ".xlsm", ".xls"),
+            read_marker_table,
+            "QR-code marker table: product, commercial code, label, CAD item, X/Y/Z (m) of each marker",
+            looks_like_marker_table,
         ),
     ),
     services=SERVICES,

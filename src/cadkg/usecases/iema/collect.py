@@ -16,6 +16,7 @@ from typing import Any
 
 from cadkg.geometry.poses import Pose
 from cadkg.ingest.assignments import Assignment
+from cadkg.ingest.eplan.bill_of_materials import BomInfo, BomLine
 from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo
 from cadkg.ingest.eplan.labels import PinRef
 from cadkg.ingest.eplan.parts import PartPins
@@ -28,6 +29,7 @@ from cadkg.mapping.writer import graph_iri, node_iri
 from cadkg.usecases.iema.component_list import ComponentListEntry
 from cadkg.usecases.iema.component_model import ComponentModel
 from cadkg.usecases.iema.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.usecases.iema.marker_table import QrMarker
 from cadkg.usecases.iema.terminal_diagram import DiagramRow
 from cadkg.usecases.iema.terminal_schema import TerminalSlot
 
@@ -142,8 +144,8 @@ class InputCollector:
             self._model(record.commercial)
             self._item_model[record.cad_id] = record.commercial
 
-    def _list_info(self, record: ConnectionListInfo, source: _Source) -> None:
-        pass
+    def _nothing(self, record: object, source: _Source) -> None:
+        """Records whose triples the derivation does not read (project data, BOM lines, markers)."""
 
     def _connection(self, record: Connection, source: _Source) -> None:
         wire = wire_iri(self.base, record.wire_number, source.wires)
@@ -255,7 +257,10 @@ class InputCollector:
 
 _HANDLERS: dict[type, Callable[[InputCollector, Any, _Source], None]] = {
     IdEntry: InputCollector._id_entry,
-    ConnectionListInfo: InputCollector._list_info,
+    ConnectionListInfo: InputCollector._nothing,
+    BomInfo: InputCollector._nothing,
+    BomLine: InputCollector._nothing,
+    QrMarker: InputCollector._nothing,
     Connection: InputCollector._connection,
     ComponentModel: InputCollector._component_model,
     ComponentListEntry: InputCollector._component_list_entry,

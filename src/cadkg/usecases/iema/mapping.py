@@ -13,14 +13,16 @@ from cadkg.mapping.dispatch import map_record
 from cadkg.mapping.nodes import (
     component_node,
     dimensions,
+    frame_node,
     model_frame,
     model_node,
     pin_node,
     placement_pose,
 )
-from cadkg.mapping.writer import TripleWriter, term
+from cadkg.mapping.writer import TripleWriter, term, write_pose
 from cadkg.usecases.iema.component_list import ComponentListEntry
 from cadkg.usecases.iema.component_model import ComponentModel
+from cadkg.usecases.iema.marker_table import QrMarker
 from cadkg.usecases.iema.terminal_diagram import DiagramRow
 from cadkg.usecases.iema.terminal_schema import TerminalSlot
 
@@ -144,3 +146,18 @@ def _(record: DiagramRow, w: TripleWriter, source_slug: str) -> None:
         w.add(destination, t("diagramDestination"), w.text(ref))
         if zone:
             w.add(destination, t("diagramZone"), w.text(zone))
+
+
+@map_record.register
+def _(record: QrMarker, w: TripleWriter, source_slug: str) -> None:
+    item = w.iri("item", record.cad_id)
+    w.add(item, t("type"), t("CadItem"))
+    w.add(item, t("cadId"), w.text(record.cad_id))
+    pose = w.iri("item", record.cad_id, "marker")
+    # The table gives no orientation: the marker is turned as its item.
+    w.add(
+        item,
+        t("markerPose"),
+        write_pose(w, pose, record.position, (0.0, 0.0, 0.0, 1.0), frame_node(w, record.cad_id)),
+    )
+    w.add(pose, t("sourceLine"), w.typed(record.line))
