@@ -39,7 +39,7 @@ ZONES = [("Q", "Quadro"), ("P", "Pulsantiera"), ("B", "Bordomacchina")]
 
 def _wri() -> list[tuple[str, str, str]]:
     text = (HERE / "ids.wri").read_text(encoding="utf-8")
-    return [tuple((line.split("\t") + ["", ""])[:3]) for line in text.splitlines() if line.strip()]  # type: ignore[misc]
+    return [tuple([*line.split("\t"), "", ""][:3]) for line in text.splitlines() if line.strip()]  # type: ignore[misc]
 
 
 def _bare(label: str) -> str:
@@ -119,6 +119,12 @@ def _ods_row(table: Table, values: list[object], spans: dict[int, tuple[int, int
 _COVERED = object()
 
 
+_META = (
+    b'<?xml version="1.0" encoding="UTF-8"?>\n<office:document-meta'
+    b' xmlns:office="urn:oasis:names:tc:opendocument:xmlns:office:1.0" office:version="1.2"/>'
+)
+
+
 def _save_ods(document: OpenDocumentSpreadsheet, name: str) -> None:
     buffer = io.BytesIO()
     document.write(buffer)
@@ -130,7 +136,7 @@ def _save_ods(document: OpenDocumentSpreadsheet, name: str) -> None:
         for info in source.infolist():
             member = source.read(info.filename)
             if info.filename == "meta.xml":
-                member = b'<?xml version="1.0" encoding="UTF-8"?>\n<office:document-meta xmlns:office="urn:oasis:names:tc:opendocument:xmlns:office:1.0" office:version="1.2"/>'
+                member = _META
             target.writestr(info, member)
     _reproducible_zip(HERE / name, out.getvalue())
 
@@ -150,7 +156,16 @@ def _wires_on_terminals() -> dict[tuple[str, str], list[str]]:
 def write_diagram() -> None:
     document = OpenDocumentSpreadsheet()
     table = Table(name="QE01_Schema_Morsetti_00")
-    header = ["Morsettiera", "Zona", "Pin", "Comp. Destinazione 1", None, "Comp. Destinazione 2", None, "Testo funzionale"]
+    header = [
+        "Morsettiera",
+        "Zona",
+        "Pin",
+        "Comp. Destinazione 1",
+        None,
+        "Comp. Destinazione 2",
+        None,
+        "Testo funzionale",
+    ]
     _ods_row(table, header)
     ends = _wires_on_terminals()
     strips: dict[str, list[str]] = defaultdict(list)
@@ -177,7 +192,11 @@ def write_bill_of_materials() -> None:
     names = {}
     text = (HERE / "components.xml").read_text(encoding="utf-8")
     for chunk in text.split("<code ")[1:]:
-        attributes = dict(part.split('="', 1) for part in chunk.split(">", 1)[0].replace('"/', '"').split('" ') if '="' in part)
+        attributes = dict(
+            part.split('="', 1)
+            for part in chunk.split(">", 1)[0].replace('"/', '"').split('" ')
+            if '="' in part
+        )
         code = attributes.get("commercial", attributes.get("name", "")).strip('"')
         names[code] = attributes.get("name", "").strip('"')
     descriptions = {}
@@ -194,12 +213,19 @@ def write_bill_of_materials() -> None:
     book = openpyxl.Workbook()
     sheet = book.active
     sheet.title = "QE01_Distinta_Componenti_Z"
-    preamble = [("Nome Progetto: ", "REMODEL_QE01"), ("Descrizione macchina: ", "QUADRO QE01"), ("Cliente: ", "IEMA"), ("Commessa: ", "24-0117")]
+    preamble = [
+        ("Nome Progetto: ", "REMODEL_QE01"),
+        ("Descrizione macchina: ", "QUADRO QE01"),
+        ("Cliente: ", "IEMA"),
+        ("Commessa: ", "24-0117"),
+    ]
     for r, (label, value) in enumerate(preamble, start=2):
         _text_cell(sheet, r, 4, label)
         _text_cell(sheet, r, 5, value)
     _text_cell(sheet, 7, 4, "DISTINTA COMPONENTI : ")
-    for c, name in enumerate(["S.E.F.", "N.articolo", "Q.ta", "Descrizione", "Commerciale", "Produttore", "Destinazione"], start=2):
+    for c, name in enumerate(
+        ["S.E.F.", "N.articolo", "Q.ta", "Descrizione", "Commerciale", "Produttore", "Destinazione"], start=2
+    ):
         _text_cell(sheet, 8, c, name)
     for r, ((label, code), quantity) in enumerate(sorted(lines.items()), start=9):
         maker = next((m for prefix, m in makers.items() if code.startswith(prefix)), None)
@@ -245,25 +271,34 @@ def write_markers() -> None:
 
 
 # The relay's connection points (mm from the corner of its box) and wire entry direction.
-RELAY_POINTS = [("A1", 3.1, 65.0, 42.0), ("A2", 3.1, 55.0, 42.0), ("11", 3.1, 5.0, 42.0), ("12", 3.1, 15.0, 42.0), ("14", 3.1, 25.0, 42.0)]
+RELAY_POINTS = [
+    ("A1", 3.1, 65.0, 42.0),
+    ("A2", 3.1, 55.0, 42.0),
+    ("11", 3.1, 5.0, 42.0),
+    ("12", 3.1, 15.0, 42.0),
+    ("14", 3.1, 25.0, 42.0),
+]
 
 
 def _point(name: str, pos: int, x: float, y: float, z: float) -> str:
     return (
-        f' <terminalPosition additionallength="0" direction="1" level="0" maxcrosssection="2.5" maxwirecount="2"'
-        f' mincrosssection="0.5" name="{name}" pos="{pos}" targetinfo="0" twinsleeve="0" type="0"'
+        ' <terminalPosition additionallength="0" direction="1" level="0" maxcrosssection="2.5"'
+        f' maxwirecount="2" mincrosssection="0.5" name="{name}" pos="{pos}" targetinfo="0" twinsleeve="0" type="0"'
         f' typeofterminal="1" xdir="0" xpos="{x:g}" ydir="0" ypos="{y:g}" zdir="1" zpos="{z:g}"/>'
     )
 
 
 def write_pins() -> None:
     lines = [
-        '<partsmanagement count="2" length-unit="mm" type="EPLAN.PartsManagement" build="132.8" database="C:\\EPLAN\\Parts\\parts.mdb">',
-        ' <terminal P_PART_TERMINAL_NAME="6400170" P_PART_TERMINAL_CREATE="progettista / 12.11.2026 09:14:02" P_PART_TERMINAL_LASTCHANGE="progettista / 12.11.2026 09:20:45">',
+        '<partsmanagement count="2" length-unit="mm" type="EPLAN.PartsManagement" build="132.8"'
+        ' database="C:\\EPLAN\\Parts\\parts.mdb">',
+        ' <terminal P_PART_TERMINAL_NAME="6400170" P_PART_TERMINAL_CREATE="progettista / 12.11.2026 09:14:02"'
+        ' P_PART_TERMINAL_LASTCHANGE="progettista / 12.11.2026 09:20:45">',
         *(_point(name, pos, x, y, z) for pos, (name, x, y, z) in enumerate(RELAY_POINTS, start=1)),
         ' <attributeposition pos="1" P_ARTICLE_ATTRIBUTE_VALUE="Finder"/>',
         " </terminal>",
-        ' <terminal P_PART_TERMINAL_NAME="Nuovo_1" P_PART_TERMINAL_CREATE="progettista / 12.11.2026 09:21:10" P_PART_TERMINAL_LASTCHANGE="progettista / 12.11.2026 09:21:10">',
+        ' <terminal P_PART_TERMINAL_NAME="Nuovo_1" P_PART_TERMINAL_CREATE="progettista / 12.11.2026 09:21:10"'
+        ' P_PART_TERMINAL_LASTCHANGE="progettista / 12.11.2026 09:21:10">',
         _point("1", 1, 5.0, 10.0, 40.0),
         " </terminal>",
         "</partsmanagement>",
