@@ -283,7 +283,8 @@ RELAY_POINTS = [
 def _point(name: str, pos: int, x: float, y: float, z: float) -> str:
     return (
         ' <terminalPosition additionallength="0" direction="1" level="0" maxcrosssection="2.5"'
-        f' maxwirecount="2" mincrosssection="0.5" name="{name}" pos="{pos}" targetinfo="0" twinsleeve="0" type="0"'
+        f' maxwirecount="2" mincrosssection="0.5" name="{name}" pos="{pos}" targetinfo="0" twinsleeve="0"'
+        ' type="0"'
         f' typeofterminal="1" xdir="0" xpos="{x:g}" ydir="0" ypos="{y:g}" zdir="1" zpos="{z:g}"/>'
     )
 
