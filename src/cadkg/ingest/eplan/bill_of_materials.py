@@ -107,7 +107,8 @@ def looks_like_bill_of_materials(head: bytes) -> bool:
     if text is not None:
         lines = text.lower().splitlines()[: _SCAN_ROWS * 4]
         return any(_is_header(_columns(Row(0, tuple(line.split("\t"))))) for line in lines)
-    return looks_like_labelling(head) and any(n in head for n in (b"SEF (completa)", b"BMK (vollst"))
+    articles = (b"<PropertyName>Numero articolo<", b"<PropertyName>Artikelnummer<", b"<PropertyName>Part number<")
+    return looks_like_labelling(head) and any(name in head for name in articles)
 
 
 def read_bill_of_materials(path: str | Path) -> list[BomInfo | BomLine]:
