@@ -226,6 +226,22 @@ BOM_COLUMNS = [
 ]
 
 
+def _breaker(line: int) -> BomLine:
+    """The breaker line both forms of the bill of materials hold."""
+    return BomLine(
+        "F0030.1",
+        "=-F0030.1",
+        "6502086",
+        Decimal(1),
+        "INT.AUT.1P 10A (C)",
+        "SIEMENS 5SY4110-7",
+        "SIEMENS",
+        "Q",
+        None,
+        line,
+    )
+
+
 def test_labelling_bill_of_materials(tmp_path: Path) -> None:
     path = tmp_path / "cabinet_dispatch.xml"
     lines = [
@@ -236,18 +252,7 @@ def test_labelling_bill_of_materials(tmp_path: Path) -> None:
     assert sniff_kind(path) == "bill-of-materials"
     info, first, second = read_bill_of_materials(path)
     assert info == BomInfo(project="P", job=None, customer="ACME", machine=None)
-    assert first == BomLine(
-        "F0030.1",
-        "=-F0030.1",
-        "6502086",
-        Decimal(1),
-        "INT.AUT.1P 10A (C)",
-        "SIEMENS 5SY4110-7",
-        "SIEMENS",
-        "Q",
-        None,
-        1,
-    )
+    assert first == _breaker(line=1)
     assert isinstance(second, BomLine)
     assert (second.quantity, second.type_number, second.manufacturer, second.zone) == (
         Decimal(9),
@@ -429,18 +434,7 @@ def test_bill_of_materials_workbook_and_its_summary(tmp_path: Path) -> None:
     with pytest.warns(IngestWarning, match="sheets without a bill of materials skipped: Foglio2"):
         info, entry = read_bill_of_materials(path)
     assert info == BomInfo(project="PROGETTO DEMO", job="24-0117", customer=None, machine=None)
-    assert entry == BomLine(
-        "F0030.1",
-        "=-F0030.1",
-        "6502086",
-        Decimal(1),
-        "INT.AUT.1P 10A (C)",
-        "SIEMENS 5SY4110-7",
-        "SIEMENS",
-        "Q",
-        None,
-        7,
-    )
+    assert entry == _breaker(line=7)
     summary = [
         None,
         "N.articolo",

@@ -107,7 +107,7 @@ def looks_like_bill_of_materials(head: bytes) -> bool:
     if text is not None:
         lines = text.lower().splitlines()[: _SCAN_ROWS * 4]
         return any(_is_header(_columns(Row(0, tuple(line.split("\t"))))) for line in lines)
-    articles = (b"<PropertyName>Numero articolo<", b"<PropertyName>Artikelnummer<", b"<PropertyName>Part number<")
+    articles = (b">Numero articolo<", b">Artikelnummer<", b">Part number<")
     return looks_like_labelling(head) and any(name in head for name in articles)
 
 
