@@ -226,9 +226,11 @@ def items_along(
     """(position, item, terminal) along a strip: its diagram rows matched in order with its items."""
     left = iter(items)
     slots: list[tuple[int, str, str | None]] = []
+    placed = 0
     for _, kind, terminal in rows:
         if kind == "floor" and slots:
             slots.append((slots[-1][0], slots[-1][1], terminal))
         elif kind in _OWN_ITEM and (item := next(left, None)) is not None:
-            slots.append((len(slots) + 1, item, terminal if kind == "terminal" else None))
+            placed += 1
+            slots.append((placed, item, terminal if kind == "terminal" else None))
     return slots
