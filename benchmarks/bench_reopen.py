@@ -41,8 +41,8 @@ CHILD_FLAG = "--child-job"
 
 def child(job: str, store: str) -> dict[str, Any]:
     import cadkg
-    from cadkg.usecases.iema.cabinet import derive_cell
-    from cadkg.usecases.iema.extract import extract, placements
+    from cadkg.usecases.iema.derive.cabinet import derive_cell
+    from cadkg.usecases.iema.derive.extract import extract, placements
 
     start = time.perf_counter()
     kg = cadkg.open(store)

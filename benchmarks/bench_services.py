@@ -63,7 +63,7 @@ from cadkg.graph import KnowledgeGraph
 from cadkg.services.session import Session
 from cadkg.services.table import call, services_for
 from cadkg.usecases.iema import answers as iema
-from cadkg.usecases.iema.cabinet import CellModel
+from cadkg.usecases.iema.derive.cabinet import CellModel
 from synthetic import CabinetFiles, write_cabinet_files
 
 TARGET_P50_US = 250.0
@@ -744,8 +744,8 @@ def check_baseline(case: Case, count: int) -> tuple[int, int]:
 
 
 def measure_size(wires: int, workdir: Path, options: Options) -> SizeResult:
-    from cadkg.usecases.iema.cabinet import derive_cell
-    from cadkg.usecases.iema.extract import extract
+    from cadkg.usecases.iema.derive.cabinet import derive_cell
+    from cadkg.usecases.iema.derive.extract import extract
 
     print(f"{wires} wires: generating", file=sys.stderr, flush=True)
     started = time.perf_counter()

@@ -226,7 +226,7 @@ class KnowledgeGraph(GraphStore):
     # -- derived model and assignments ----------------------------------------------
     def cell_model(self) -> Any:
         """The cell model the registered derivation computes from the graph (the cabinet's
-        geometry, :mod:`cadkg.usecases.iema.cabinet`), once per change.
+        geometry, :mod:`cadkg.usecases.iema.derive.cabinet`), once per change.
 
         An on-disk store keeps a copy of it written with the store and after each change, so
         opening the store again reads it instead of deriving.

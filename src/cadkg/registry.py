@@ -18,6 +18,7 @@ from pathlib import Path
 from cadkg.errors import IngestError, RegistryError
 from cadkg.ingest.formats import READERS
 from cadkg.ingest.reader import Reader
+from cadkg.ingest.sheet import sniff_head
 from cadkg.ingest.text import sniffable_head
 from cadkg.services.service import Service
 from cadkg.usecase import Derivation, UseCase
@@ -165,9 +166,11 @@ def reader_for(kind: str) -> Reader:
 def sniff_kind(path: str | Path, head: bytes | None = None, profile: str = "") -> str:
     """The kind of a file from its suffix, or from its first bytes when the suffix is shared.
 
-    When no reader's sniffer claims a file whose suffix several readers share, the reader of
-    that suffix without a sniffer decides: the one of the cell's use case (``profile``) before
-    the core one (an ELVEZ cell reads its ``.x3d`` and ``.wri`` files as platform files).
+    A reader of the cell's use case (``profile``) that claims a shared suffix without a sniffer
+    takes it in that use case's cells (an ELVEZ cell reads its ``.x3d`` and ``.wri`` files as
+    platform files). Otherwise, when no reader's sniffer claims a file whose suffix several
+    readers share, the reader of that suffix without a sniffer decides: the one of the cell's
+    use case before the core one.
 
     Raises
     ------
@@ -180,6 +183,12 @@ def sniff_kind(path: str | Path, head: bytes | None = None, profile: str = "") -
     candidates = [r for r in readers if suffix in r.suffixes]
     if len(candidates) == 1:
         return candidates[0].kind
+    # A use case that reads a shared suffix without asking the content (ELVEZ's .wri and .x3d)
+    # takes that suffix in its own cells, whatever a core reader's sniffer would say.
+    case = table.use_cases.get(profile) if profile else None
+    own = [r for r in candidates if r.sniff is None and case is not None and r in case.readers]
+    if len(own) == 1:
+        return own[0].kind
     if head is None:
         try:
             with Path(path).open("rb") as handle:
@@ -188,7 +197,7 @@ def sniff_kind(path: str | Path, head: bytes | None = None, profile: str = "") -
             raise IngestError(path, f"cannot read the file: {err.strerror}") from err
         except ValueError:  # a NUL byte in a path given by a service caller
             raise IngestError(repr(str(path)), "cannot read the file: a NUL byte in its name") from None
-    head = sniffable_head(head)
+    head = sniff_head(path, sniffable_head(head))
     sniffed = [r for r in candidates or readers if r.sniff is not None and r.sniff(head)]
     if len(sniffed) == 1:
         return sniffed[0].kind

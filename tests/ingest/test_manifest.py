@@ -65,18 +65,26 @@ def test_example_manifest_loads() -> None:
         base_iri="https://example.org/cell/iema-qe01/",
         description=None,
     )
+    # No kinds: each file's is told by its content.
+    names = [
+        "ids.wri",
+        "components.xml",
+        "pins.xml",
+        "component-list.csv",
+        "schema-morsetti.ods",
+        "scene.x3d",
+        "lista-cablaggio.csv",
+        "distinta-componenti.xlsx",
+        "qr-markers.ods",
+        "assignments.csv",
+    ]
+    lines = [8, 11, 14, 17, 20, 23, 27, 30, 33, 36]
     assert [(s.path, s.rel, s.kind, s.line) for s in m.sources] == [
-        ((EXAMPLE / "ids.wri").resolve(), "ids.wri", "wri", 7),
-        ((EXAMPLE / "components.xml").resolve(), "components.xml", "component-model", 11),
-        ((EXAMPLE / "component-list.csv").resolve(), "component-list.csv", "component-list", 15),
-        ((EXAMPLE / "terminals.csv").resolve(), "terminals.csv", "terminal-schema", 19),
-        ((EXAMPLE / "scene.x3d").resolve(), "scene.x3d", "x3d", 23),
-        ((EXAMPLE / "lista-cablaggio.csv").resolve(), "lista-cablaggio.csv", "connection-list", 28),
-        ((EXAMPLE / "assignments.csv").resolve(), "assignments.csv", "assignments", 32),
+        ((EXAMPLE / name).resolve(), name, None, line) for name, line in zip(names, lines, strict=True)
     ]
     assert all(s.path.is_absolute() and s.path.is_file() for s in m.sources)
     (frame,) = m.frames
-    assert (frame.parent, frame.child, frame.xyz, frame.line) == ("world", "cabinet", (1.2, 0.0, 0.0), 42)
+    assert (frame.parent, frame.child, frame.xyz, frame.line) == ("world", "cabinet", (1.2, 0.0, 0.0), 45)
     assert frame.quaternion == pytest.approx((0.0, 0.0, 0.7071068, 0.7071068), abs=1e-7)
 
 

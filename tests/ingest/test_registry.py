@@ -9,8 +9,9 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.eplan.connection_list import read_connection_list
+from cadkg.ingest.eplan.connection_files import read_connections
 from cadkg.ingest.reader import Reader
+from cadkg.ingest.sheet import SHEET_SUFFIXES
 from cadkg.ingest.wri import read_wri
 from cadkg.registry import kinds, reader_for, register, sniff_kind
 
@@ -20,6 +21,7 @@ EXAMPLE = REPO / "examples" / "iema-switchgear"
 READERS = kinds()
 BUILTIN_KINDS = [
     "assignments",
+    "bill-of-materials",
     "cable-info",
     "component-list",
     "component-model",
@@ -35,8 +37,11 @@ BUILTIN_KINDS = [
     "harness-text",
     "hose",
     "kbl",
+    "marker-table",
+    "parts-management",
     "path-info",
     "pin-info",
+    "terminal-diagram",
     "terminal-schema",
     "vrml",
     "wri",
@@ -54,7 +59,7 @@ def test_kinds_lists_the_builtin_readers() -> None:
 
 def test_reader_for() -> None:
     assert reader_for("wri").read is read_wri
-    assert reader_for("connection-list").read is read_connection_list
+    assert reader_for("connection-list").read is read_connections
     assert ".wri" in reader_for("wri").suffixes
     assert {".csv", ".tsv"} <= set(reader_for("connection-list").suffixes)
 
@@ -97,7 +102,7 @@ def test_sniff_uses_the_given_head_without_reading(tmp_path: Path) -> None:
 
 def test_sniff_unknown_file_names_the_known_kinds(tmp_path: Path) -> None:
     path = tmp_path / "scene.xyz"
-    path.write_bytes((EXAMPLE / "ids.wri").read_bytes())
+    path.write_bytes(b"lorem ipsum dolor\nsit amet\n")
     with pytest.raises(IngestError) as info:
         sniff_kind(path)
     err = info.value
@@ -154,7 +159,13 @@ def test_reader_rejects_bad_content_with_a_located_error(
     assert str(err).startswith(str(path))
     if content_id in {"empty", "whitespace", "bom-only", "utf16-bom-only", "utf16-whitespace"}:
         assert err.reason == "the file is empty"
-    if content_id in {"binary-nul", "zip-header"} and reader.kind not in BINARY_FORMATS:
+    if set(reader.suffixes) <= set(SHEET_SUFFIXES):
+        # A reader of workbooks alone reads no text: anything but a workbook is refused as such.
+        assert err.reason.startswith(("the file is empty", "not a workbook", "corrupt workbook"))
+    elif content_id == "zip-header" and reader.kind in {"connection-list", "bill-of-materials"}:
+        # Read by its content: a ZIP archive is a workbook.
+        assert err.reason.startswith("corrupt workbook")
+    elif content_id in {"binary-nul", "zip-header"} and reader.kind not in BINARY_FORMATS:
         assert err.reason.startswith("binary content (NUL byte at offset")
         assert err.line == 1
 

@@ -8,8 +8,23 @@ from pathlib import Path
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.sheet import SheetRow, cell_address, cell_text, column_letter, read_sheet
-from tests.ingest.workbooks import replace_in_member, write_ods, write_xlsx
+from cadkg.ingest.sheet import (
+    CellError,
+    SheetRow,
+    cell_address,
+    cell_text,
+    column_letter,
+    read_sheet,
+    read_workbook,
+)
+from tests.ingest.workbooks import (
+    SHEET_HEAD,
+    SHEET_TAIL,
+    replace_in_member,
+    write_ods,
+    write_raw_xlsx,
+    write_xlsx,
+)
 
 ROWS = [["Block", "Position"], [None, None], [None, None], ["X1600", 2.5], [None, "x"]]
 
@@ -96,10 +111,14 @@ def _truncated(tmp_path: Path) -> bytes:
     [
         (b"", "the file is empty"),
         (b"Block;Position\nX1;1\n", "not a workbook (not a ZIP archive)"),
-        (b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1" + bytes(500), "an encrypted workbook or a legacy .xls file"),
+        (b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1" + bytes(500), "corrupt workbook (CalamineError"),
+        (
+            b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1" + bytes(500) + "EncryptedPackage".encode("utf-16-le"),
+            "an encrypted workbook",
+        ),
         (None, "corrupt workbook (BadZipFile"),
     ],
-    ids=["empty", "text", "encrypted", "truncated"],
+    ids=["empty", "text", "ole2", "encrypted", "truncated"],
 )
 @pytest.mark.parametrize("suffix", [".xlsx", ".ods"])
 def test_broken_workbook_is_an_ingest_error(
@@ -180,3 +199,102 @@ def test_ods_trailing_empty_repeats_as_calc_writes_them_still_read(tmp_path: Pat
     )
     replace_in_member(path, "content.xml", b"</table:table>", empty)
     assert read_sheet(path) == ("S", [SheetRow(1, ("a", 1)), SheetRow(2, ("b", 2))])
+
+
+# A child process reads the file and reports its peak memory: the test process's own peak
+# would hide what the read costs. VmHWM starts afresh at exec; ru_maxrss would keep the
+# size of the test process the child was forked from.
+_MEASURE = """
+import sys, time
+from cadkg.errors import IngestError
+from cadkg.ingest.sheet import read_workbook
+start = time.monotonic()
+try:
+    read_workbook(sys.argv[1])
+    print("read")
+except IngestError as err:
+    print(err)
+print(time.monotonic() - start)
+with open("/proc/self/status") as status:
+    print(next(int(line.split()[1]) for line in status if line.startswith("VmHWM:")) // 1024)
+"""
+
+
+def _read_in_child(path: Path) -> tuple[str, float, int]:
+    import subprocess
+    import sys
+
+    done = subprocess.run(
+        [sys.executable, "-c", _MEASURE, str(path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        start_new_session=True,
+        check=True,
+    )
+    message, seconds, megabytes = done.stdout.splitlines()[-3:]
+    return message, float(seconds), int(megabytes)
+
+
+def _column_xfd_rows() -> bytes:
+    rows = (b'<row r="%d"><c r="XFD%d"><v>1</v></c></row>' % (n, n) for n in range(2, 60_002))
+    return SHEET_HEAD + b"".join(rows) + SHEET_TAIL
+
+
+@pytest.mark.parametrize(
+    ("sheet", "cell", "reason"),
+    [
+        # 60,000 rows of one cell in the last column: the library would build 983M cells (30 GB).
+        ([(_column_xfd_rows(), 1)], "S!XFD129", "the sheet's cells span more than cadkg reads"),
+        # One inline string of a gigabyte, a megabyte compressed.
+        (
+            [(SHEET_HEAD + b'<row r="2"><c r="A2" t="inlineStr"><is><t>', 1), (b"a" * (1 << 20), 1024)],
+            "S!A2",
+            "a cell's text is longer than a cell can hold",
+        ),
+    ],
+    ids=["column-XFD", "gigabyte-string"],
+)
+def test_workbook_bombs_are_refused_in_bounded_memory(
+    tmp_path: Path, sheet: list[tuple[bytes, int]], cell: str, reason: str
+) -> None:
+    path = write_raw_xlsx(tmp_path / "bomb.xlsx", sheet)
+    assert path.stat().st_size < 1_100_000
+    message, seconds, megabytes = _read_in_child(path)
+    assert message.startswith(f"{path}:{cell}: {reason}")
+    assert megabytes < 300, f"peak RSS {megabytes} MB"
+    assert seconds < 30  # measured well under 1 s; the machine may be loaded
+
+
+def test_formula_errors_read_as_errors_not_as_empty_cells(tmp_path: Path) -> None:
+    sheet = SHEET_HEAD + b'<row r="2"><c r="B2" t="e"><f>-basta</f><v>#NAME?</v></c></row>' + SHEET_TAIL
+    _, rows = read_sheet(write_raw_xlsx(tmp_path / "error.xlsx", [(sheet, 1)]))
+    assert rows[1].cells == (None, CellError("#NAME?"))
+    assert cell_text(rows[1].cell(1)) == "#NAME?"
+
+
+@pytest.mark.parametrize(
+    ("cells", "cell"),
+    [(b'<c r="XFE2"><v>1</v></c>', "S!XFE2"), (b'<c r="AAAAAA2"><v>1</v></c>', "S!XFE2")],
+    ids=["XFE", "six-letters"],
+)
+def test_cell_past_the_last_column_is_refused(tmp_path: Path, cells: bytes, cell: str) -> None:
+    sheet = SHEET_HEAD + b'<row r="2">' + cells + b"</row>" + SHEET_TAIL
+    with pytest.raises(IngestError) as info:
+        read_sheet(write_raw_xlsx(tmp_path / "wide.xlsx", [(sheet, 1)]))
+    assert info.value.cell == cell
+
+
+def test_merged_ranges_and_every_sheet(tmp_path: Path) -> None:
+    sheets = [("Foglio1", [["ORIENTATIONS", None], ["a", "b"]]), ("Foglio2", [])]
+    path = write_xlsx(tmp_path / "book.xlsx", sheets)
+    import openpyxl
+
+    book = openpyxl.load_workbook(path)
+    book["Foglio1"].merge_cells("A1:B1")
+    book.save(path)
+    workbook = read_workbook(path)
+    assert [s.name for s in workbook.sheets] == ["Foglio1", "Foglio2"]
+    assert workbook.sheets[0].merged == ((1, 0, 1, 1),)
+    assert workbook.sheets[1].is_empty
+    assert workbook.sheets[0].address(2, 1) == "Foglio1!B2"

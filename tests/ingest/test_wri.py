@@ -254,3 +254,18 @@ def test_unicode_line_separator_inside_a_cell_does_not_split_the_row(write) -> N
     path = write("ls.wri", "ID000041\tX00005\u20282\t6013277\r\nID000045\tF1500.1\t6503372\r\n")
     entries = read_wri(path)
     assert [(e.cad_id, e.line) for e in entries] == [("ID000041", 1), ("ID000045", 2)]
+
+
+def test_a_txt_copy_with_a_bom_is_told_from_a_connection_list(tmp_path: Path) -> None:
+    from cadkg.ingest.wri import looks_like_wri
+    from cadkg.registry import sniff_kind
+
+    # The cell keeps its WRI table also as .txt, the same rows after a UTF-8 byte-order mark.
+    text = "ID000001\t=-PE\t\r\nID000002\t=-CN1\tBOCCH.40X100G\r\nID000041\t=SSB-07Q1\tSIEMENS 5SL4206-8\r\n"
+    path = tmp_path / "cabinet_ids.txt"
+    path.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    assert looks_like_wri(path.read_bytes()) and sniff_kind(path) == "wri"
+    first, _, third = read_wri(path)
+    assert (first.cad_id, first.label, first.commercial) == ("ID000001", "PE", None)
+    assert (third.label, third.raw_label, third.commercial) == ("07Q1", "=SSB-07Q1", "SIEMENS 5SL4206-8")
+    assert not looks_like_wri(b"N. Pagina\tZona\tComponente:pin\n")

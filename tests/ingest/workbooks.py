@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import struct
 import zipfile
+import zlib
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -47,3 +49,76 @@ def replace_in_member(path: Path, member: str, old: bytes, new: bytes) -> None:
                 assert old in data, f"{old!r} not in {member}"
                 data = data.replace(old, new)
             archive.writestr(info, data)
+
+
+def _member(name: str, chunks: Sequence[tuple[bytes, int]]) -> tuple[bytes, bytes, int, int]:
+    """(name, raw deflate data, CRC-32, size) of a member made of ``(data, times)`` runs.
+
+    Each run is compressed once and its compressed form repeated, so a member of a gigabyte
+    takes a second: the runs end on a full flush, which no later data refers back across.
+    """
+    out, crc, size = [], 0, 0
+    for data, times in chunks:
+        packer = zlib.compressobj(9, zlib.DEFLATED, -15)
+        block = packer.compress(data) + packer.flush(zlib.Z_FULL_FLUSH)
+        out.append(block * times)
+        for _ in range(times):
+            crc = zlib.crc32(data, crc)
+        size += len(data) * times
+    out.append(zlib.compressobj(9, zlib.DEFLATED, -15).flush())  # an empty final block
+    return name.encode(), b"".join(out), crc, size
+
+
+def write_zip(path: Path, members: Sequence[tuple[str, Sequence[tuple[bytes, int]]]]) -> Path:
+    """A ZIP archive written by hand from runs of repeated bytes (see :func:`_member`)."""
+    local, central = bytearray(), bytearray()
+    entries = [_member(name, chunks) for name, chunks in members]
+    for name, data, crc, size in entries:
+        fields = (20, 0, 8, 0, 0x21, crc, len(data), size, len(name), 0)
+        central += struct.pack("<IH", 0x02014B50, 20) + struct.pack("<HHHHHIIIHH", *fields)
+        central += struct.pack("<HHHII", 0, 0, 0, 0, len(local)) + name
+        local += struct.pack("<I", 0x04034B50) + struct.pack("<HHHHHIIIHH", *fields) + name + data
+    end = struct.pack("<IHHHHIIH", 0x06054B50, 0, 0, len(entries), len(entries), len(central), len(local), 0)
+    path.write_bytes(bytes(local + central + end))
+    return path
+
+
+_CONTENT_TYPES = (
+    b'<?xml version="1.0"?><Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+    b'<Override PartName="/xl/workbook.xml" ContentType="application/vnd.openxmlformats-officedocument.'
+    b'spreadsheetml.sheet.main+xml"/></Types>'
+)
+_RELS = (
+    b'<?xml version="1.0"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+    b'<Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/'
+    b'officeDocument" Target="xl/workbook.xml"/></Relationships>'
+)
+_WORKBOOK = (
+    b'<?xml version="1.0"?><workbook xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main" '
+    b'xmlns:r="http://schemas.openxmlformats.org/officeDocument/2006/relationships"><sheets>'
+    b'<sheet name="S" sheetId="1" r:id="rId1"/></sheets></workbook>'
+)
+_WORKBOOK_RELS = (
+    b'<?xml version="1.0"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+    b'<Relationship Id="rId1" Type="http://schemas.openxmlformats.org/officeDocument/2006/relationships/'
+    b'worksheet" Target="worksheets/sheet1.xml"/></Relationships>'
+)
+SHEET_HEAD = (
+    b'<?xml version="1.0"?><worksheet xmlns="http://schemas.openxmlformats.org/spreadsheetml/2006/main">'
+    b'<sheetData><row r="1"><c r="A1" t="inlineStr"><is><t>Morsettiera</t></is></c></row>'
+)
+SHEET_TAIL = b"</sheetData></worksheet>"
+
+
+def write_raw_xlsx(path: Path, sheet: Sequence[tuple[bytes, int]]) -> Path:
+    """A one-sheet XLSX (sheet ``S``) whose sheet XML is the given runs of repeated bytes."""
+    return write_zip(
+        path,
+        [
+            ("[Content_Types].xml", [(_CONTENT_TYPES, 1)]),
+            ("_rels/.rels", [(_RELS, 1)]),
+            ("xl/workbook.xml", [(_WORKBOOK, 1)]),
+            ("xl/_rels/workbook.xml.rels", [(_WORKBOOK_RELS, 1)]),
+            ("xl/worksheets/sheet1.xml", sheet),
+        ],
+    )

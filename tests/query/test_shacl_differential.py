@@ -139,9 +139,15 @@ def _mutate(quads: list[ox.Quad], seed: int, relevant: set[str]) -> list[ox.Quad
     quads = list(quads)
     graphs = sorted({q.graph_name.value for q in quads if isinstance(q.graph_name, ox.NamedNode)})
     predicates = sorted({q.predicate.value for q in quads} & relevant)
-    changes = [(p, OPERATIONS[(rank + seed) % len(OPERATIONS)]) for rank, p in enumerate(predicates)]
-    changes += [(None, rng.choice(OPERATIONS)) for _ in range(EXTRA_MUTATIONS)]
-    for predicate, operation in changes:
+    # The first of the two replacements of a predicate is one that breaks any shape on it (a
+    # literal given a language, a node given a literal), so that every constraint is broken
+    # whatever the examples hold; the other replacements are the seed's random choice.
+    changes = [
+        (p, OPERATIONS[(rank + seed) % len(OPERATIONS)], (rank + seed) % len(OPERATIONS) == 3)
+        for rank, p in enumerate(predicates)
+    ]
+    changes += [(None, rng.choice(OPERATIONS), False) for _ in range(EXTRA_MUTATIONS)]
+    for predicate, operation, sure in changes:
         q = rng.choice([x for x in quads if predicate is None or x.predicate.value == predicate])
         if operation == "remove":
             quads.remove(q)
@@ -159,6 +165,8 @@ def _mutate(quads: list[ox.Quad], seed: int, relevant: set[str]) -> list[ox.Quad
             choices = (
                 rng.sample(same_predicate, min(5, len(same_predicate))) + same_subject[:5] + [ox.Literal("x")]
             )
+        if sure:
+            choices = [choices[0] if isinstance(q.object, ox.Literal) else ox.Literal("x")]
         new = ox.Quad(q.subject, q.predicate, rng.choice(choices), q.graph_name)  # type: ignore[arg-type]
         if operation == "replace":
             quads.remove(q)

@@ -10,7 +10,7 @@ from cadkg.geometry.poses import Pose
 from cadkg.graph import KnowledgeGraph
 from cadkg.services.display import Frame
 from cadkg.services.frames import ARROW_LENGTH, marker_specs, static_frames
-from cadkg.usecases.iema.extract import placements
+from cadkg.usecases.iema.derive.extract import placements
 from tests.conftest import ROOT
 
 MINI = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"

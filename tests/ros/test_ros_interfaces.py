@@ -123,7 +123,7 @@ def test_generic_services() -> None:
 
 def test_messages_mirror_the_dataclasses() -> None:
     from cadkg.usecases.iema.answers import CadConnection, PinData
-    from cadkg.usecases.iema.cabinet import CadPin, Cluster
+    from cadkg.usecases.iema.derive.cabinet import CadPin, Cluster
 
     msg = INTERFACES / "msg"
     for cls, extra in ((CadPin, {"has_screw", "has_hole", "missing"}), (CadConnection, set())):

@@ -4,34 +4,47 @@ scenes, KBL harnesses, robot/human assignments. Use cases add their own (see cad
 from __future__ import annotations
 
 from cadkg.ingest.assignments import looks_like_assignments, read_assignments
-from cadkg.ingest.eplan.connection_list import (
-    iter_connection_list,
-    looks_like_connection_list,
-    read_connection_list,
-)
+from cadkg.ingest.eplan.bill_of_materials import looks_like_bill_of_materials, read_bill_of_materials
+from cadkg.ingest.eplan.connection_files import iter_connections, looks_like_connections, read_connections
+from cadkg.ingest.eplan.parts import looks_like_parts_management, read_parts_management
 from cadkg.ingest.harness.kbl import looks_like_kbl, read_kbl
 from cadkg.ingest.reader import Reader
 from cadkg.ingest.scene.read import read_vrml, read_x3d
 from cadkg.ingest.scene.vrml import looks_like_vrml97
-from cadkg.ingest.wri import iter_wri, read_wri
+from cadkg.ingest.wri import iter_wri, looks_like_wri, read_wri
 
 __all__ = ["READERS"]
 
 READERS: tuple[Reader, ...] = (
     Reader(
         kind="wri",
-        suffixes=(".wri",),
+        suffixes=(".wri", ".txt"),
         read=read_wri,
         stream=iter_wri,
         description="WRI ID table: CAD item ID, label, commercial code (tab separated)",
+        sniff=looks_like_wri,
     ),
     Reader(
         kind="connection-list",
-        suffixes=(".csv", ".tsv", ".txt"),
-        read=read_connection_list,
-        stream=iter_connection_list,
-        description="EPLAN connection list (Figure 3 form, Lista cablaggio, machine exports)",
-        sniff=looks_like_connection_list,
+        suffixes=(".csv", ".tsv", ".txt", ".xlsx", ".xlsm", ".xls", ".ods", ".xml"),
+        read=read_connections,
+        stream=iter_connections,
+        description="EPLAN connection list: text (Figure 3, Lista cablaggio, Komax), workbook, labelling XML",
+        sniff=looks_like_connections,
+    ),
+    Reader(
+        kind="bill-of-materials",
+        suffixes=(".xlsx", ".xlsm", ".xls", ".ods", ".xml"),
+        read=read_bill_of_materials,
+        description="EPLAN bill of materials (Distinta componenti): workbook or labelling XML",
+        sniff=looks_like_bill_of_materials,
+    ),
+    Reader(
+        kind="parts-management",
+        suffixes=(".xml",),
+        read=read_parts_management,
+        description="EPLAN parts-management XML (<partsmanagement>): connection points of each part number",
+        sniff=looks_like_parts_management,
     ),
     Reader(
         kind="x3d",

@@ -78,7 +78,7 @@ class SourceSpec:
 
 @dataclass(frozen=True, slots=True)
 class DeriveSpec:
-    """Settings of the derived geometry (see cadkg.usecases.iema.cabinet)."""
+    """Settings of the derived geometry (see cadkg.usecases.iema.derive.cabinet)."""
 
     approach_distance: float = 0.15
     rail_pattern: str = "^RAIL"

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.manifest import Manifest, SourceSpec
+from cadkg.mapping import eplan as _eplan  # noqa: F401  (registers the EPLAN exports' mappings)
 from cadkg.mapping import harness as _harness  # noqa: F401  (registers the harness records' mappings)
 from cadkg.mapping.cell import map_manifest
 from cadkg.mapping.dispatch import mapper

@@ -1,15 +1,19 @@
-"""Spreadsheets (XLSX, ODS) as rows of cell values with Excel-style addresses.
+"""Workbooks (XLSX, XLSM, XLS, ODS) as sheets of rows with Excel-style cell addresses.
 
-Readers of tabular formats that also arrive as workbooks read the first sheet that
-holds any value, so a workbook whose first tab was left blank still reads. Errors
-name cells as Excel does (``Sheet1!C7``: column letters, 1-based rows), which is
-what a user can find in the spreadsheet program.
+One library reads all four formats: python-calamine (the Rust calamine reader). Before it
+builds a sheet, :mod:`cadkg.ingest.sheet_bounds` checks the XML against the limits a sheet
+must keep, so a damaged or hostile file is refused at the offending cell instead of filling
+memory. Readers pick the sheets whose header says what they are; :func:`read_sheet` keeps
+the older rule (the first sheet holding a value) for formats that take one table. Errors
+name cells as a spreadsheet program shows them (``Sheet1!C7``: column letters, 1-based rows).
+
+A workbook is told by its content, not its suffix: a ZIP archive is ODS when its
+``mimetype`` says so and XLSX/XLSM otherwise; an OLE2 compound file is a legacy XLS.
 """
 
 from __future__ import annotations
 
 import datetime
-import math
 import re
 import struct
 import warnings
@@ -18,36 +22,54 @@ import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
-from lxml import etree
-
-from cadkg.errors import IngestError
+from cadkg.errors import IngestError, IngestWarning
+from cadkg.ingest.sheet_bounds import (
+    MAX_CELLS,
+    MAX_ROWS,
+    cell_address,
+    check_ods_extent,
+    column_letter,
+    scan_xlsx,
+)
 
 __all__ = [
     "SHEET_SUFFIXES",
+    "CellError",
+    "Sheet",
     "SheetRow",
+    "Workbook",
     "cell_address",
     "cell_text",
     "column_letter",
+    "is_workbook",
     "read_sheet",
+    "read_workbook",
+    "settle_sheets",
+    "sheet_text",
+    "sniff_head",
     "workbook_strings",
 ]
 
-SHEET_SUFFIXES = (".xlsx", ".xlsm", ".ods")
+SHEET_SUFFIXES = (".xlsx", ".xlsm", ".xls", ".ods")
 _ZIP = b"PK\x03\x04"
+_OLE2 = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
+_ODS = "application/vnd.oasis.opendocument.spreadsheet"
 _WORKBOOK_PARTS = re.compile(rb"^xl/(sharedStrings|worksheets/sheet\d*)\.xml$")
 _XML_TEXT = re.compile(rb"<(?:\w+:)?t(?:\s[^>]*)?>([^<]*)</(?:\w+:)?t>")
-_OLE2 = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
-_PLAIN_SHEET_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]*$")
-# The most rows and columns a sheet can hold, in Excel and in LibreOffice Calc. A cell
-# numbered beyond them comes from a damaged file; reading on would pad up to it.
-_MAX_ROWS = 1_048_576
-_MAX_COLUMNS = 16_384
-# Cells an ODS sheet may expand to, up to its last value: far above any cable list, far
-# below what fills memory when a damaged file repeats a row or a cell a billion times.
-_MAX_CELLS = 1 << 25
-_TABLE = "{urn:oasis:names:tc:opendocument:xmlns:table:1.0}"
-_OFFICE = "{urn:oasis:names:tc:opendocument:xmlns:office:1.0}"
-_CELLS = (_TABLE + "table-cell", _TABLE + "covered-table-cell")
+# What sniffers see of a workbook after its first bytes: the text of its first rows.
+_SHEET_TEXT = b"\n\x00cadkg-sheet-text\x00\n"
+_SNIFF_ROWS = 60
+_SNIFF_CELL = 100
+
+
+@dataclass(frozen=True, slots=True)
+class CellError:
+    """A cell showing a formula error (``#NAME?``, ``#REF!``) instead of a value."""
+
+    code: str
+
+    def __str__(self) -> str:
+        return self.code
 
 
 @dataclass(frozen=True, slots=True)
@@ -66,20 +88,31 @@ class SheetRow:
         return not any(cell_text(c) for c in self.cells)
 
 
-def column_letter(index: int) -> str:
-    """``0`` → ``'A'``, ``25`` → ``'Z'``, ``26`` → ``'AA'`` (0-based column index)."""
-    letters = ""
-    index += 1
-    while index:
-        index, rest = divmod(index - 1, 26)
-        letters = chr(ord("A") + rest) + letters
-    return letters
+@dataclass(frozen=True, slots=True)
+class Sheet:
+    """A sheet: its name, its rows from row 1 (blank ones kept, trailing ones dropped) and the
+    ranges of merged cells (1-based first row, 0-based first column, last row, last column) where
+    the format states them (XLSX, XLS; not ODS)."""
+
+    name: str
+    rows: tuple[SheetRow, ...]
+    merged: tuple[tuple[int, int, int, int], ...] = ()
+
+    def address(self, row: int, column: int) -> str:
+        """``Sheet!C7`` for 1-based ``row`` and 0-based ``column``."""
+        return cell_address(self.name, row, column)
+
+    @property
+    def is_empty(self) -> bool:
+        return not self.rows
 
 
-def cell_address(sheet: str, row: int, column: int) -> str:
-    """``'Sheet1!C7'`` for 1-based ``row`` 7 and 0-based ``column`` 2; odd sheet names are quoted."""
-    name = sheet if _PLAIN_SHEET_NAME.match(sheet) else "'" + sheet.replace("'", "''") + "'"
-    return f"{name}!{column_letter(column)}{row}"
+@dataclass(frozen=True, slots=True)
+class Workbook:
+    """Every sheet of a workbook, in tab order."""
+
+    path: str
+    sheets: tuple[Sheet, ...]
 
 
 def cell_text(value: object) -> str:
@@ -93,158 +126,172 @@ def cell_text(value: object) -> str:
     return str(value).strip()
 
 
-def read_sheet(path: str | Path) -> tuple[str, list[SheetRow]]:
-    """The name and rows of the first non-empty sheet of an XLSX or ODS workbook.
+def _magic(path: str | Path, expected: str) -> bytes:
+    try:
+        with Path(path).open("rb") as handle:
+            magic = handle.read(4097)
+    except OSError as err:
+        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
+    # Blank, or byte-order marks and white space alone (in UTF-8 or UTF-16): nothing to read.
+    bare = magic.replace(b"\xef\xbb\xbf", b"").replace(b"\xff\xfe", b"").replace(b"\xfe\xff", b"")
+    if len(magic) <= 4096 and not bare.replace(b"\x00", b"").strip():
+        raise IngestError(path, "the file is empty", expected=expected)
+    if not magic.startswith((_ZIP, _OLE2)):
+        raise IngestError(path, "not a workbook (not a ZIP archive)", found=magic[:4], expected=expected)
+    return magic
 
-    Rows are numbered as the spreadsheet numbers them; blank rows in between are
-    kept (as rows without values) so numbering never drifts, trailing ones dropped.
+
+def read_workbook(path: str | Path) -> Workbook:
+    """Every sheet of an XLSX, XLSM, XLS or ODS workbook.
 
     Raises
     ------
     IngestError
-        When the file cannot be read, is empty, is not a workbook (not a ZIP
-        archive, an encrypted or legacy ``.xls`` file), is corrupt, or has no value
-        in any sheet.
+        When the file cannot be read, is empty, is not a workbook, is encrypted or corrupt,
+        or a sheet is over the limits of :mod:`cadkg.ingest.sheet_bounds` (at its cell).
     """
-    expected = "an XLSX or ODS workbook"
+    expected = "an XLSX, XLSM, XLS or ODS workbook"
+    magic = _magic(path, expected)
     try:
-        with Path(path).open("rb") as handle:
-            magic = handle.read(8)
-    except OSError as err:
-        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
-    if not magic:
-        raise IngestError(path, "the file is empty", expected=expected)
-    if magic.startswith(_OLE2):
-        raise IngestError(
-            path,
-            "an encrypted workbook or a legacy .xls file (OLE2 compound file)",
-            expected="an unencrypted XLSX or ODS workbook",
-        )
-    if not magic.startswith(_ZIP):
-        raise IngestError(path, "not a workbook (not a ZIP archive)", found=magic[:4], expected=expected)
-    # The content decides, not the suffix: an ODS archive starts with its mimetype entry.
-    is_ods = _zip_mimetype(path) == "application/vnd.oasis.opendocument.spreadsheet"
-    try:
-        sheets = _ods_sheets(path) if is_ods else _xlsx_sheets(path)
+        if magic.startswith(_OLE2):
+            errors: dict[str, dict[tuple[int, int], str]] = {}
+        elif _zip_mimetype(path) == _ODS:
+            check_ods_extent(path)
+            errors = {}
+        else:
+            errors = scan_xlsx(path)
+        sheets = _read(path, errors)
     except IngestError:
         raise
     except Exception as err:
-        # openpyxl, odfpy and zipfile fail on a damaged archive in many unrelated ways.
-        raise IngestError(
-            path, f"corrupt workbook ({type(err).__name__}: {err})"[:300], expected=expected
-        ) from None
-    for name, rows in sheets:
-        while rows and rows[-1].is_blank:
-            rows.pop()
-        if rows:
-            return name, rows
+        # zipfile, lxml and the library fail on a damaged archive in many unrelated ways.
+        reason = f"corrupt workbook ({type(err).__name__}: {err})"
+        if magic.startswith(_OLE2) and _encrypted(path):
+            reason = "an encrypted workbook (a password-protected XLSX is an OLE2 file holding it)"
+        raise IngestError(path, reason[:300], expected=expected) from None
+    return Workbook(str(path), tuple(sheets))
+
+
+def _encrypted(path: str | Path) -> bool:
+    with Path(path).open("rb") as handle:
+        return "EncryptedPackage".encode("utf-16-le") in handle.read(16 << 20)
+
+
+def _read(path: str | Path, errors: dict[str, dict[tuple[int, int], str]]) -> list[Sheet]:
+    import python_calamine  # deferred: most builds read no workbook
+
+    sheets = []
+    with Path(path).open("rb") as handle:
+        book = python_calamine.CalamineWorkbook.from_filelike(handle)
+        for name in book.sheet_names:
+            sheet = book.get_sheet_by_name(name)
+            end = sheet.end
+            # The bounds scan checked XLSX; ODS repeats were checked; XLS is at most 65,536 x 256.
+            if end is not None and (end[0] + 1) * (end[1] + 1) > MAX_CELLS:
+                raise IngestError(
+                    path,
+                    "the sheet's cells span more than cadkg reads of a sheet",
+                    cell=cell_address(name, min(end[0] + 1, MAX_ROWS + 1), end[1]),
+                    expected=f"at most {MAX_CELLS:,} cells from A1",
+                )
+            found: dict[int, list[tuple[int, str]]] = {}
+            for (row, column), code in errors.get(name, {}).items():
+                found.setdefault(row, []).append((column, code))
+            values = sheet.to_python(skip_empty_area=False) if end is not None else []
+            rows = []
+            for number, row_values in enumerate(values, start=1):
+                cells: list[object] = [None if v == "" else v for v in row_values]
+                for column, code in found.get(number, ()):
+                    if column < len(cells):
+                        cells[column] = CellError(code)
+                while cells and cells[-1] is None:
+                    cells.pop()
+                rows.append(SheetRow(number, tuple(cells)))
+            del values
+            while rows and rows[-1].is_blank:
+                rows.pop()
+            merged = tuple(
+                (r0 + 1, c0, r1 + 1, c1) for (r0, c0), (r1, c1) in (sheet.merged_cell_ranges or ())
+            )
+            sheets.append(Sheet(str(name), tuple(rows), merged))
+    return sheets
+
+
+def read_sheet(path: str | Path) -> tuple[str, list[SheetRow]]:
+    """The name and rows of the first sheet of a workbook that holds any value.
+
+    Rows are numbered as the spreadsheet numbers them; blank rows in between are kept (as
+    rows without values) so numbering never drifts, trailing ones dropped.
+
+    Raises
+    ------
+    IngestError
+        As :func:`read_workbook`, and when no sheet holds any value.
+    """
+    for sheet in read_workbook(path).sheets:
+        if sheet.rows:
+            return sheet.name, list(sheet.rows)
     raise IngestError(path, "no sheet holds any value", expected="a sheet with a header row")
+
+
+def settle_sheets(path: str | Path, what: str, found: bool, skipped: list[str], expected: str) -> None:
+    """After picking the sheets that hold ``what`` by their header: refuse a workbook without
+    one, and warn once, naming them, of the sheets left out.
+
+    Raises
+    ------
+    IngestError
+        When no sheet holds ``what``.
+    """
+    if not found:
+        raise IngestError(path, f"no sheet holds {what}", found=", ".join(skipped)[:200], expected=expected)
+    if skipped:
+        reason = f"sheets without {what} skipped: {', '.join(skipped)}"
+        warnings.warn(IngestWarning(path, reason), stacklevel=3)
 
 
 def _zip_mimetype(path: str | Path) -> str:
     try:
         with zipfile.ZipFile(path) as archive:
-            return archive.read("mimetype").decode("ascii", "replace")
+            return archive.read("mimetype")[:100].decode("ascii", "replace")
     except (KeyError, zipfile.BadZipFile, OSError, RuntimeError):
         return ""
 
 
-def _xlsx_sheets(path: str | Path) -> list[tuple[str, list[SheetRow]]]:
-    import openpyxl  # deferred: a second or so of import for files that are mostly CSV
-
-    # A handle rather than the path: openpyxl refuses names not ending in .xlsx or .xlsm,
-    # while the content has already been checked to be a ZIP archive.
-    with warnings.catch_warnings(), Path(path).open("rb") as handle:
-        # openpyxl warns about styles and extensions it drops; none of them carry data.
-        warnings.simplefilter("ignore")
-        book = openpyxl.load_workbook(handle, read_only=True, data_only=True)
-        try:
-            sheets = []
-            for sheet in book.worksheets:
-                # Without this a file declaring a huge used range pads every row to it.
-                sheet.reset_dimensions()
-                rows = []
-                for number, values in enumerate(sheet.iter_rows(values_only=True), start=1):
-                    if number > _MAX_ROWS:
-                        raise _beyond_last_row(path, str(sheet.title))
-                    rows.append(SheetRow(number, tuple(values)))
-                sheets.append((str(sheet.title), rows))
-            return sheets
-        finally:
-            book.close()
+def is_workbook(head: bytes) -> bool:
+    """Whether a file's first bytes are a ZIP archive or an OLE2 compound file (a legacy XLS)."""
+    return head.startswith((_ZIP, _OLE2))
 
 
-def _beyond_last_row(path: str | Path, sheet: str) -> IngestError:
-    return IngestError(
-        path,
-        "a row is numbered beyond the last row a sheet can have (a damaged workbook)",
-        cell=cell_address(sheet, _MAX_ROWS + 1, 0),
-        expected=f"at most {_MAX_ROWS:,} rows",
-    )
+def sniff_head(path: str | Path, head: bytes) -> bytes:
+    """What content sniffers see of a file: its first bytes, and for a workbook the text of
+    the first rows of each sheet after them (:func:`sheet_text` gives it back).
+
+    A workbook keeps its text compressed or in binary records, and the header of a real
+    export often lies beyond the first bytes. A workbook that does not read gives its head
+    alone: its reader reports the error when the file is read.
+    """
+    if not is_workbook(head):
+        return head
+    try:
+        book = read_workbook(path)
+    except (IngestError, OSError, ValueError):
+        return head
+    lines = []
+    for sheet in book.sheets:
+        for row in sheet.rows[:_SNIFF_ROWS]:
+            cells = (re.sub(r"\s+", " ", cell_text(c)[:_SNIFF_CELL]) for c in row.cells)
+            lines.append("\t".join(cells))
+    return head + _SHEET_TEXT + "\n".join(lines).encode("utf-8", "replace")
 
 
-def _check_ods_extent(path: str | Path) -> None:
-    """Refuse repeat counts that expand a sheet past its size: pandas expands every one."""
-    with zipfile.ZipFile(path) as archive, archive.open("content.xml") as content:
-        rows = last = width = 0
-        events = etree.iterparse(
-            content, events=("end",), resolve_entities=False, no_network=True, load_dtd=False
-        )
-        for _, element in events:
-            if element.tag == _TABLE + "table":
-                rows = last = width = 0
-                element.clear()
-            elif element.tag == _TABLE + "table-row":
-                columns = filled = 0
-                for cell in element:
-                    if cell.tag in _CELLS:
-                        columns += int(cell.get(_TABLE + "number-columns-repeated", "1"))
-                        if cell.get(_OFFICE + "value-type") is not None or len(cell):
-                            filled = columns
-                rows += int(element.get(_TABLE + "number-rows-repeated", "1"))
-                if filled:
-                    last, width = rows, max(width, filled)
-                if rows > _MAX_ROWS or columns > _MAX_COLUMNS or last * width > _MAX_CELLS:
-                    raise _oversized(path, _table_name(element), rows, columns)
-                element.clear()
-
-
-def _table_name(row: etree._Element) -> str:
-    table = next(row.iterancestors(_TABLE + "table"), None)
-    return "Sheet" if table is None else str(table.get(_TABLE + "name", "Sheet"))
-
-
-def _oversized(path: str | Path, sheet: str, rows: int, columns: int) -> IngestError:
-    return IngestError(
-        path,
-        "repeated rows or cells expand the sheet beyond what a sheet can hold (a damaged workbook)",
-        cell=cell_address(sheet, min(rows, _MAX_ROWS + 1), min(columns, _MAX_COLUMNS + 1) - 1),
-        expected=f"at most {_MAX_ROWS:,} rows, {_MAX_COLUMNS:,} columns"
-        f" and {_MAX_CELLS:,} cells up to the last value",
-    )
-
-
-def _ods_sheets(path: str | Path) -> list[tuple[str, list[SheetRow]]]:
-    import pandas as pd
-
-    _check_ods_extent(path)
-
-    frames = pd.read_excel(path, engine="odf", header=None, dtype=object, sheet_name=None)
-    sheets = []
-    for name, frame in frames.items():
-        rows = [
-            SheetRow(number, tuple(_ods_value(v) for v in values))
-            for number, values in enumerate(frame.itertuples(index=False, name=None), start=1)
-        ]
-        sheets.append((str(name), rows))
-    return sheets
-
-
-def _ods_value(value: object) -> object:
-    # pandas marks empty cells with NaN; a real cell cannot hold NaN.
-    if isinstance(value, float) and math.isnan(value):
+def sheet_text(head: bytes) -> str | None:
+    """The sheets' text that :func:`sniff_head` put after a workbook's first bytes; None for
+    a file that is no workbook or did not read."""
+    at = head.find(_SHEET_TEXT)
+    if not is_workbook(head) or at < 0:
         return None
-    return value
+    return head[at + len(_SHEET_TEXT) :].decode("utf-8", "replace")
 
 
 def workbook_strings(head: bytes) -> list[str]:
@@ -254,6 +301,9 @@ def workbook_strings(head: bytes) -> list[str]:
     parts that start within ``head`` are inflated as far as they go. Strings come in
     part order; a part cut off by the end of ``head`` gives the strings before the cut.
     """
+    end = head.find(_SHEET_TEXT)
+    if end >= 0:
+        head = head[:end]
     strings: list[str] = []
     start = head.find(_ZIP)
     while start >= 0 and start + 30 <= len(head):

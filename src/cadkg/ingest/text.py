@@ -30,6 +30,7 @@ __all__ = [
     "iter_rows",
     "named_columns",
     "parse_decimal",
+    "read_head",
     "read_text",
     "small_integer",
     "sniffable_head",
@@ -190,6 +191,24 @@ def small_integer(text: str) -> int | None:
     over 4,300 digits.
     """
     return int(text) if text.isascii() and text.isdigit() and len(text) <= 9 else None
+
+
+def read_head(path: str | Path, size: int = 4096, *, expected: str) -> bytes:
+    """The first ``size`` bytes of a file, for a reader that tells its form by content.
+
+    Raises
+    ------
+    IngestError
+        When the file cannot be read or is empty.
+    """
+    try:
+        with Path(path).open("rb") as handle:
+            head = handle.read(size)
+    except OSError as err:
+        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
+    if not head:
+        raise IngestError(path, "the file is empty", expected=expected)
+    return head
 
 
 def read_text(path: str | Path, *, expected: str) -> str:

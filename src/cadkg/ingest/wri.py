@@ -17,9 +17,10 @@ from cadkg.errors import IngestError
 from cadkg.ingest.eplan.labels import normalize_label
 from cadkg.ingest.text import iter_rows, read_text
 
-__all__ = ["IdEntry", "iter_wri", "read_wri"]
+__all__ = ["IdEntry", "iter_wri", "looks_like_wri", "read_wri"]
 
 _CAD_ID = re.compile(r"^ID\d+$", re.IGNORECASE)
+_FIRST_ROW = re.compile(rb"^(?:\xef\xbb\xbf)?\s*ID\d+\t[^\t\r\n]+(?:\t|\r|\n|$)", re.IGNORECASE)
 _HEADER = ("cad id", "label", "commercial")
 _EXPECTED = "tab-separated rows: Cad ID, Label, Commercial (e.g. ID000041<TAB>X00005.2<TAB>6013277)"
 
@@ -33,6 +34,11 @@ class IdEntry:
     raw_label: str
     commercial: str | None
     line: int
+
+
+def looks_like_wri(head: bytes) -> bool:
+    """Whether a file opens with a WRI row (``ID000001<TAB>=-PE<TAB>``): a ``.txt`` copy of the table."""
+    return _FIRST_ROW.match(head) is not None
 
 
 def read_wri(path: str | Path) -> list[IdEntry]:

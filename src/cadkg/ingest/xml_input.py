@@ -14,8 +14,9 @@ from pathlib import Path
 from lxml import etree
 
 from cadkg.errors import IngestError
+from cadkg.ingest.text import xml_document
 
-__all__ = ["element_children", "parse_untrusted_xml"]
+__all__ = ["element_children", "parse_untrusted_xml", "read_xml_file"]
 
 _DECLARATIONS = re.compile(rb"<!(DOCTYPE|ENTITY)", re.IGNORECASE)
 _ENTITY = re.compile(rb"<!(ENTITY)", re.IGNORECASE)
@@ -74,6 +75,34 @@ def parse_untrusted_xml(
         else:
             reason = f"malformed XML: {err.msg}"
         raise IngestError(path, reason, line=line_offset + line, expected=expected) from None
+
+
+def read_xml_file(path: str | Path, *, root: str, what: str, expected: str) -> etree._Element:
+    """The root element of the XML file ``path``, which must be ``<root>``.
+
+    Raises
+    ------
+    IngestError
+        On an unreadable, empty or binary file, a refused declaration, malformed XML, or
+        another root element.
+    """
+
+    try:
+        data = Path(path).read_bytes()
+    except OSError as err:
+        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
+    element = parse_untrusted_xml(
+        path, xml_document(path, data, expected=expected), what=what, expected=expected
+    )
+    if element.tag != root:
+        raise IngestError(
+            path,
+            f"the root element is not <{root}>",
+            line=element.sourceline,
+            found=f"<{element.tag}>",
+            expected=expected,
+        )
+    return element
 
 
 def element_children(

@@ -9,7 +9,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 from decimal import Decimal
 
-from cadkg.geometry.frames import quaternion_from_rpy
 from cadkg.ingest.eplan.labels import PinRef
 from cadkg.ingest.placement import Placement
 from cadkg.mapping.writer import TYPE, XSD, TripleWriter, literal, node_iri, term, write_pose
@@ -102,7 +101,7 @@ def frame_node(w: TripleWriter, name: str) -> str:
 
 def placement_pose(w: TripleWriter, node: str, placement: Placement, parent: str) -> str:
     """A pose read from a file (roll, pitch, yaw) in frame ``parent``, with its line."""
-    pose = write_pose(w, node, placement.xyz, quaternion_from_rpy(*placement.rpy), parent)
+    pose = write_pose(w, node, placement.xyz, placement.quaternion(), parent)
     w.add(pose, term("sourceLine"), w.typed(placement.line))
     return pose
 

@@ -17,7 +17,7 @@ from cadkg.registry import use_case
 if TYPE_CHECKING:
     from cadkg.store import GraphStore
 
-__all__ = ["Finding", "validate"]
+__all__ = ["Finding", "source_location", "validate"]
 
 Severity = Literal["error", "warning"]
 
@@ -71,7 +71,7 @@ ORDER BY ?wire
 """
 
 
-def _where(kg: GraphStore, node: str) -> str:
+def source_location(kg: GraphStore, node: str) -> str:
     import pyoxigraph as ox
 
     result = kg.raw_query(
@@ -93,7 +93,7 @@ def _semantic(kg: GraphStore, progress: Callable[[str, int, int], None] | None) 
     for row in kg.query(_UNKNOWN_LABELS):
         findings.append(
             Finding(
-                _where(kg, row["wire"]),
+                source_location(kg, row["wire"]),
                 "error",
                 "unknown-label",
                 f"component {row['label']!r} (pin {row['pinName']}) is not in any ID table",
@@ -105,7 +105,7 @@ def _semantic(kg: GraphStore, progress: Callable[[str, int, int], None] | None) 
     for row in kg.query(_PINS_WITHOUT_DATA):
         findings.append(
             Finding(
-                _where(kg, row["wire"]),
+                source_location(kg, row["wire"]),
                 "error",
                 "pin-without-data",
                 f"pin {row['label']}:{row['pinName']}{':' + row['level'] if row['level'] else ''} "
@@ -143,11 +143,11 @@ def _duplicate_wire_numbers(kg: GraphStore) -> list[Finding]:
         if len(parts) < 2:
             continue
         parts.sort()
-        first = _where(kg, parts[0][0][1])
+        first = source_location(kg, parts[0][0][1])
         for part in parts[1:]:
             findings.append(
                 Finding(
-                    _where(kg, part[0][1]),
+                    source_location(kg, part[0][1]),
                     "error",
                     "duplicate-wire-number",
                     f"wire number {number!r} already used at {first} for wires between other pins",
@@ -169,7 +169,7 @@ def _shacl(kg: GraphStore, on_query: Callable[[int, int], None] | None = None) -
     results = check_shapes(local, graphs, cadkg_shapes(), on_query=on_query)
     return [
         Finding(
-            r.focus if r.focus.startswith("_:") else _where(kg, r.focus),
+            r.focus if r.focus.startswith("_:") else source_location(kg, r.focus),
             "error" if r.severity == SH + "Violation" else "warning",
             "shacl",
             f"<{r.focus}>: {r.message}" + (f" (property <{r.path}>)" if r.path is not None else ""),
@@ -184,7 +184,8 @@ def validate(
     """All findings, sorted by location: SHACL shapes (on every graph but the derived
     one), unknown labels, duplicate wire numbers (wires of one number that do not form one
     chain through shared pins), pins whose component model has no data for them, and the
-    checks of the cell's use case (:attr:`cadkg.usecase.UseCase.checks`).
+    checks of the cell's use case (:attr:`cadkg.usecase.UseCase.checks`; IEMA's: terminal
+    diagram destinations that no connection list wires).
 
     ``progress(stage, done, total)`` is told of each step: stage ``"checks"`` (the semantic
     checks), then ``"shapes"`` (the queries the SHACL shapes compile to).

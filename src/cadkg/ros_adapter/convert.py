@@ -82,7 +82,7 @@ def _texts(values: Iterable[str]) -> list[str]:
 
 
 def cad_pin(value: Any) -> Data:
-    """A cabinet pin (:class:`~cadkg.usecases.iema.cabinet.CadPin`) as ``cadkg_interfaces/CadPin``;
+    """A cabinet pin (:class:`~cadkg.usecases.iema.derive.cabinet.CadPin`) as ``cadkg_interfaces/CadPin``;
     ``None`` as an empty pin."""
     if value is None:
         return {

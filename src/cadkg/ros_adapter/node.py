@@ -35,8 +35,8 @@ from cadkg.query.frames import label_frames
 from cadkg.ros_adapter import convert
 from cadkg.services.frames import marker_specs, static_frames
 from cadkg.services.session import Session
-from cadkg.usecases.iema.cabinet import CellModel, derive_cell
-from cadkg.usecases.iema.extract import Placements, extract, placements
+from cadkg.usecases.iema.derive.cabinet import CellModel, derive_cell
+from cadkg.usecases.iema.derive.extract import Placements, extract, placements
 
 __all__ = ["CadkgNode", "Loaded", "default_namespace", "load", "main", "srv_type"]
 

@@ -10,9 +10,9 @@ import pytest
 import cadkg
 from cadkg.ingest.manifest import load_manifest
 from cadkg.ingest.pipeline import read_manifest_graphs
-from cadkg.usecases.iema.cabinet import derive_cell
-from cadkg.usecases.iema.collect import InputCollector
-from cadkg.usecases.iema.extract import Placements, extract, placements
+from cadkg.usecases.iema.derive.cabinet import derive_cell
+from cadkg.usecases.iema.derive.collect import InputCollector
+from cadkg.usecases.iema.derive.extract import Placements, extract, placements
 from tests.conftest import BAD, EXAMPLES, ROOT, synthetic_manifest
 
 IEMA_DIR = EXAMPLES / "iema-switchgear"
@@ -72,8 +72,11 @@ def test_records_give_the_graphs_inputs_synthetic(tmp_path: Path, cabinet: bool)
 def test_example_inputs_are_not_empty() -> None:
     inputs = _collected(IEMA_DIR / "manifest.toml").inputs()
     assert inputs.items_of["F1500.1"]
-    assert inputs.blocks and inputs.wires and inputs.models and inputs.frames and inputs.assignments
-    assert any(p.item for p in inputs.pins.values())
+    # The example's strips come from its terminal diagram (schema-morsetti.ods), not a terminal schema.
+    assert inputs.diagrams and inputs.wires and inputs.models and inputs.frames and inputs.assignments
+    # A strip's rows in rail order; the relay's pins from EPLAN's parts management alone.
+    assert [kind for _, kind, _ in inputs.diagrams["X1600"]] == ["terminal"] * 4 + ["end"]
+    assert set(inputs.models["6400170"].points) == {"A1", "A2", "11", "12", "14"}
 
 
 def test_other_profiles_fall_back_to_the_graph() -> None:

@@ -50,8 +50,8 @@ def test_figure_4_first_row_and_its_model(fig4: list[ComponentListEntry]) -> Non
     assert model.dimensions == (0.0898, 0.0359, 0.07448)
     one, two = model.couples
     assert one.name == "1"
-    assert one.screw == Placement(xyz=(0.0085, 0.009, 0.04496), rpy=(0.0, 0.0, 0.0), line=2)
-    assert one.hole == Placement(xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0), line=2)
+    assert one.screw == Placement(xyz=(0.0085, 0.009, 0.04496), rpy=(0.0, 0.0, 0.0), line=2, moving_axes=True)
+    assert one.hole == Placement(xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0), line=2, moving_axes=True)
     assert two.screw is not None and two.screw.xyz == (0.0265, 0.009, 0.04496)
 
 

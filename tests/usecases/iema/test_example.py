@@ -9,6 +9,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 
@@ -17,7 +18,7 @@ from cadkg.graph import KnowledgeGraph
 from cadkg.services.session import Session
 from cadkg.services.table import call, services_for
 from cadkg.usecases.iema import answers as iema
-from cadkg.usecases.iema.cabinet import CellModel
+from cadkg.usecases.iema.derive.cabinet import CellModel
 from tests.conftest import IEMA
 
 VRML = IEMA.parent / "manifest-vrml.toml"
@@ -213,3 +214,65 @@ def test_keypoints_run_through_the_ducts(model: CellModel) -> None:
         assert len(step.keypoints) >= 3
         total = sum(math.dist(a.position, b.position) for a, b in itertools.pairwise(step.keypoints))
         assert total >= math.dist(step.keypoints[0].position, step.keypoints[-1].position) - 1e-9
+
+
+def test_relay_pins_come_from_the_parts_management_export_alone(model: CellModel) -> None:
+    # components.xml gives the relay 6400170 no couple; pins.xml gives its connection points.
+    result = iema.cad_service(model, "K1510.1")
+    assert result.success
+    pins = {p.pin: p for p in result.pins}
+    assert {"A1", "A2", "11", "14"} <= pins.keys()
+    assert all(p.screw is None and p.hole is not None for p in pins.values())
+    # Hand-computed in the README: item origin (0.5889, 0.56, 0.0075) + (3.1, 65, 42) mm.
+    a1 = pins["A1"].hole
+    assert a1 is not None and _near(a1.position, (0.592, 0.625, 0.0495))
+    assert _near(a1.orientation, (0.0, 0.0, 0.0, 1.0))  # wires enter along the cabinet's z
+    screws = iema.get_item_screw_service(model, "K1510.1", model.components["K1510.1"].original)  # type: ignore[arg-type]
+    assert screws.success and "A1" in screws.pins
+    relay_steps = [s for s in model.steps if "K1510.1" in (s.origin.label, s.destination.label)]
+    assert relay_steps and not any(s.missing for s in relay_steps)
+
+
+def test_without_the_parts_management_export_the_relay_has_no_pin_data(tmp_path: Path) -> None:
+    text = IEMA.read_text(encoding="utf-8").replace('[[source]]\npath = "pins.xml"\n\n', "")
+    manifest = IEMA.parent / "without-pins.toml"
+    try:
+        manifest.write_text(text, encoding="utf-8")
+        without = next(_model(manifest))
+    finally:
+        manifest.unlink()
+    assert all(p.missing for p in without.components["K1510.1"].pins.values())
+
+
+def test_a_model_corner_item_replaces_the_computed_corner(model: CellModel) -> None:
+    # The CPU's model gives its own corner (0, 0.015, 0.075): origin (0.5533, 0.86, 0.0075) + it.
+    result = iema.cad_service(model, "A0080.1")
+    assert result.corner_pose is not None and _near(result.corner_pose.position, (0.5533, 0.875, 0.0825))
+    assert result.original_pose is not None and _near(result.original_pose.position, (0.5533, 0.86, 0.0075))
+
+
+def test_item_frames_and_markers_are_in_the_graph() -> None:
+    kg = KnowledgeGraph.build(IEMA)
+    try:
+        frames = kg.query(
+            "SELECT DISTINCT ?code ?name WHERE {"
+            " ?m ck:commercialCode ?code ; ck:hasItemFrame ?f . ?f ck:label ?name }"
+        ).rows
+        markers = kg.query("SELECT DISTINCT ?id ?x WHERE { ?i ck:cadId ?id ; ck:markerPose/ck:tx ?x }").rows
+    finally:
+        kg.close()
+    assert sorted((r["code"], r["name"]) for r in frames) == [
+        ("6503372", "marker"),
+        ("6503372", "visual"),
+        ("SIE.3RT2015-1BB41", "marker"),
+        ("SIE.3RT2015-1BB41", "visual"),
+        ("SIE.6ES7212-1AE40-0XB0", "corner"),
+    ]
+    assert sorted(r["id"] for r in markers) == [
+        "ID000045",
+        "ID000048",
+        "ID000049",
+        "ID000052",
+        "ID000054",
+        "ID000056",
+    ]

@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 import cadkg
-from cadkg.usecases.iema.cabinet import CellModel, derive_cell
-from cadkg.usecases.iema.extract import extract
-from cadkg.usecases.iema.persist import dump_model, load_model
+from cadkg.usecases.iema.derive.cabinet import CellModel, derive_cell
+from cadkg.usecases.iema.derive.extract import extract
+from cadkg.usecases.iema.derive.persist import dump_model, load_model
 from tests.conftest import BAD, EXAMPLES, IEMA, ROOT, synthetic_manifest
 
 MINI = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"

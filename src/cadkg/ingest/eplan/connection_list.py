@@ -1,33 +1,39 @@
 """Reader of EPLAN connection lists (wiring lists), the IEMA process description.
 
-Three real layouts read here, all matched by header meaning rather than position:
-
-* the 11-column form of the reference's Figure 3 (``... Numero filo, Sezione,
-  Colore, Tipo, pot.``), where the last column holds the wire length in mm;
-* the 15-column Italian "Lista cablaggio" with preamble rows, decimal commas and
-  units inside cells (``1,5 mm²``, ``0,474 m``), duct paths and terminations;
-* machine exports whose header cells are quoted and contain line breaks, among them
-  the Komax wire-processing export: machine options before a 31-column header whose
-  origin and destination columns say their end (``Componente:pin origine``).
-
-The row order is the operation sequence.
+Layouts matched by header meaning rather than position: the 11-column form of the
+reference's Figure 3 (its last column the wire length in mm); the 15-column Italian "Lista
+cablaggio" with preamble rows, decimal commas and units inside cells (``1,5 mm²``); machine
+exports, among them the Komax list (machine options, a two-row header whose ``END 1`` and
+``END 2`` columns take their meaning from the group label above them). The rows come from
+text here, from workbook sheets or EPLAN's labelling XML in :mod:`.connection_files`. The
+row order is the operation sequence.
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+import warnings
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from decimal import Decimal
 from pathlib import Path
+from typing import Any
 
-from cadkg.errors import IngestError
+from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.eplan.labels import PinRef, PinSyntaxError, normalize_label, parse_pin_ref
+from cadkg.ingest.eplan.list_columns import ALIASES as _ALIASES
+from cadkg.ingest.eplan.list_columns import PAIRED as _PAIRED
+from cadkg.ingest.eplan.list_columns import PER_END as _PER_END
+from cadkg.ingest.sheet_bounds import cell_address
 from cadkg.ingest.text import Row, find_header, parse_decimal, read_text
 
 __all__ = [
+    "FORMULA_ERRORS",
     "Connection",
     "ConnectionListInfo",
+    "Locate",
+    "connection_records",
+    "header_in",
     "iter_connection_list",
     "looks_like_connection_list",
     "read_connection_list",
@@ -39,73 +45,8 @@ _EXPECTED = (
 )
 _HEADER_SCAN_ROWS = 40
 
-# Header text (lower case, white space folded) → meaning. Columns that occur twice
-# (page, zone, pin) are origin first, destination second.
-_ALIASES: dict[str, str] = {
-    "n. pagina": "page",
-    "pagina": "page",
-    "page": "page",
-    "sheet": "page",
-    "zona": "zone",
-    "zone": "zone",
-    "componente:pin": "pin",
-    "component:pin": "pin",
-    "device:pin": "pin",
-    "betriebsmittel:anschluss": "pin",
-    "componente: pin": "pin",
-    "numero filo": "wire_number",
-    "n. filo": "wire_number",
-    "wire number": "wire_number",
-    "wire no.": "wire_number",
-    "verbindungsnummer": "wire_number",
-    "sezione": "section",
-    "sezione (mm²)": "section",
-    "sezione (mm2)": "section",
-    "section": "section",
-    "cross-section": "section",
-    "querschnitt": "section",
-    "colore": "colour",
-    "colour": "colour",
-    "color": "colour",
-    "farbe": "colour",
-    "tipo": "potential_type",
-    "tipo pot.": "potential_type",
-    "potential type": "potential_type",
-    "pot.": "potential_name",
-    "nome pot.": "potential_name",
-    "potential": "potential_name",
-    "potential name": "potential_name",
-    "l filo (m)": "length_m",
-    "lunghezza (m)": "length_m",
-    "length (m)": "length_m",
-    "l filo (mm)": "length_mm",
-    "lunghezza (mm)": "length_mm",
-    "length (mm)": "length_mm",
-    "lunghezza": "length_mm",
-    "length": "length_mm",
-    "traccia collegamenti": "duct_path",
-    "percorso": "duct_path",
-    "route": "duct_path",
-    "terminazione origine": "origin_termination",
-    "terminazione destinazione": "destination_termination",
-    "chiave job": "job_key",
-    "job key": "job_key",
-    "nome cavo": "cable_name",
-    "cable name": "cable_name",
-    "lato fascettatura": "bundling_side",
-    "bundling side": "bundling_side",
-}
-_PAIRED = ("page", "zone", "pin")
-# A header may tie its meaning to one end by a word after it ('Componente:pin origine',
-# 'Lunghezza spelatura origine (mm)'). Only these meanings are read per end; the others
-# (strip length, ferrule, marking) have no field in the record.
-_PER_END = {
-    "termination": "termination",
-    "terminazione": "termination",
-    "direction": "direction",
-    "direzione": "direction",
-} | {alias: meaning for alias, meaning in _ALIASES.items() if meaning in _PAIRED}
 _END = re.compile(r"^(?P<base>.+?) (?P<end>origine|origin|destinazione|destination)(?: (?P<rest>.*))?$")
+_DUCTS = re.compile(r"[;']")
 _SECTION_UNITS = frozenset({"mm²", "mm2", "mmq", "mm^2"})
 _LENGTH_UNITS = frozenset({"m", "mm"})
 _REQUIRED = {
@@ -156,6 +97,28 @@ class Connection:
 
 def _norm(header: str) -> str:
     return re.sub(r"\s+", " ", header.strip().lower())
+
+
+# Komax lists name a per-end column 'END 1' / 'END 2' and say what it is in the row above
+# (a group label such as 'DIREZIONE' over both).
+_GROUPED_END = re.compile(r"^end ?(?P<end>[12])$")
+_GROUPS = {"direzione": "direction", "direction": "direction"}
+
+
+def _grouped(header: Row, above: Row | None) -> dict[str, int]:
+    """Per-end columns named by the group label above them (``DIREZIONE`` over ``END 1``)."""
+    if above is None:
+        return {}
+    columns: dict[str, int] = {}
+    group = ""
+    for index, cell in enumerate(header.cells):
+        label = _norm(above.cells[index]) if index < len(above.cells) else ""
+        group = label or group
+        end = _GROUPED_END.match(_norm(cell))
+        if end is not None and group in _GROUPS:
+            side = "origin" if end["end"] == "1" else "destination"
+            columns.setdefault(f"{side}_{_GROUPS[group]}", index)
+    return columns
 
 
 def _columns(row: Row) -> dict[str, int]:
@@ -233,16 +196,41 @@ def iter_connection_list(path: str | Path) -> Iterator[ConnectionListInfo | Conn
     """
     text = read_text(path, expected=_EXPECTED)
     rows, header_at, columns = _find_header(text, path)
+    yield from connection_records(path, rows, header_at, columns, None)
+
+
+def header_in(rows: list[Row], scan_rows: int = _HEADER_SCAN_ROWS) -> tuple[int, dict[str, int]] | None:
+    """Where a connection list's header is among the first rows of a sheet, and its columns."""
+    for position, row in enumerate(rows[:scan_rows]):
+        columns = _columns(row)
+        if {"origin_pin", "destination_pin"} & columns.keys() and len(columns) >= 3:
+            return position, columns
+    return None
+
+
+def connection_records(
+    path: str | Path,
+    rows: list[Row],
+    header_at: int,
+    columns: dict[str, int],
+    sheet: str | None,
+    locate: Locate | None = None,
+) -> Iterator[ConnectionListInfo | Connection]:
+    """The records of a connection list whose header is ``rows[header_at]``; ``sheet`` names
+    the workbook sheet the rows come from (errors then name cells, ``Sheet!C7``), ``locate``
+    how else to say where a row is."""
     header = rows[header_at]
+    columns = {**_grouped(header, rows[header_at - 1] if header_at else None), **columns}
+    locate = locate or _Locator(path, sheet)
     missing = [name for key, name in _REQUIRED.items() if key not in columns]
     if missing:
         found = ", ".join(re.sub(r"\s+", " ", c.strip()) for c in header.cells if c.strip())
         raise IngestError(
             path,
             f"missing column {', '.join(repr(m) for m in missing)}",
-            line=header.line,
             found=found[:200],
             expected="the connection list columns " + ", ".join(_REQUIRED.values()),
+            **locate(header.line, 0),
         )
     header_names = {key: re.sub(r"\s+", " ", header.cells[i].strip()) for key, i in columns.items()}
     preamble = rows[:header_at]
@@ -251,17 +239,43 @@ def iter_connection_list(path: str | Path) -> Iterator[ConnectionListInfo | Conn
         job=_preamble_value(preamble, "commessa:"),
         header_line=header.line,
     )
-    convert = _RowConverter(path, columns, header_names)
+    convert = _RowConverter(path, columns, header_names, locate)
     index = 0
     for row in rows[header_at + 1 :]:
         if row.is_blank:
             continue
+        connection = convert(row, index + 1)
+        if connection is None:
+            continue
         index += 1
-        yield convert(row, index)
+        yield connection
     if index == 0:
         raise IngestError(
-            path, "no connections after the header", line=header.line, expected="at least one data row"
+            path,
+            "no connections after the header",
+            expected="at least one data row",
+            **locate(header.line, 0),
         )
+
+
+# What a spreadsheet shows in a cell whose formula failed: no value a row can be read from.
+FORMULA_ERRORS = frozenset({"#NAME?", "#REF!", "#VALUE!", "#DIV/0!", "#N/A", "#NULL!", "#NUM!", "Err:502"})
+
+
+Locate = Callable[[int, int], dict[str, Any]]
+
+
+class _Locator:
+    """``line=`` for a text file, ``cell=`` (``Sheet!C7``) for a sheet: where an error points."""
+
+    def __init__(self, path: str | Path, sheet: str | None) -> None:
+        self.path = path
+        self.sheet = sheet
+
+    def __call__(self, line: int, column: int) -> dict[str, Any]:
+        if self.sheet is None:
+            return {"line": line}
+        return {"cell": cell_address(self.sheet, line, column)}
 
 
 # Record fields taken as they stand in their column (stripped; empty → None).
@@ -290,10 +304,13 @@ class _RowConverter:
     repeat down a list (sections, lengths, duct paths) are parsed once each.
     """
 
-    def __init__(self, path: str | Path, columns: dict[str, int], names: dict[str, str]) -> None:
+    def __init__(
+        self, path: str | Path, columns: dict[str, int], names: dict[str, str], locate: Locate
+    ) -> None:
         self.path = path
         self.columns = columns
         self.names = names
+        self.locate = locate
         # A column the file lacks sits past every row's end, so its field reads as None.
         self.text_columns = [(name, columns.get(name, 1 << 30)) for name in _TEXT_FIELDS]
         self.length_key = "length_m" if "length_m" in columns else "length_mm"
@@ -303,9 +320,23 @@ class _RowConverter:
         keys = ("wire_number", "origin_pin", "destination_pin", "section", self.length_key, "duct_path")
         self.at = tuple(columns.get(key, absent) for key in keys)
 
-    def __call__(self, row: Row, index: int) -> Connection:
+    def __call__(self, row: Row, index: int) -> Connection | None:
         cells = row.cells
         width = len(cells)
+        for key in ("origin_pin", "destination_pin"):
+            at = self.columns[key]
+            if at < width and cells[at].strip() in FORMULA_ERRORS:
+                # The export lost the value (a formula EPLAN could not evaluate): the wire has
+                # one end only, so the row is left out, loudly.
+                warnings.warn(
+                    IngestWarning(
+                        self.path,
+                        f"the cell shows the formula error {cells[at].strip()}; the row is skipped",
+                        **self.locate(row.line, at),
+                    ),
+                    stacklevel=4,
+                )
+                return None
         # Each cell stripped once; a column past the row's end reads as empty.
         wire_number, origin, destination, section, length, ducts = (
             cells[at].strip() if at < width else "" for at in self.at
@@ -315,6 +346,8 @@ class _RowConverter:
         }
         if not wire_number:
             raise self.empty(row, "wire_number", "a wire number such as 1500.51 or 0V")
+        if fields["cable_name"] == "=":
+            fields["cable_name"] = None  # EPLAN's empty function designation: no cable
         return Connection(
             index=index,
             line=row.line,
@@ -337,18 +370,22 @@ class _RowConverter:
                     return IngestError(
                         self.path,
                         "a cell opened with '\"' runs over the cells after it",
-                        line=row.line,
+                        **self.locate(row.line, self.columns[key]),
                         found=cell[:40].split("\n", 1)[0] + " ...",
                         expected="no '\"' at the start of a cell, or its closing '\"' in the same cell",
                     )
         return IngestError(
-            self.path, f"empty cell in column {self.names[key]!r}", line=row.line, expected=expected
+            self.path,
+            f"empty cell in column {self.names[key]!r}",
+            expected=expected,
+            **self.locate(row.line, self.columns.get(key, 0)),
         )
 
     def duct_path(self, text: str) -> tuple[str, ...]:
         path = self.ducts.get(text)
         if path is None:
-            path = self.ducts[text] = tuple(normalize_label(d) for d in text.split(";") if d.strip())
+            # ';' in EPLAN's lists, "'" in the Komax ones.
+            path = self.ducts[text] = tuple(normalize_label(d) for d in _DUCTS.split(text) if d.strip())
         return path
 
     def pin(self, row: Row, key: str, raw: str) -> PinRef:
@@ -360,7 +397,7 @@ class _RowConverter:
             raise IngestError(
                 self.path,
                 f"unknown pin reference in column {self.names[key]!r}: {err}",
-                line=row.line,
+                **self.locate(row.line, self.columns[key]),
                 found=raw,
                 expected="DEVICE:PIN or DEVICE:TERMINAL:LEVEL, e.g. -F1500.1:14 or =-X1600:2:a",
             ) from None
@@ -379,7 +416,7 @@ class _RowConverter:
             raise IngestError(
                 self.path,
                 f"not a number in column {self.names[key]!r}",
-                line=row.line,
+                **self.locate(row.line, self.columns[key]),
                 found=raw,
                 expected=f"a number in {unit}, e.g. 1,5 or 1.5 {unit}",
             ) from None
@@ -387,7 +424,7 @@ class _RowConverter:
             raise IngestError(
                 self.path,
                 f"wrong unit in column {self.names[key]!r}",
-                line=row.line,
+                **self.locate(row.line, self.columns[key]),
                 found=raw,
                 expected=f"a number in {unit}",
             )
@@ -395,7 +432,7 @@ class _RowConverter:
             raise IngestError(
                 self.path,
                 f"non-positive value in column {self.names[key]!r}",
-                line=row.line,
+                **self.locate(row.line, self.columns[key]),
                 found=raw,
                 expected=f"a positive number in {unit}",
             )

@@ -22,7 +22,7 @@ from typing import Any
 from cadkg.errors import CadkgError
 from cadkg.server.workbench.scene_extras import profile_extras
 from cadkg.services.frames import marker_specs, static_frames
-from cadkg.usecases.iema.extract import Placements, placements
+from cadkg.usecases.iema.derive.extract import Placements, placements
 
 __all__ = ["cell_scene", "mesh_path"]
 

@@ -15,14 +15,17 @@ from importlib import resources
 from cadkg.ingest.reader import Reader
 from cadkg.usecase import Derivation, UseCase
 from cadkg.usecases.iema import mapping as _mapping  # noqa: F401  (registers the record mappings)
-from cadkg.usecases.iema.cabinet import derive_cell
-from cadkg.usecases.iema.collect import InputCollector
+from cadkg.usecases.iema.checks import diagram_against_lists
 from cadkg.usecases.iema.component_list import looks_like_component_list, read_component_list
 from cadkg.usecases.iema.component_model import looks_like_component_models, read_component_models
-from cadkg.usecases.iema.emit import derived_graph, derived_ntriples
-from cadkg.usecases.iema.extract import extract
-from cadkg.usecases.iema.persist import dump_model, load_model
+from cadkg.usecases.iema.derive.cabinet import derive_cell
+from cadkg.usecases.iema.derive.collect import InputCollector
+from cadkg.usecases.iema.derive.emit import derived_graph, derived_ntriples
+from cadkg.usecases.iema.derive.extract import extract
+from cadkg.usecases.iema.derive.persist import dump_model, load_model
+from cadkg.usecases.iema.marker_table import looks_like_marker_table, read_marker_table
 from cadkg.usecases.iema.services import SERVICES, cabinet_frames
+from cadkg.usecases.iema.terminal_diagram import looks_like_terminal_diagram, read_terminal_diagram
 from cadkg.usecases.iema.terminal_schema import looks_like_terminal_schema, read_terminal_schema
 
 __all__ = ["CABINET", "USE_CASE"]
@@ -63,10 +66,25 @@ USE_CASE = UseCase(
             "Terminal block schema: terminal items in order along each block, and their levels",
             looks_like_terminal_schema,
         ),
+        Reader(
+            "terminal-diagram",
+            (".xlsx", ".xlsm", ".xls", ".ods"),
+            read_terminal_diagram,
+            "EPLAN terminal diagram (Schema Morsetti): the rows along each terminal strip, their wire ends",
+            looks_like_terminal_diagram,
+        ),
+        Reader(
+            "marker-table",
+            (".ods", ".xlsx", ".xlsm", ".xls"),
+            read_marker_table,
+            "QR-code marker table: product, commercial code, label, CAD item, X/Y/Z (m) of each marker",
+            looks_like_marker_table,
+        ),
     ),
     services=SERVICES,
     queries=resources.files(__name__).joinpath("queries"),
     ros_namespace="/gearbox_handler",
     derivation=CABINET,
     frames=cabinet_frames,
+    checks=diagram_against_lists,
 )

@@ -1,6 +1,6 @@
 """The IEMA services of the reference's Table 1, transport-free, as plain functions of the cell model.
 
-Each function answers from :class:`~cadkg.usecases.iema.cabinet.CellModel` (computed from the
+Each function answers from :class:`~cadkg.usecases.iema.derive.cabinet.CellModel` (computed from the
 graph once per change) and returns a typed result. An unknown label gives
 ``success=False`` and a message, never an exception. The cursor services
 (connection providers, rail scanner) live in :mod:`cadkg.usecases.iema.cursors`.
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from cadkg.geometry.poses import Pose, Vec3
 from cadkg.ingest.eplan.labels import normalize_label
-from cadkg.usecases.iema.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, WireStep
+from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, WireStep
 
 __all__ = [
     "CadConnection",

@@ -1,21 +1,29 @@
-"""Reader of component model XML: where each pin's screw and hole sit on a commercial part.
+"""Reader of component model XML (``Component_tf.xml``): where each pin's screw and hole sit.
 
 The XML (D3.1, Figure 4, right) comes as a file of its own or embedded in a cell of the
 component list, so :func:`parse_models_fragment` takes text and a line offset and the
 file reader is a thin wrapper around it. Poses are in metres and radians, relative to
-the model's origin. The input is untrusted: no DTD, no entities, no network.
+the model's origin (the corner of its box); angles compose about the moving axes X, then
+Y, then Z, as the cell's software reads this file (docs/formats/component-model.md). The
+input is untrusted: no DTD, no entities, no network.
+
+Real files add to the couples ``<item name="marker|visual|corner">`` frames, give a model
+twice (the later one counts, with a warning naming both lines) and mount a ``parent="child"``
+model on the root item of its label with ``<child name="1">``; elements this reader does not
+know are skipped with one warning per name.
 """
 
 from __future__ import annotations
 
 import math
 import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 from lxml import etree
 
-from cadkg.errors import IngestError
+from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.placement import Placement
 from cadkg.ingest.text import read_text
 from cadkg.ingest.xml_input import element_children, parse_untrusted_xml
@@ -24,6 +32,7 @@ __all__ = [
     "ChildPlacement",
     "ComponentModel",
     "Couple",
+    "ModelItem",
     "looks_like_component_models",
     "parse_models_fragment",
     "read_component_models",
@@ -34,6 +43,7 @@ _ROLES = ("root", "child", "terminal")
 _POS = ("x", "y", "z")
 _ROT = ("R", "P", "Y")
 _SUBITEMS = {"couple": ("screw", "hole"), "child": ("relative",)}
+_CODE_CHILDREN = ("couple", "child", "item")
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 # Checked on the text before parsing: even with entity expansion off, a DOCTYPE can
 # pull in external subsets or declare entities whose meaning we would silently drop.
@@ -59,8 +69,23 @@ class ChildPlacement:
 
 
 @dataclass(frozen=True, slots=True)
+class ModelItem:
+    """A named frame of the model (``<item name="marker">``): where the vision marker sits,
+    the camera's view point, or ``corner``, which replaces the computed corner."""
+
+    name: str
+    placement: Placement
+    line: int
+
+
+@dataclass(frozen=True, slots=True)
 class ComponentModel:
-    """One ``<code>`` element: a commercial part's size, pins and mounted children."""
+    """One ``<code>`` element: a commercial part's size, pins, mounted children and frames.
+
+    ``mounting`` is where a ``parent="child"`` model's origin sits relative to the root item
+    of its label (its ``<child name="1">``); ``children`` are the older form, a parent naming
+    the models mounted on it.
+    """
 
     code: str
     commercial: str | None
@@ -69,6 +94,8 @@ class ComponentModel:
     couples: tuple[Couple, ...]
     children: tuple[ChildPlacement, ...]
     line: int
+    items: tuple[ModelItem, ...] = ()
+    mounting: Placement | None = None
 
     @property
     def key(self) -> str:
@@ -106,6 +133,7 @@ class _Parser:
     def __init__(self, path: str | Path, line_offset: int) -> None:
         self.path = path
         self.offset = line_offset
+        self.warned: set[str] = set()
 
     def error(
         self, reason: str, line: int | None, found: object | None = None, expected: str | None = None
@@ -130,18 +158,20 @@ class _Parser:
             raise self.error(
                 "the root element is not <data>", self.at(root), found=f"<{root.tag}>", expected=_EXPECTED
             )
-        models: list[ComponentModel] = []
-        seen: dict[str, int] = {}
+        by_key: dict[str, ComponentModel] = {}
         for element in self.children(root, ("code",)):
             model = self.model(element)
-            if model.key in seen:
-                raise self.error(
-                    f"model {model.key!r} given twice (first on line {seen[model.key]})",
-                    self.at(element),
-                    expected="each commercial code once",
+            earlier = by_key.pop(model.key, None)
+            if earlier is not None:
+                # The cell's software keeps the later model whole: couples, size, role, items.
+                self.warn(
+                    f"model {model.key!r} given twice, on lines {earlier.line} and {model.line};"
+                    f" the later one (line {model.line}) is read",
+                    model.line - self.offset,
+                    once=False,
                 )
-            seen[model.key] = model.line
-            models.append(model)
+            by_key[model.key] = model
+        models = list(by_key.values())
         if not models:
             raise self.error("no <code> model inside <data>", self.at(root), expected=_EXPECTED)
         cycle = _mounted_in_itself(models)
@@ -157,11 +187,30 @@ class _Parser:
         return models
 
     def children(self, parent: etree._Element, allowed: tuple[str, ...]) -> list[etree._Element]:
-        return element_children(
-            parent,
-            allowed,
-            lambda reason, child, expected: self.error(reason, self.at(child), expected=expected),
-        )
+        if parent.tag in ("data", "subitem", "item"):
+            return element_children(
+                parent,
+                allowed,
+                lambda reason, child, expected: self.error(reason, self.at(child), expected=expected),
+            )
+        found = []
+        for child in parent:
+            if not isinstance(child.tag, str):
+                continue
+            if child.tag not in allowed:
+                self.warn(f"unknown element <{child.tag}> inside <{parent.tag}> skipped", self.at(child))
+                continue
+            found.append(child)
+        return found
+
+    def warn(self, reason: str, line: int | None, *, once: bool = True) -> None:
+        """An :class:`IngestWarning`; with ``once``, only the first of each reason in the file."""
+        if once:
+            if reason in self.warned:
+                return
+            self.warned.add(reason)
+        where = None if line is None else line + self.offset
+        warnings.warn(IngestWarning(self.path, reason, line=where), stacklevel=3)
 
     def name(self, element: etree._Element) -> str:
         name = (element.get("name") or "").strip()
@@ -183,9 +232,9 @@ class _Parser:
         code = self.name(element)
         role = element.get("parent")
         if role is not None and role.strip() not in _ROLES:
-            raise self.error(
-                f"unknown parent role of model {code!r}", line, found=role, expected="root, child or terminal"
-            )
+            reason = f"unknown parent role {role.strip()!r} of model {code!r} read as none"
+            self.warn(reason, line, once=False)
+            role = None
         dims = {a: element.get(a) for a in ("xdim", "ydim", "zdim")}
         given = [a for a, v in dims.items() if v is not None]
         dimensions: tuple[float, float, float] | None = None
@@ -203,12 +252,17 @@ class _Parser:
                     f"negative dimension of model {code!r}", line, found=(x, y, z), expected="sizes >= 0 m"
                 )
             dimensions = (x, y, z)
-        couples: list[Couple] = []
+        couples: dict[str, Couple] = {}
         children: list[ChildPlacement] = []
-        first_line: dict[str, int] = {}
-        for child in self.children(element, ("couple", "child")):
+        items: dict[str, ModelItem] = {}
+        mounting: Placement | None = None
+        for child in self.children(element, _CODE_CHILDREN):
             name = self.name(child)
-            subitems = self.subitems(child, f"{child.tag} {name!r} of model {code!r}")
+            owner = f"{child.tag} {name!r} of model {code!r}"
+            if child.tag == "item":
+                items[name] = ModelItem(name, self.placement(child, owner), self.line(child))
+                continue
+            subitems = self.subitems(child, owner)
             if child.tag == "child":
                 relative = subitems.get("relative")
                 if relative is None:
@@ -217,25 +271,31 @@ class _Parser:
                         self.at(child),
                         expected='<subitem name="relative">',
                     )
-                children.append(ChildPlacement(name, relative, self.line(child)))
+                if role is not None and role.strip() == "child":
+                    mounting = relative  # this model's own place on the root item of its label
+                else:
+                    children.append(ChildPlacement(name, relative, self.line(child)))
                 continue
-            if name in first_line:
-                raise self.error(
-                    f"couple {name!r} given twice in model {code!r} (first on line {first_line[name]})",
+            if name in couples:
+                self.warn(
+                    f"couple {name!r} given twice in model {code!r}, on lines {couples[name].line} and"
+                    f" {self.line(child)}; the later one is read",
                     self.at(child),
-                    expected="each pin once per model",
+                    once=False,
                 )
-            first_line[name] = self.line(child)
-            couples.append(Couple(name, subitems.get("screw"), subitems.get("hole"), self.line(child)))
+                del couples[name]
+            couples[name] = Couple(name, subitems.get("screw"), subitems.get("hole"), self.line(child))
         commercial = (element.get("commercial") or "").strip() or None
         return ComponentModel(
             code=code,
             commercial=commercial,
             dimensions=dimensions,
             role=role.strip() if role is not None else None,
-            couples=tuple(couples),
+            couples=tuple(couples.values()),
             children=tuple(children),
             line=self.line(element),
+            items=tuple(items.values()),
+            mounting=mounting,
         )
 
     def line(self, element: etree._Element) -> int:
@@ -245,8 +305,12 @@ class _Parser:
         allowed = _SUBITEMS[str(parent.tag)]
         placements: dict[str, Placement] = {}
         for subitem in self.children(parent, ("subitem",)):
-            kind = self.name(subitem)
-            if kind not in allowed:
+            kind = name = self.name(subitem)
+            if kind not in allowed and parent.tag == "couple":
+                # The cell's software takes every subitem of a couple but the hole for its screw.
+                kind = "screw"
+                self.warn(f"subitem {name!r} of a couple read as its screw", self.at(subitem))
+            elif kind not in allowed:
                 raise self.error(
                     f"unknown subitem {kind!r} in {owner}",
                     self.at(subitem),
@@ -255,7 +319,7 @@ class _Parser:
                 )
             if kind in placements:
                 raise self.error(f"subitem {kind!r} given twice in {owner}", self.at(subitem))
-            placements[kind] = self.placement(subitem, f"subitem {kind!r} of {owner}")
+            placements[kind] = self.placement(subitem, f"subitem {name!r} of {owner}")
         return placements
 
     def placement(self, subitem: etree._Element, owner: str) -> Placement:
@@ -287,6 +351,7 @@ class _Parser:
             xyz=(values["x"], values["y"], values["z"]),
             rpy=(values["R"], values["P"], values["Y"]),
             line=self.line(subitem),
+            moving_axes=True,
         )
 
 

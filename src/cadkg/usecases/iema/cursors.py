@@ -18,7 +18,7 @@ from decimal import Decimal, InvalidOperation
 from cadkg.geometry.poses import Pose, Vec3
 from cadkg.mapping.writer import node_iri
 from cadkg.services.session import Session
-from cadkg.usecases.iema.cabinet import CadPin, CellModel, WireStep
+from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
 
 __all__ = [
     "ConnectionEnd",

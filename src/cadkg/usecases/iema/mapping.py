@@ -13,14 +13,17 @@ from cadkg.mapping.dispatch import map_record
 from cadkg.mapping.nodes import (
     component_node,
     dimensions,
+    frame_node,
     model_frame,
     model_node,
     pin_node,
     placement_pose,
 )
-from cadkg.mapping.writer import TripleWriter, term
+from cadkg.mapping.writer import TripleWriter, term, write_pose
 from cadkg.usecases.iema.component_list import ComponentListEntry
 from cadkg.usecases.iema.component_model import ComponentModel
+from cadkg.usecases.iema.marker_table import QrMarker
+from cadkg.usecases.iema.terminal_diagram import DiagramRow
 from cadkg.usecases.iema.terminal_schema import TerminalSlot
 
 __all__: list[str] = []
@@ -49,6 +52,17 @@ def _map_model(w: TripleWriter, model: ComponentModel) -> str:
             if placement is not None:
                 pose = w.iri("model", model.key, "pin", couple.name, kind)
                 w.add(pin, t(f"{kind}Pose"), placement_pose(w, pose, placement, frame))
+    for item in model.items:
+        node_item = w.iri("model", model.key, "item", item.name)
+        w.add(node, t("hasItemFrame"), node_item)
+        w.add(node_item, t("type"), t("ModelItemFrame"))
+        w.add(node_item, t("label"), w.text(item.name))
+        pose = w.iri("model", model.key, "item", item.name, "pose")
+        w.add(node_item, t("hasPose"), placement_pose(w, pose, item.placement, frame))
+    if model.mounting is not None:
+        # In the frame of the root item it is mounted on, which only the cabinet tells.
+        pose = w.iri("model", model.key, "mounting")
+        w.add(node, t("mountingPose"), placement_pose(w, pose, model.mounting, frame))
     for child in model.children:
         place = w.iri("model", model.key, "child", child.name)
         w.add(node, t("hasChildPlacement"), place)
@@ -105,3 +119,45 @@ def _(record: TerminalSlot, w: TripleWriter, source_slug: str) -> None:
             w, PinRef(record.block, record.terminal, level, f"{record.block}:{record.terminal}:{level}")
         )
         w.add(pin, t("onItem"), item)
+
+
+@map_record.register
+def _(record: DiagramRow, w: TripleWriter, source_slug: str) -> None:
+    block = component_node(w, record.strip)
+    if w.once(block + "#block"):
+        w.add(block, t("type"), t("TerminalBlock"))
+    row = w.iri("diagram", source_slug, record.sheet, str(record.line))
+    w.add(block, t("hasDiagramRow"), row)
+    w.add(row, t("type"), t("TerminalDiagramRow"))
+    w.add(row, t("sourceLine"), w.typed(record.line))
+    w.add(row, t("diagramPosition"), w.typed(record.position))
+    w.add(row, t("rowKind"), w.text(record.kind))
+    for predicate, value in (
+        ("diagramTerminal", record.terminal),
+        ("diagramZone", record.zone),
+        ("functionText", record.function),
+        ("terminalType", record.terminal_type),
+    ):
+        if value:
+            w.add(row, t(predicate), w.text(value))
+    for number, (ref, zone) in enumerate(record.destinations, start=1):
+        destination = w.iri("diagram", source_slug, record.sheet, str(record.line), str(number))
+        w.add(row, t("hasDiagramDestination"), destination)
+        w.add(destination, t("diagramDestination"), w.text(ref))
+        if zone:
+            w.add(destination, t("diagramZone"), w.text(zone))
+
+
+@map_record.register
+def _(record: QrMarker, w: TripleWriter, source_slug: str) -> None:
+    item = w.iri("item", record.cad_id)
+    w.add(item, t("type"), t("CadItem"))
+    w.add(item, t("cadId"), w.text(record.cad_id))
+    pose = w.iri("item", record.cad_id, "marker")
+    # The table gives no orientation: the marker is turned as its item.
+    w.add(
+        item,
+        t("markerPose"),
+        write_pose(w, pose, record.position, (0.0, 0.0, 0.0, 1.0), frame_node(w, record.cad_id)),
+    )
+    w.add(pose, t("sourceLine"), w.typed(record.line))

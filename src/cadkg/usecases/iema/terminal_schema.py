@@ -128,6 +128,13 @@ def _integer(value: object) -> int | None:
     return number if number <= _MAX_INTEGER else None
 
 
+def _shown(value: object) -> object:
+    # A whole number a workbook stores as a float is shown as the spreadsheet shows it.
+    if isinstance(value, float) and value.is_integer() and abs(value) < 1e15:
+        return int(value)
+    return value
+
+
 class _Table:
     def __init__(self, path: str | Path, sheet: str | None) -> None:
         self.path = path
@@ -192,7 +199,7 @@ class _Table:
                 "not a position",
                 row,
                 columns["position"],
-                found=raw("position"),
+                found=_shown(raw("position")),
                 expected="a whole number from 1, the place along the block",
             )
         cad_id = text("cad_id")

@@ -7,7 +7,7 @@ from collections.abc import Callable
 from cadkg.geometry.poses import Pose
 from cadkg.mapping.nodes import dimensions
 from cadkg.mapping.writer import TripleWriter, pose_lines, term
-from cadkg.usecases.iema.cabinet import CellModel
+from cadkg.usecases.iema.derive.cabinet import CellModel
 
 __all__ = ["derived_graph", "derived_ntriples"]
 

@@ -21,7 +21,7 @@ from importlib.metadata import version
 from typing import Any
 
 from cadkg.geometry.poses import Pose, Vec3
-from cadkg.usecases.iema.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, Rail, WireStep
+from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, Rail, WireStep
 
 # A kept model is read back only by the cadkg version that wrote it.
 _VERSION = version("cadkg")

@@ -17,7 +17,8 @@ from dataclasses import dataclass, field
 
 from cadkg.geometry.poses import IDENTITY, Pose, Vec3, bounds, box_corners, closest_point_on_segment
 from cadkg.mapping.writer import node_iri
-from cadkg.usecases.iema.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.usecases.iema.derive.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.usecases.iema.terminal_diagram import items_along
 
 __all__ = ["CadPin", "CellModel", "Cluster", "ComponentGeometry", "Rail", "WireStep", "derive_cell"]
 
@@ -136,7 +137,11 @@ class _Deriver:
         self.item_pose: dict[str, Pose] = {}
         self.item_root: dict[str, str] = {}
         self.item_block: dict[str, str] = {}
-        for block, slots in cell.blocks.items():
+        # Strips a terminal diagram describes take their items from the WRI table in order.
+        items = cell.items_of
+        along = {label: items_along(rows, items.get(label, ())) for label, rows in cell.diagrams.items()}
+        self.blocks = {**along, **cell.blocks}
+        for block, slots in self.blocks.items():
             for _, item, _ in slots:
                 self.item_block[item] = block
 
@@ -168,7 +173,7 @@ class _Deriver:
 
     # -- components -------------------------------------------------------------
     def component(self, label: str, items: list[str], default_frame: str) -> ComponentGeometry:
-        block = self.cell.blocks.get(label)
+        block = self.blocks.get(label)
         if block:
             ordered = [item for _, item, _ in block]
             items = ordered + [i for i in items if i not in ordered]
@@ -189,6 +194,10 @@ class _Deriver:
                 self.item_pose[item] = chained[1]
             elif root_model is not None and self.cell.item_model.get(item) in root_model.children:
                 self.item_pose[item] = origin * root_model.children[self.cell.item_model[item]]
+            elif (mounted := self.cell.models.get(self.cell.item_model.get(item, ""))) is not None and (
+                mounted.mounting is not None
+            ):
+                self.item_pose[item] = origin * mounted.mounting
         inverse = origin.inverse()
         corners: list[Vec3] = []
         for item in items:
@@ -204,6 +213,9 @@ class _Deriver:
         centre = ((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2)
         geometry.target = origin.at((centre[0], centre[1], centre[2] + self.cell.approach_distance))
         geometry.corner = origin.at((lo[0], lo[1], hi[2]))
+        # A model's own corner frame replaces the computed one, as the cell's software does.
+        if root_model is not None and "corner" in root_model.items:
+            geometry.corner = origin * root_model.items["corner"]
         if block:
             geometry.terminal_block = True
             first_box = self.box(root)
@@ -244,7 +256,7 @@ class _Deriver:
             (item, model)
             for item in geometry.items
             if (model := self.cell.models.get(self.cell.item_model.get(item, ""))) is not None
-            and (model.screws or model.holes)
+            and (model.screws or model.holes or model.points)
         ]
         for info in wired:
             key = pin_key(info)
@@ -254,7 +266,7 @@ class _Deriver:
             geometry.pins[key] = self._resolve(geometry, info, modelled)
 
     def _terminal_name(self, label: str, item: str) -> str | None:
-        for _, slot_item, terminal in self.cell.blocks.get(label, ()):
+        for _, slot_item, terminal in self.blocks.get(label, ()):
             if slot_item == item:
                 return terminal or f"#{item}"
         return None
@@ -264,8 +276,7 @@ class _Deriver:
         pose = self.item_pose.get(item)
         if model is None or pose is None:
             return CadPin(label, name, None, None, item, iri)
-        screw = model.screws.get(couple)
-        hole = model.holes.get(couple)
+        screw, hole = model.frames(couple)
         return CadPin(
             label,
             name,
@@ -281,7 +292,7 @@ class _Deriver:
         """The frames of a pin a wire names, from its item's model; with the pin's IRI."""
         key, iri = pin_key(info), info.iri
         if geometry.terminal_block:
-            for _, item, terminal in self.cell.blocks.get(geometry.label, ()):
+            for _, item, terminal in self.blocks.get(geometry.label, ()):
                 if terminal == info.name:
                     model = self.cell.models.get(self.cell.item_model.get(item, ""))
                     couples = model.couples if model else []
@@ -293,6 +304,9 @@ class _Deriver:
             return self._pin(geometry.label, key, info.item, info.level or info.name, iri)
         for item, model in modelled:
             if key in model.screws or key in model.holes:
+                return self._pin(geometry.label, key, item, key, iri)
+        for item, model in modelled:
+            if key in model.points:
                 return self._pin(geometry.label, key, item, key, iri)
         return CadPin(geometry.label, key, None, None, None, iri)
 
@@ -361,7 +375,7 @@ def _keypoints(start: CadPin, end: CadPin, axes: list[tuple[Vec3, Vec3]]) -> tup
 def derive_cell(cell: CellInputs) -> CellModel:
     """Compute the cabinet's derived geometry from the inputs read out of the graph."""
     deriver = _Deriver(cell)
-    labels = dict.fromkeys([*cell.items_of, *cell.blocks])
+    labels = dict.fromkeys([*cell.items_of, *deriver.blocks])
     default_frame = "cabinet"
     wired: dict[str, list[PinInfo]] = {}
     for info in cell.pins.values():
@@ -462,23 +476,12 @@ def _step(
         ends.append(components[info.label].pins[pin_key(info)])
     origin, destination = ends
     base = cell.base
+    by_component = [performers.get(node_iri(base, "component", end.label)) for end in (origin, destination)]
     performer = (
-        "robot"
-        if not performers
-        else (
-            performers.get(wire.iri)
-            or performers.get(node_iri(base, "wire", wire.number))
-            or performers.get(node_iri(base, "operation", str(wire.position)))
-            or (
-                "human"
-                if "human"
-                in (
-                    performers.get(node_iri(base, "component", origin.label)),
-                    performers.get(node_iri(base, "component", destination.label)),
-                )
-                else "robot"
-            )
-        )
+        performers.get(wire.iri)
+        or performers.get(node_iri(base, "wire", wire.number))
+        or performers.get(node_iri(base, "operation", str(wire.position)))
+        or ("human" if "human" in by_component else "robot")
     )
     return WireStep(
         position=wire.position,

@@ -45,10 +45,21 @@ class ModelInfo:
     screws: dict[str, Pose] = field(default_factory=dict)
     holes: dict[str, Pose] = field(default_factory=dict)
     children: dict[str, Pose] = field(default_factory=dict)
+    items: dict[str, Pose] = field(default_factory=dict)
+    mounting: Pose | None = None
+    # Connection points of EPLAN's parts management: the hole of a pin no couple places.
+    points: dict[str, Pose] = field(default_factory=dict)
 
     @property
     def couples(self) -> list[str]:
-        return list(dict.fromkeys([*self.screws, *self.holes]))
+        return list(dict.fromkeys([*self.screws, *self.holes, *self.points]))
+
+    def frames(self, couple: str) -> tuple[Pose | None, Pose | None]:
+        """The screw and hole of ``couple``: a component model's couple, else a connection point."""
+        screw, hole = self.screws.get(couple), self.holes.get(couple)
+        if screw is None and hole is None:
+            hole = self.points.get(couple)
+        return screw, hole
 
 
 # Not frozen: a build makes one per pin and one per wire, and a frozen dataclass pays a
@@ -90,6 +101,8 @@ class CellInputs:
     meshes: dict[str, str]
     models: dict[str, ModelInfo]
     blocks: dict[str, list[tuple[int, str, str | None]]]
+    # (position, row kind, terminal) of each strip a terminal diagram describes
+    diagrams: dict[str, list[tuple[int, str, str | None]]]
     pins: dict[str, PinInfo]
     wires: list[WireInfo]
     assignments: list[tuple[str, str, str]]
@@ -152,6 +165,7 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
         meshes=_meshes(tables),
         models=_models(tables),
         blocks=_blocks(tables),
+        diagrams=_diagrams(tables),
         pins=_pins(tables, base) if wiring else {},
         wires=_wires(tables) if wiring else [],
         assignments=[
@@ -305,6 +319,22 @@ def _models(tables: _Tables) -> dict[str, ModelInfo]:
                 for pose in tables.values(kind).get(pin, ()):
                     if pose in poses:
                         into[name] = poses[pose]
+    for node, points in tables.values("definesConnectionPoint").items():
+        for key, point in product(codes.get(node, ()), points):
+            model = models.setdefault(key, ModelInfo(key))
+            for name, pose in product(names.get(point, ()), tables.values("holePose").get(point, ())):
+                if pose in poses:
+                    model.points[name] = poses[pose]
+    labels = tables.values("label")
+    for node, frames in tables.values("hasItemFrame").items():
+        for key, frame in product(codes.get(node, ()), frames):
+            for name, pose in product(labels.get(frame, ()), tables.values("hasPose").get(frame, ())):
+                if pose in poses:
+                    models.setdefault(key, ModelInfo(key)).items[name] = poses[pose]
+    for node, mountings in tables.values("mountingPose").items():
+        for key, pose in product(codes.get(node, ()), mountings):
+            if pose in poses:
+                models.setdefault(key, ModelInfo(key)).mounting = poses[pose]
     for node, placements in tables.values("hasChildPlacement").items():
         for key, placement in product(codes.get(node, ()), placements):
             children = tables.follow(placement, "childModel", "commercialCode")
@@ -326,6 +356,20 @@ def _blocks(tables: _Tables) -> dict[str, list[tuple[int, str, str | None]]]:
     for label, position, ident, term in sorted(rows, key=lambda r: (r[0], r[1], r[2], r[3] or "")):
         blocks[label].append((position, ident, term))
     return dict(blocks)
+
+
+def _diagrams(tables: _Tables) -> dict[str, list[tuple[int, str, str | None]]]:
+    # One file per strip: when several describe it, the one whose path sorts first.
+    paths, labels = tables.values("sourcePath"), tables.values("label")
+    found: dict[str, dict[str, list[tuple[int, str, str | None]]]] = {}
+    for graph, block, row in tables.triples("hasDiagramRow"):
+        position, kind = tables.first(row, "diagramPosition"), tables.first(row, "rowKind")
+        if position is None or kind is None or kind == "summary":
+            continue
+        for label, path in product(labels.get(block, ()), paths.get(graph, ())):
+            rows = found.setdefault(label, {}).setdefault(path, [])
+            rows.append((int(position), kind, tables.first(row, "diagramTerminal")))
+    return {label: sorted(by_path[min(by_path)]) for label, by_path in found.items()}
 
 
 def _pins(tables: _Tables, base: str) -> dict[str, PinInfo]:

@@ -4,7 +4,7 @@ A build has every record in hand before the store has indexed it, so the cabinet
 geometry can be derived while the store is still loading instead of being read back
 out of it afterwards (which at 100k wires cost as much as the load). Each record
 type here adds to :class:`CellInputs` exactly what its mapping writes and
-:func:`cadkg.usecases.iema.extract.extract` reads back; tests build both ways on every
+:func:`cadkg.usecases.iema.derive.extract.extract` reads back; tests build both ways on every
 example cell and compare. A record type not listed makes the collector give up
 (:attr:`InputCollector.complete`), and the build then reads the graph as before.
 """
@@ -14,11 +14,12 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from typing import Any
 
-from cadkg.geometry.frames import quaternion_from_rpy
 from cadkg.geometry.poses import Pose
 from cadkg.ingest.assignments import Assignment
+from cadkg.ingest.eplan.bill_of_materials import BomInfo, BomLine
 from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo
 from cadkg.ingest.eplan.labels import PinRef
+from cadkg.ingest.eplan.parts import PartPins
 from cadkg.ingest.manifest import Manifest
 from cadkg.ingest.placement import Placement
 from cadkg.ingest.scene.records import SceneItem
@@ -27,7 +28,9 @@ from cadkg.mapping.nodes import item_mesh_file, pin_iri, wire_iri
 from cadkg.mapping.writer import graph_iri, node_iri
 from cadkg.usecases.iema.component_list import ComponentListEntry
 from cadkg.usecases.iema.component_model import ComponentModel
-from cadkg.usecases.iema.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.usecases.iema.derive.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.usecases.iema.marker_table import QrMarker
+from cadkg.usecases.iema.terminal_diagram import DiagramRow
 from cadkg.usecases.iema.terminal_schema import TerminalSlot
 
 __all__ = ["InputCollector"]
@@ -42,7 +45,7 @@ def _pose(xyz: Iterable[float], quaternion: Iterable[float]) -> Pose:
 
 
 def _placement(placement: Placement) -> Pose:
-    return _pose(placement.xyz, quaternion_from_rpy(*placement.rpy))
+    return _pose(placement.xyz, placement.quaternion())
 
 
 class _Source:
@@ -71,6 +74,7 @@ class InputCollector:
         self._meshes: dict[str, str] = {}
         self._models: dict[str, ModelInfo] = {}
         self._blocks: dict[str, dict[tuple[int, str, str | None], None]] = {}
+        self._diagrams: dict[str, dict[str, list[tuple[int, str, str | None]]]] = {}
         self._pins: dict[str, PinInfo] = {}
         self._pin_iris: dict[tuple[str, str, str | None], str] = {}
         self._wires: list[WireInfo] = []
@@ -118,6 +122,7 @@ class InputCollector:
             meshes=dict(self._meshes),
             models=self._models,
             blocks={label: sorted(rows, key=lambda r: (r[0], r[1])) for label, rows in self._blocks.items()},
+            diagrams={label: sorted(by_path[min(by_path)]) for label, by_path in self._diagrams.items()},
             pins=self._pins,
             wires=sorted(self._wires, key=lambda w: (w.source, w.position)),
             # As the graph is read: by graph IRI, then by line (none first).
@@ -139,8 +144,8 @@ class InputCollector:
             self._model(record.commercial)
             self._item_model[record.cad_id] = record.commercial
 
-    def _list_info(self, record: ConnectionListInfo, source: _Source) -> None:
-        pass
+    def _nothing(self, record: object, source: _Source) -> None:
+        """Records whose triples the derivation does not read (project data, BOM lines, markers)."""
 
     def _connection(self, record: Connection, source: _Source) -> None:
         wire = wire_iri(self.base, record.wire_number, source.wires)
@@ -170,6 +175,16 @@ class InputCollector:
             self._model(record.part_number)
         for model in record.models:
             self._describe(model, source)
+
+    def _part_pins(self, record: PartPins, source: _Source) -> None:
+        model = self._model(record.part)
+        for point in record.points:
+            model.points[point.name] = _pose(point.position, point.orientation)
+
+    def _diagram_row(self, record: DiagramRow, source: _Source) -> None:
+        if record.kind != "summary":
+            rows = self._diagrams.setdefault(record.strip, {}).setdefault(source.rel, [])
+            rows.append((record.position, record.kind, record.terminal))
 
     def _terminal_slot(self, record: TerminalSlot, source: _Source) -> None:
         self._item(record.block, record.cad_id)
@@ -234,15 +249,24 @@ class InputCollector:
         for child in record.children:
             self._model(child.name)
             model.children[child.name] = _placement(child.relative)
+        for item in record.items:
+            model.items[item.name] = _placement(item.placement)
+        if record.mounting is not None:
+            model.mounting = _placement(record.mounting)
 
 
 _HANDLERS: dict[type, Callable[[InputCollector, Any, _Source], None]] = {
     IdEntry: InputCollector._id_entry,
-    ConnectionListInfo: InputCollector._list_info,
+    ConnectionListInfo: InputCollector._nothing,
+    BomInfo: InputCollector._nothing,
+    BomLine: InputCollector._nothing,
+    QrMarker: InputCollector._nothing,
     Connection: InputCollector._connection,
     ComponentModel: InputCollector._component_model,
     ComponentListEntry: InputCollector._component_list_entry,
     TerminalSlot: InputCollector._terminal_slot,
+    PartPins: InputCollector._part_pins,
+    DiagramRow: InputCollector._diagram_row,
     SceneItem: InputCollector._scene_item,
     Assignment: InputCollector._assignment,
 }

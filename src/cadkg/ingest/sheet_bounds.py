@@ -1,0 +1,315 @@
+"""Limits a workbook must keep before its sheets are read: checked on the XML, as it streams.
+
+The workbook library builds each sheet as a dense block from A1 to its last cell and keeps
+every shared string in memory. One cell in column XFD on each of 60,000 rows (a 100 KB file)
+would make it allocate 30 GB; one inline string of a gigabyte compresses to a megabyte. So the
+sheet parts of an XLSX/XLSM archive and the shared strings are scanned first, in chunks of
+decompressed XML, and a workbook over a limit is refused at the cell that crosses it. The
+scan also notes the formula errors (``#NAME?``) the library would read as empty cells. ODS
+repeat counts are checked by :func:`check_ods_extent`.
+"""
+
+from __future__ import annotations
+
+import re
+import zipfile
+from collections.abc import Callable, Iterator
+from pathlib import Path, PurePosixPath
+
+from lxml import etree
+
+from cadkg.errors import IngestError
+
+__all__ = [
+    "MAX_CELLS",
+    "MAX_COLUMNS",
+    "MAX_ROWS",
+    "MAX_TEXT",
+    "cell_address",
+    "check_ods_extent",
+    "column_letter",
+    "scan_xlsx",
+]
+
+# The most rows and columns a sheet can hold, in Excel and in LibreOffice Calc.
+MAX_ROWS = 1_048_576
+MAX_COLUMNS = 16_384
+# Cells a sheet may span from A1 to its last value: ~60,000 wires of a 32-column list, while
+# the library's block for it (32 bytes a cell) stays under 70 MB.
+MAX_CELLS = 1 << 21
+# Characters a cell can hold in Excel; a run of XML text may be up to six bytes a character.
+MAX_TEXT = 32_767
+_MAX_TEXT_BYTES = 6 * MAX_TEXT
+_MAX_STRINGS = MAX_CELLS
+_MAX_TAG = 1 << 16
+_MAX_PART = 256 << 20  # decompressed bytes of one sheet or the shared strings
+_MAX_SMALL_PART = 16 << 20  # the workbook and its relationships
+_CHUNK = 1 << 20
+_PLAIN_SHEET_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]*$")
+_TAG = re.compile(rb"<(/?)(?:[A-Za-z_][\w.-]*:)?([A-Za-z_][\w.-]*)((?:[^<>\"']|\"[^\"]*\"|'[^']*')*)(/?)>")
+_REF = re.compile(rb"""\br\s*=\s*["']\s*([A-Za-z]*)(\d*)\s*["']""")
+_ROW_NUMBER = re.compile(rb"""\br\s*=\s*["']\s*(\d+)\s*["']""")
+_ERROR = re.compile(rb"""\bt\s*=\s*["']e["']""")
+_DIMENSION = re.compile(rb"""\bref\s*=\s*["']\s*([A-Za-z]+)(\d+)(?::([A-Za-z]+)(\d+))?\s*["']""")
+_COUNT = re.compile(rb"""\buniqueCount\s*=\s*["']\s*(\d+)\s*["']""")
+_RELS = "{http://schemas.openxmlformats.org/package/2006/relationships}Relationship"
+_MAIN = "{http://schemas.openxmlformats.org/spreadsheetml/2006/main}"
+_R_ID = "{http://schemas.openxmlformats.org/officeDocument/2006/relationships}id"
+_TABLE = "{urn:oasis:names:tc:opendocument:xmlns:table:1.0}"
+_OFFICE = "{urn:oasis:names:tc:opendocument:xmlns:office:1.0}"
+_CELLS = (_TABLE + "table-cell", _TABLE + "covered-table-cell")
+
+
+def column_letter(index: int) -> str:
+    """``0`` → ``'A'``, ``25`` → ``'Z'``, ``26`` → ``'AA'`` (0-based column index)."""
+    letters = ""
+    index += 1
+    while index:
+        index, rest = divmod(index - 1, 26)
+        letters = chr(ord("A") + rest) + letters
+    return letters
+
+
+def cell_address(sheet: str, row: int, column: int) -> str:
+    """``'Sheet1!C7'`` for 1-based ``row`` 7 and 0-based ``column`` 2; odd sheet names are quoted."""
+    name = sheet if _PLAIN_SHEET_NAME.match(sheet) else "'" + sheet.replace("'", "''") + "'"
+    return f"{name}!{column_letter(column)}{row}"
+
+
+def _column_index(letters: bytes) -> int:
+    """0-based index of column ``letters``; past the last column when there are too many letters."""
+    if len(letters) > 3:
+        return MAX_COLUMNS
+    index = 0
+    for letter in letters.upper():
+        index = index * 26 + letter - ord("A") + 1
+    return index - 1
+
+
+def _number(digits: bytes, limit: int) -> int:
+    return int(digits) if len(digits) <= 8 else limit + 1
+
+
+class _Limits:
+    """Raises the located error of a workbook over a limit."""
+
+    def __init__(self, path: str | Path, sheet: str) -> None:
+        self.path = path
+        self.sheet = sheet
+
+    def refuse(self, reason: str, row: int, column: int, expected: str) -> IngestError:
+        row = min(max(row, 1), MAX_ROWS + 1)
+        column = min(max(column, 0), MAX_COLUMNS)
+        return IngestError(self.path, reason, cell=cell_address(self.sheet, row, column), expected=expected)
+
+
+def _tags(
+    archive: zipfile.ZipFile, member: str, limit: int, too_long: Callable[[str], IngestError]
+) -> Iterator[tuple[bytes, bytes, bytes, bytes, bytes]]:
+    """(closing slash, local name, attributes, self-closing slash, text before) of each tag of a
+    part, read in chunks; a part, a tag or a run of text over its limit raises ``too_long``."""
+    carry = b""
+    total = 0
+    with archive.open(member) as stream:
+        while chunk := stream.read(_CHUNK):
+            total += len(chunk)
+            if total > limit:
+                raise too_long(f"the part {member} is over {limit >> 20} MiB of XML")
+            data = carry + chunk
+            end = 0
+            for match in _TAG.finditer(data):
+                text = data[end : match.start()]
+                if len(text) > _MAX_TEXT_BYTES:
+                    raise too_long("a cell's text is longer than a cell can hold")
+                yield match.group(1), match.group(2), match.group(3), match.group(4), text
+                end = match.end()
+            carry = data[end:]
+            opened = carry.find(b"<")
+            if (opened < 0 and len(carry) > _MAX_TEXT_BYTES) or opened > _MAX_TEXT_BYTES:
+                raise too_long("a cell's text is longer than a cell can hold")
+            if opened >= 0 and len(carry) - opened > _MAX_TAG:
+                raise too_long("an element's tag is longer than 64 KiB")
+
+
+def _scan_sheet(archive: zipfile.ZipFile, member: str, limits: _Limits) -> dict[tuple[int, int], str]:
+    """Check one sheet part; the formula errors it holds, by (1-based row, 0-based column)."""
+    errors: dict[tuple[int, int], str] = {}
+    row = column = last_row = last_column = cells = 0
+    in_error = in_value = False
+    expected = f"at most {MAX_ROWS:,} rows, {MAX_COLUMNS:,} columns and {MAX_CELLS:,} cells from A1"
+
+    def too_long(reason: str) -> IngestError:
+        return limits.refuse(reason, row, column, f"at most {MAX_TEXT:,} characters a cell")
+
+    for closing, name, attributes, empty, text in _tags(archive, member, _MAX_PART, too_long):
+        if in_value and name == b"v" and closing:
+            errors[(row, column)] = text.decode("utf-8", "replace").strip()[:16]
+        if closing:
+            in_value = False
+            continue
+        if name == b"row":
+            number = _ROW_NUMBER.search(attributes)
+            row = _number(number.group(1), MAX_ROWS) if number else row + 1
+            column = -1
+            if row > MAX_ROWS:
+                raise limits.refuse(
+                    "a row is numbered beyond the last row a sheet can have (a damaged workbook)",
+                    row,
+                    0,
+                    expected,
+                )
+        elif name == b"c":
+            ref = _REF.search(attributes)
+            if ref and ref.group(1):
+                column = _column_index(ref.group(1))
+                row = _number(ref.group(2), MAX_ROWS) if ref.group(2) else row
+            else:
+                column += 1
+            cells += 1
+            if row > MAX_ROWS or column >= MAX_COLUMNS:
+                raise limits.refuse(
+                    "a cell lies beyond the last row or column a sheet can have (a damaged workbook)",
+                    row,
+                    column,
+                    expected,
+                )
+            in_error = bool(_ERROR.search(attributes))
+            if not empty:
+                last_row, last_column = max(last_row, row), max(last_column, column)
+                if last_row * (last_column + 1) > MAX_CELLS or cells > MAX_CELLS:
+                    raise limits.refuse(
+                        "the sheet's cells span more than cadkg reads of a sheet", row, column, expected
+                    )
+        elif name == b"v":
+            in_value = in_error and not empty
+        elif name == b"dimension":
+            _check_dimension(attributes, limits, expected)
+    return errors
+
+
+def _check_dimension(attributes: bytes, limits: _Limits, expected: str) -> None:
+    # The library does not allocate by the declared range, so only a range no sheet can have
+    # is refused: the cells decide how much is read.
+    ref = _DIMENSION.search(attributes)
+    if ref is None:
+        return
+    letters, digits = (ref.group(3), ref.group(4)) if ref.group(3) else (ref.group(1), ref.group(2))
+    row, column = _number(digits, MAX_ROWS), _column_index(letters)
+    if row > MAX_ROWS or column >= MAX_COLUMNS:
+        raise limits.refuse(
+            "the sheet declares a range beyond the last row or column a sheet can have (a damaged workbook)",
+            row,
+            column,
+            expected,
+        )
+
+
+def _scan_strings(archive: zipfile.ZipFile, member: str, path: str | Path) -> None:
+    count = 0
+
+    def refuse(reason: str) -> IngestError:
+        return IngestError(
+            path,
+            f"{reason} (shared string {count})",
+            expected=f"at most {_MAX_STRINGS:,} shared strings of at most {MAX_TEXT:,} characters",
+        )
+
+    for closing, name, attributes, _, _ in _tags(archive, member, _MAX_PART, refuse):
+        if closing:
+            continue
+        if name == b"si":
+            count += 1
+            if count > _MAX_STRINGS:
+                raise refuse("more shared strings than cadkg reads of a workbook")
+        elif name == b"sst":
+            declared = _COUNT.search(attributes)
+            if declared and _number(declared.group(1), _MAX_STRINGS) > _MAX_STRINGS:
+                raise refuse("the workbook declares more shared strings than cadkg reads")
+
+
+def _small_xml(archive: zipfile.ZipFile, member: str, path: str | Path) -> etree._Element:
+    info = archive.getinfo(member)
+    if info.file_size > _MAX_SMALL_PART:
+        raise IngestError(path, f"the part {member} is over {_MAX_SMALL_PART >> 20} MiB")
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
+    return etree.fromstring(archive.read(member), parser)
+
+
+def _parts(archive: zipfile.ZipFile, path: str | Path) -> tuple[list[tuple[str, str]], list[str]]:
+    """(sheet name, part) of each worksheet in tab order, and the shared-strings parts."""
+    workbook = _small_xml(archive, "xl/workbook.xml", path)
+    rels_name = "xl/_rels/workbook.xml.rels"
+    targets: dict[str, str] = {}
+    strings: list[str] = []
+    if rels_name in archive.NameToInfo:
+        for rel in _small_xml(archive, rels_name, path).iter(_RELS):
+            target = rel.get("Target", "")
+            part = target.lstrip("/") if target.startswith("/") else str(PurePosixPath("xl", target))
+            targets[rel.get("Id", "")] = part
+            if rel.get("Type", "").endswith("/sharedStrings"):
+                strings.append(part)
+    sheets = []
+    for sheet in workbook.iter(_MAIN + "sheet"):
+        part = targets.get(sheet.get(_R_ID, ""), "")
+        if part in archive.NameToInfo:
+            sheets.append((sheet.get("name", "Sheet"), part))
+    if not strings and "xl/sharedStrings.xml" in archive.NameToInfo:
+        strings.append("xl/sharedStrings.xml")
+    return sheets, [s for s in strings if s in archive.NameToInfo]
+
+
+def scan_xlsx(path: str | Path) -> dict[str, dict[tuple[int, int], str]]:
+    """Check an XLSX/XLSM workbook against the limits; per sheet name, its formula error cells.
+
+    Raises
+    ------
+    IngestError
+        At the cell (or shared string) over a limit; KeyError and zipfile errors for a damaged
+        archive, which the caller turns into its "corrupt workbook" error.
+    """
+    with zipfile.ZipFile(path) as archive:
+        sheets, strings = _parts(archive, path)
+        for member in strings:
+            _scan_strings(archive, member, path)
+        return {name: _scan_sheet(archive, part, _Limits(path, name)) for name, part in sheets}
+
+
+def check_ods_extent(path: str | Path) -> None:
+    """Refuse repeat counts that expand a sheet past its size, and over-long texts."""
+    with zipfile.ZipFile(path) as archive, archive.open("content.xml") as content:
+        rows = last = width = 0
+        events = etree.iterparse(
+            content, events=("end",), resolve_entities=False, no_network=True, load_dtd=False
+        )
+        for _, element in events:
+            if element.tag == _TABLE + "table":
+                rows = last = width = 0
+                element.clear()
+            elif element.tag == _TABLE + "table-row":
+                columns = filled = 0
+                for cell in element:
+                    if cell.tag in _CELLS:
+                        columns += int(cell.get(_TABLE + "number-columns-repeated", "1"))
+                        if cell.get(_OFFICE + "value-type") is not None or len(cell):
+                            filled = columns
+                rows += int(element.get(_TABLE + "number-rows-repeated", "1"))
+                if filled:
+                    last, width = rows, max(width, filled)
+                if rows > MAX_ROWS or columns > MAX_COLUMNS or last * width > MAX_CELLS:
+                    raise _oversized(path, _table_name(element), rows, columns)
+                element.clear()
+
+
+def _table_name(row: etree._Element) -> str:
+    table = next(row.iterancestors(_TABLE + "table"), None)
+    return "Sheet" if table is None else str(table.get(_TABLE + "name", "Sheet"))
+
+
+def _oversized(path: str | Path, sheet: str, rows: int, columns: int) -> IngestError:
+    return IngestError(
+        path,
+        "repeated rows or cells expand the sheet beyond what a sheet can hold (a damaged workbook)",
+        cell=cell_address(sheet, min(rows, MAX_ROWS + 1), min(columns, MAX_COLUMNS + 1) - 1),
+        expected=f"at most {MAX_ROWS:,} rows, {MAX_COLUMNS:,} columns"
+        f" and {MAX_CELLS:,} cells up to the last value",
+    )

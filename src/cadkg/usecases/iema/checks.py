@@ -1,0 +1,73 @@
+"""IEMA's own checks for ``cadkg validate``: what the terminal diagram and the connection
+lists of one cabinet say differently."""
+
+from __future__ import annotations
+
+from cadkg.query.validate import Finding, source_location
+from cadkg.store import GraphStore
+
+__all__ = ["diagram_against_lists"]
+
+# The terminal diagram's wire ends beside the connection lists' (docs/formats/terminal-diagram.md).
+_DIAGRAM_DESTINATIONS = """
+SELECT DISTINCT ?row ?strip ?terminal ?stripZone ?ref ?zone WHERE {
+  ?block ck:hasDiagramRow ?row ; ck:label ?strip .
+  ?row ck:diagramTerminal ?terminal ; ck:hasDiagramDestination ?destination .
+  ?destination ck:diagramDestination ?ref .
+  OPTIONAL { ?row ck:diagramZone ?stripZone } OPTIONAL { ?destination ck:diagramZone ?zone }
+}
+"""
+_LIST_ENDS = """
+SELECT DISTINCT ?a ?pinA ?levelA ?b ?pinB ?levelB WHERE {
+  ?wire a ck:Wire ; ck:inPlan ?plan ; ck:fromPin ?from ; ck:toPin ?to .
+  ?from ck:pinOf/ck:label ?a ; ck:pinName ?pinA . OPTIONAL { ?from ck:level ?levelA }
+  ?to ck:pinOf/ck:label ?b ; ck:pinName ?pinB . OPTIONAL { ?to ck:level ?levelB }
+}
+"""
+
+
+def diagram_against_lists(kg: GraphStore) -> list[Finding]:
+    """A terminal diagram's destination with no wire in the connection lists: one finding each.
+
+    Only where both can be compared: the destination in the strip's own zone (when the diagram
+    gives zones), and both the strip and the destination's device in some connection list, for
+    a list of the cabinet leaves the field wiring out.
+    """
+    from cadkg.ingest.eplan.labels import PinSyntaxError, parse_pin_ref
+
+    rows = kg.query(_DIAGRAM_DESTINATIONS).rows
+    if not rows:
+        return []
+    wires: set[tuple[str, str, str, str | None]] = set()
+    listed: set[str] = set()
+    for end in kg.query(_LIST_ENDS):
+        a, b = (end["a"], end["pinA"], end["levelA"]), (end["b"], end["pinB"], end["levelB"])
+        for (label, pin, _), (other, other_pin, level) in ((a, b), (b, a)):
+            wires.add((label, pin, f"{other}:{other_pin}", level))
+            listed.add(label)
+    findings = []
+    for row in rows:
+        if row["stripZone"] and row["zone"] and row["stripZone"] != row["zone"]:
+            continue
+        try:
+            ref = parse_pin_ref(row["ref"])
+        except PinSyntaxError:
+            continue  # a device without a pin, or a pin without its device: nothing to compare
+        if row["strip"] not in listed or ref.component not in listed:
+            continue
+        found = {
+            level
+            for s, t, other, level in wires
+            if (s, t) == (row["strip"], row["terminal"]) and other == f"{ref.component}:{ref.pin}"
+        }
+        if not found or (ref.level is not None and ref.level not in found and None not in found):
+            findings.append(
+                Finding(
+                    source_location(kg, row["row"]),
+                    "warning",
+                    "diagram-vs-list",
+                    f"the terminal diagram puts {row['ref']} on {row['strip']}:{row['terminal']};"
+                    " no connection list has that wire",
+                )
+            )
+    return findings
