@@ -380,18 +380,11 @@ def test_items_duplicates_and_child_mounting_as_real_files_write_them(write) -> 
     assert aux.children == () and aux.mounting == _placement((0.045, 0.0, 0.0), ZERO, 16)
 
 
-def test_rotations_turn_about_the_moving_axes(write) -> None:
-    (model,) = read_component_models(
-        write(
-            "m.xml",
-            "<data>\n<code name='M'>\n"
-            + _frame("couple", "1", "0 0 0").replace(
-                "</couple>",
-                _frame("subitem", "hole", "0 0 0", "1.5707963267948966 0 1.5707963267948966") + "</couple>",
-            )
-            + "</code>\n</data>\n",
-        )
-    )
+def test_rotations_turn_about_the_moving_axes(write, recwarn: pytest.WarningsRecorder) -> None:
+    hole_frame = _frame("subitem", "hole", "0 0 0", "1.5707963267948966 0 1.5707963267948966")
+    text = f'<data>\n<code name="M">\n<couple name="1">\n{hole_frame}</couple>\n</code>\n</data>\n'
+    (model,) = read_component_models(write("m.xml", text))
+    assert not recwarn.list
     hole = model.couples[0].hole
     assert hole is not None
     # Rx(π/2)·Rz(π/2): (0.5, -0.5, 0.5, 0.5); REP 103's Rz·Ry·Rx would give (0.5, 0.5, 0.5, 0.5).
