@@ -7,8 +7,11 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
+
+import pytest
 
 import cadkg
 from cadkg.generations import claim
@@ -91,3 +94,30 @@ def test_a_claim_is_exclusive_and_released(tmp_path: Path) -> None:
     assert again is not None
     again.release()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_killed_servers_memory_snapshot_is_removed_by_the_next(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, iema: cadkg.KnowledgeGraph
+) -> None:
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    left = tmp_path / "cadkg-snapshot-0123456789ab"  # a server killed by SIGKILL left it
+    (left / "store").mkdir(parents=True)
+    held = tmp_path / "cadkg-snapshot-ba9876543210"  # another live server's
+    (held / "store").mkdir(parents=True)
+    holder = subprocess.Popen(
+        [sys.executable, "-c", HOLD, str(held)], cwd=ROOT, stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
+        snapshot = iema.snapshot()
+        try:
+            assert snapshot.path.parent.parent == tmp_path
+            assert not left.exists() and held.exists()
+        finally:
+            snapshot.remove()
+        assert not snapshot.path.exists()
+    finally:
+        holder.kill()
+        holder.wait(30)
+    # The killed holder's lock stays with its snapshot, both for the next sweep.
+    assert sorted(p.name for p in tmp_path.iterdir()) == [f".{held.name}.lock", held.name]

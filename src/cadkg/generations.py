@@ -44,6 +44,7 @@ CURRENT = "CURRENT"
 GENERATION = "gen-"  # the name of each generation directory starts so
 SNAPSHOT = ".snapshot-"  # and of each snapshot the query workers read
 _LOCK = ".lock"
+_SCRATCH = "cadkg-snapshot-"  # a snapshot of an in-memory graph, in the temporary directory
 
 
 def read_pointer(directory: Path) -> str | None:
@@ -156,15 +157,21 @@ def remove_stale(directory: Path, keep: str | None = None) -> list[str]:
                 continue
         else:
             continue
-        held = claim(entry, wait=False)
-        if held is None:
-            continue
-        shutil.rmtree(entry, ignore_errors=True)
-        with contextlib.suppress(OSError):
-            (directory / f".{CURRENT}.{entry.name}").unlink()
-        held.release()
-        removed.append(entry.name)
+        if _remove_unheld(entry):
+            with contextlib.suppress(OSError):
+                (directory / f".{CURRENT}.{entry.name}").unlink()
+            removed.append(entry.name)
     return removed
+
+
+def _remove_unheld(entry: Path) -> bool:
+    """Remove ``entry`` unless a live process holds it; whether it was removed."""
+    held = claim(entry, wait=False)
+    if held is None:
+        return False
+    shutil.rmtree(entry, ignore_errors=True)
+    held.release()
+    return True
 
 
 def publish_generation(directory: Path, generation: Path) -> None:
@@ -202,7 +209,8 @@ def take_snapshot(store: ox.Store, directory: Path | None, generation: Path | No
     An on-disk store is checkpointed beside its generations (hard links: cheap, and unaffected
     when a rebuild deletes the generation), under a claim a later build respects; where that
     cannot be written, the generation itself is used. An in-memory store is written whole to a
-    temporary store (about 20 µs a triple).
+    temporary store (about 20 µs a triple), held the same way; those of killed processes are
+    removed by the next one taken.
     """
     if directory is not None and generation is not None:
         target = directory / f"{SNAPSHOT}{uuid.uuid4().hex[:12]}"
@@ -216,8 +224,15 @@ def take_snapshot(store: ox.Store, directory: Path | None, generation: Path | No
             if held is not None:
                 held.release()
             return Snapshot(generation)
-    scratch = Path(tempfile.mkdtemp(prefix="cadkg-snapshot-"))
+    temporary = Path(tempfile.gettempdir())
+    for left in temporary.glob(f"{_SCRATCH}*"):  # by servers killed before they removed theirs
+        with contextlib.suppress(OSError):
+            if left.is_dir() and left.stat().st_uid == os.getuid():
+                _remove_unheld(left)
+    scratch = temporary / f"{_SCRATCH}{uuid.uuid4().hex[:12]}"
+    held = claim(scratch)  # before it exists, so no sweep removes it meanwhile
     try:
+        scratch.mkdir(mode=0o700)
         dump = scratch / "graph.nq"
         store.dump(output=str(dump), format=ox.RdfFormat.N_QUADS)
         copy = ox.Store(str(scratch / "store"))
@@ -227,5 +242,7 @@ def take_snapshot(store: ox.Store, directory: Path | None, generation: Path | No
         dump.unlink()
     except BaseException:
         shutil.rmtree(scratch, ignore_errors=True)
+        if held is not None:
+            held.release()
         raise
-    return Snapshot(scratch / "store", scratch)
+    return Snapshot(scratch / "store", scratch, held)

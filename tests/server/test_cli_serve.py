@@ -5,11 +5,14 @@ from __future__ import annotations
 import json
 import shutil
 import subprocess
+from pathlib import Path
 
+import httpx
 import pytest
 
 from tests.conftest import IEMA
-from tests.server.serving import cadkg_serve
+from tests.server.listener import Listener
+from tests.server.serving import cadkg_serve, cadkg_serve_process
 from tests.test_cli import run
 
 
@@ -39,3 +42,23 @@ def test_serve_answers_curl() -> None:
     assert "x-cadkg-truncated: 3" in head.lower()
     numbers = [row["n"]["value"] for row in json.loads(body)["results"]["bindings"]]
     assert numbers == ["0010.01", "0010.02", "0010.03"]
+
+
+def test_a_cors_origin_is_an_origin() -> None:
+    result = run("serve", IEMA, "--cors", "https://yasgui.example/sparql")
+    assert result.returncode == 2
+    assert "is not a web origin" in result.stderr
+
+
+def test_the_flags_that_open_the_endpoint_reach_it(tmp_path: Path) -> None:
+    with Listener() as listener, cadkg_serve_process(
+        str(IEMA), "--cors", "https://yasgui.example", "--allow-service", listener.url,
+        "--files-root", str(tmp_path),
+    ) as (base, _):  # fmt: skip
+        query = {"query": f"SELECT ?s WHERE {{ SERVICE <{listener.url}> {{ ?s ?p ?o }} }}"}
+        answered = httpx.get(f"{base}/sparql", params=query, headers={"Origin": "https://yasgui.example"})
+        assert answered.status_code == 200, answered.text
+        assert answered.headers["access-control-allow-origin"] == "https://yasgui.example"
+        assert answered.json()["results"]["bindings"][0]["s"]["value"] == "urn:remote:1"
+        # --files-root alone opens nothing: load_files still needs --allow-update and the token.
+        assert httpx.post(f"{base}/api/load_files", data={"paths": "x.xml"}).status_code == 403

@@ -182,6 +182,7 @@ def test_load_files_needs_the_token_and_reads_only_under_the_files_root(tmp_path
             "../../../../../../etc/passwd",
             "/etc/no_such_file",
             "outside/elimco-bench/pin_info.xml",
+            "bench/pin_info.xml\x00.txt",
             f"bench/pin_info.xml,{outside}",
         ):
             response = load(given)

@@ -80,10 +80,13 @@ def _task(name: str) -> Callable[..., Any]:
     return found
 
 
-def _serve(conn: Connection, directory: str, allowed: frozenset[str]) -> None:
-    """A child's life: open the snapshot, say so, then answer requests until the pipe closes."""
+def _serve(conn: Connection, directory: str, allowed: frozenset[str], modules: tuple[str, ...]) -> None:
+    """A child's life: import its tasks' modules (when the fork server has not), open the
+    snapshot, say so, then answer requests until the pipe closes."""
     _die_with_parent()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for module in modules:
+        importlib.import_module(module)
     try:
         graph = GraphStore(ox.Store.read_only(directory), read_only=True)
     except OSError as err:
@@ -120,9 +123,12 @@ def select(graph: GraphStore, sparql: str, bindings: dict[str, Any]) -> QueryRes
 class _Worker:
     """One child process and the pipe to it."""
 
-    def __init__(self, context: ForkServerContext, directory: str, allowed: frozenset[str]) -> None:
+    def __init__(
+        self, context: ForkServerContext, directory: str, allowed: frozenset[str], modules: tuple[str, ...]
+    ) -> None:
         self.conn, theirs = context.Pipe()
-        self.process = context.Process(target=_serve, args=(theirs, directory, allowed), daemon=True)
+        args = (theirs, directory, allowed, modules)
+        self.process = context.Process(target=_serve, args=args, daemon=True)
         self.process.start()
         theirs.close()
         self.ready = False
@@ -187,6 +193,8 @@ class WorkerPool:
     needed (or at :meth:`prestart`) and are kept while they answer in time; one killed is
     replaced at once, so the next query finds it ready. Thread-safe. Queries may reach the
     ``allowed_services`` (by default the graph's own, :attr:`GraphStore.allowed_services`).
+    ``preload`` names the modules of the tasks: the fork server imports them if it starts now,
+    else each worker does before it says it is ready, so no query waits for an import.
 
     Raises
     ------
@@ -206,7 +214,8 @@ class WorkerPool:
         self.snapshot = graph.snapshot()
         allowed = graph.allowed_services if allowed_services is None else allowed_services
         self._allowed = frozenset(allowed)
-        self._context = _context(preload)
+        self._modules = tuple(preload)
+        self._context = _context(self._modules)
         self._slots = threading.BoundedSemaphore(size)
         self._lock = threading.Lock()
         self._idle: list[_Worker] = []
@@ -318,7 +327,7 @@ class WorkerPool:
         self._done(worker)
 
     def _start(self) -> _Worker:
-        worker = _Worker(self._context, str(self.snapshot.path), self._allowed)
+        worker = _Worker(self._context, str(self.snapshot.path), self._allowed, self._modules)
         with self._lock:
             self.started += 1
         return worker

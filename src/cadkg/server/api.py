@@ -179,9 +179,13 @@ def confine(paths: str, root: Path | None) -> str:
     for given in (part.strip() for part in paths.split(",")):
         if not given:
             continue
-        resolved = Path(os.path.realpath(base / given))
+        refused = ProtocolError(403, f"{given!r} is not under the files root of this endpoint")
+        try:
+            resolved = Path(os.path.realpath(base / given))
+        except (ValueError, OSError):  # a NUL byte, a loop of links: no file of the root either
+            raise refused from None
         if not resolved.is_relative_to(base):
-            raise ProtocolError(403, f"{given!r} is not under the files root of this endpoint")
+            raise refused
         confined.append(str(resolved))
     return ",".join(confined)
 

@@ -252,6 +252,13 @@ def serve(
         )
     app = create_app(load, settings, loopback_hosts_only=loopback)
     mode = "read-write (token)" if settings.allow_update else "read-only"
+    # What the operator opened beyond the defaults, said where they will look first.
+    if settings.files_root is not None:
+        mode += f"; load_files under {settings.files_root}"
+    if settings.allowed_services:
+        mode += f"; SERVICE to {', '.join(settings.allowed_services)}"
+    if settings.cors:
+        mode += f"; pages of {', '.join(settings.cors)}"
     shown = f"[{host}]" if ":" in host else host
     print(f"cadkg serve: http://{shown}:{port}/ ({mode})", file=sys.stderr, flush=True)
     missing = page.bundle_missing()
