@@ -224,3 +224,17 @@ def test_every_targeted_shape_of_shapes_ttl_is_compiled() -> None:
     # Every shape gives its own message, so a finding reads the same from either engine.
     assert all(p.message for s in cadkg_shapes().shapes for p in s.properties)
     assert all(c.message for s in cadkg_shapes().shapes for c in s.sparql)
+
+
+def test_well_formed_means_what_xsd_says() -> None:
+    # pySHACL takes whatever Python's float(), int() and Decimal() accept; cadkg takes XSD's
+    # lexical rules (docs/validation.md), so these are checked without pySHACL beside.
+    shapes = """ex:S a sh:NodeShape ; sh:targetNode ex:n ;
+      sh:property [ sh:path ex:v ; sh:or ( [ sh:datatype xsd:decimal ] [ sh:datatype xsd:double ]
+                                            [ sh:datatype xsd:integer ] ) ] ."""
+    bad = ['"1e5"^^xsd:decimal', '" 1.5"^^xsd:double', '"1_000"^^xsd:integer', '"inf"^^xsd:decimal']
+    good = ['"1.5"^^xsd:decimal', '"1e5"^^xsd:double', '"INF"^^xsd:double', '"-7"^^xsd:integer']
+    for value, broken in [(v, True) for v in bad] + [(v, False) for v in good]:
+        kg = _kg(a=f"ex:n ex:v {value} .")
+        results = check_shapes(kg, kg.named_graphs(), read_shapes(PREFIXES + shapes))
+        assert bool(results) is broken, value
