@@ -238,3 +238,15 @@ def test_well_formed_means_what_xsd_says() -> None:
         kg = _kg(a=f"ex:n ex:v {value} .")
         results = check_shapes(kg, kg.named_graphs(), read_shapes(PREFIXES + shapes))
         assert bool(results) is broken, value
+
+
+def test_a_sparql_constraint_without_a_message_says_the_shape_s() -> None:
+    shapes = """ex:S a sh:NodeShape ; sh:targetNode ex:n ; sh:message "{$this} has {?value}" ;
+      sh:sparql [ sh:select "SELECT $this ?value WHERE { $this <https://example.org/p> ?value }" ] ."""
+    kg = _kg(a="ex:n ex:p 7 .")
+    ours = _check(shapes, kg)
+    assert [r.message for r in ours] == [f"{EX}n has 7"]
+    assert [r.message for r in pyshacl_results(kg, kg.named_graphs(), PREFIXES + shapes)] == [f"{EX}n has 7"]
+    both = shapes.replace(" ] .", ' ; sh:message "two" ] .')
+    with pytest.raises(UnsupportedShapeError, match="sh:message on the shape and on its SPARQL"):
+        read_shapes(PREFIXES + both)
