@@ -2,7 +2,8 @@
 
 For each size a complete synthetic cabinet (``synthetic.write_cabinet``) is built into a
 store directory, and then, each in a fresh process (so nothing is warm in Python; the
-operating system's file cache is warm for every row alike), median of ``--reps`` runs:
+operating system's file cache is warm for every row alike), the median of ``--reps`` runs
+with the lowest and highest:
 
 - **kept**: ``cadkg.open(store).cell_model()``, which reads ``gen-*/cell-model.json``;
 - **from the graph** (the baseline): ``derive_cell(extract(kg))`` on the same opened store,
@@ -34,6 +35,8 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from bench_build import reference_loop_seconds
+from medians import spread
 from synthetic import write_cabinet
 
 CHILD_FLAG = "--child-job"
@@ -108,13 +111,13 @@ def measure(wires: int, reps: int, workdir: Path) -> dict[str, Any]:
         "triples": triples,
         "build": build,
         "mib": kept_file.stat().st_size / 2**20,
-        "kept": kept_s,
-        "extract": extract_s,
-        "derive": derive_s,
+        "kept": [r["seconds"] for r in kept],
+        "extract": [r["extract"] for r in graph],
+        "derive": [r["derive"] for r in graph],
         "ratio": (extract_s + derive_s) / kept_s,
-        "placements": statistics.median(r["seconds"] for r in placed),
-        "call_kept": statistics.median(call_kept),
-        "call_without": statistics.median(call_without),
+        "placements": [r["seconds"] for r in placed],
+        "call_kept": call_kept,
+        "call_without": call_without,
     }
 
 
@@ -132,7 +135,8 @@ def main() -> int:
 
     print(
         f"Python {platform.python_version()}, cadkg {cadkg.__version__}, "
-        f"pyoxigraph {pyoxigraph.__version__}, median of {args.reps} fresh processes per figure\n"
+        f"pyoxigraph {pyoxigraph.__version__}, median (lowest–highest) of {args.reps} fresh processes "
+        f"per figure; reference loop {reference_loop_seconds():.2f} s\n"
     )
     print(
         "| wires | triples | build on disk s | kept model MiB | kept s | from the graph: extract s "
@@ -143,10 +147,9 @@ def main() -> int:
         with tempfile.TemporaryDirectory(prefix="cadkg-reopen-") as tmp:
             r = measure(wires, args.reps, Path(tmp))
         print(
-            f"| {r['wires']:,} | {r['triples']:,} | {r['build']:.1f} | {r['mib']:.1f} | {r['kept']:.2f} "
-            f"| {r['extract']:.2f} | {r['derive']:.2f} | {r['ratio']:.1f}× | {r['placements']:.2f} "
-            f"| {r['call_kept']:.2f} "
-            f"| {r['call_without']:.2f} |",
+            f"| {r['wires']:,} | {r['triples']:,} | {r['build']:.1f} | {r['mib']:.1f} | {spread(r['kept'])} "
+            f"| {spread(r['extract'])} | {spread(r['derive'])} | {r['ratio']:.1f}× "
+            f"| {spread(r['placements'])} | {spread(r['call_kept'])} | {spread(r['call_without'])} |",
             flush=True,
         )
     return 0

@@ -224,3 +224,29 @@ def test_every_targeted_shape_of_shapes_ttl_is_compiled() -> None:
     # Every shape gives its own message, so a finding reads the same from either engine.
     assert all(p.message for s in cadkg_shapes().shapes for p in s.properties)
     assert all(c.message for s in cadkg_shapes().shapes for c in s.sparql)
+
+
+def test_well_formed_means_what_xsd_says() -> None:
+    # pySHACL takes whatever Python's float(), int() and Decimal() accept; cadkg takes XSD's
+    # lexical rules (docs/validation.md), so these are checked without pySHACL beside.
+    shapes = """ex:S a sh:NodeShape ; sh:targetNode ex:n ;
+      sh:property [ sh:path ex:v ; sh:or ( [ sh:datatype xsd:decimal ] [ sh:datatype xsd:double ]
+                                            [ sh:datatype xsd:integer ] ) ] ."""
+    bad = ['"1e5"^^xsd:decimal', '" 1.5"^^xsd:double', '"1_000"^^xsd:integer', '"inf"^^xsd:decimal']
+    good = ['"1.5"^^xsd:decimal', '"1e5"^^xsd:double', '"INF"^^xsd:double', '"-7"^^xsd:integer']
+    for value, broken in [(v, True) for v in bad] + [(v, False) for v in good]:
+        kg = _kg(a=f"ex:n ex:v {value} .")
+        results = check_shapes(kg, kg.named_graphs(), read_shapes(PREFIXES + shapes))
+        assert bool(results) is broken, value
+
+
+def test_a_sparql_constraint_without_a_message_says_the_shape_s() -> None:
+    shapes = """ex:S a sh:NodeShape ; sh:targetNode ex:n ; sh:message "{$this} has {?value}" ;
+      sh:sparql [ sh:select "SELECT $this ?value WHERE { $this <https://example.org/p> ?value }" ] ."""
+    kg = _kg(a="ex:n ex:p 7 .")
+    ours = _check(shapes, kg)
+    assert [r.message for r in ours] == [f"{EX}n has 7"]
+    assert [r.message for r in pyshacl_results(kg, kg.named_graphs(), PREFIXES + shapes)] == [f"{EX}n has 7"]
+    both = shapes.replace(" ] .", ' ; sh:message "two" ] .')
+    with pytest.raises(UnsupportedShapeError, match="sh:message on the shape and on its SPARQL"):
+        read_shapes(PREFIXES + both)

@@ -223,6 +223,15 @@ def test_export_reads_the_graphs_back(remote: RemoteGraph, embedded: KnowledgeGr
     assert len(there) == len(list(embedded.graph_quads(wanted[0])))
 
 
+def test_validate_finds_what_it_finds_on_the_embedded_store(
+    remote: RemoteGraph, embedded: KnowledgeGraph
+) -> None:
+    from cadkg.query.validate import validate
+
+    # The shapes run on a copy of the remote graphs (their compiled queries are pyoxigraph's).
+    assert validate(remote) == validate(embedded)
+
+
 def test_update_push_in_batches_keeps_blank_nodes(
     virtuoso: dict[str, str], auth: Auth, remote: RemoteGraph, embedded: KnowledgeGraph
 ) -> None:

@@ -5,15 +5,15 @@ Only what the compiler can check is accepted: single-predicate paths; the target
 SHACL-AF SPARQL targets; ``sh:minCount``, ``sh:maxCount``, ``sh:datatype``, ``sh:class``,
 ``sh:nodeKind``, ``sh:in``, the four value ranges, ``sh:pattern``, ``sh:disjoint``, ``sh:or`` of
 such value checks, and SPARQL-based constraints (``sh:sparql`` with ``sh:select``). Any other
-``sh:`` term on a shape is an :class:`UnsupportedShapeError` error naming the shape and the term, so
-a shape the compiler cannot run is never skipped in silence.
+``sh:`` term on a shape is an :class:`UnsupportedShapeError` naming the shape and the term,
+so a shape the compiler cannot run is never skipped in silence.
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, replace
 from functools import cache
 from pathlib import Path
 
@@ -119,7 +119,7 @@ _RANGES = {
 }
 _NODE_KINDS = {"IRI", "BlankNode", "Literal", "BlankNodeOrIRI", "BlankNodeOrLiteral", "IRIOrLiteral"}
 # Datatypes whose ill-typed literals the compiler can tell from well-typed ones.
-DATATYPES = frozenset(
+_DATATYPES = frozenset(
     _XSD + name for name in ("string", "boolean", "integer", "decimal", "double", "float", "dateTime", "date")
 )
 
@@ -173,7 +173,7 @@ class NodeShape:
 class ShapeSet:
     """The targeted shapes of a shapes graph (a targeted property shape is a node shape of one property)."""
 
-    shapes: tuple[NodeShape, ...] = field(default_factory=tuple)
+    shapes: tuple[NodeShape, ...] = ()
 
 
 # What the reader accepts on each kind of node; rdfs: and other vocabularies are documentation.
@@ -290,11 +290,17 @@ class _Reader:
         return SparqlConstraint(_name(node), select.value, self.message(node), self.prologue(node))
 
     def constraints(self, node: Term) -> tuple[SparqlConstraint, ...]:
-        return tuple(
-            self.sparql(c, _SPARQL_ALLOWED)
-            for c in self.objects(node, "sparql")
-            if not self.flag(c, "deactivated")
-        )
+        """The shape's SPARQL constraints; one without a message takes the shape's."""
+        shape_message = self.message(node)
+        found = []
+        for c in self.objects(node, "sparql"):
+            if self.flag(c, "deactivated"):
+                continue
+            constraint = self.sparql(c, _SPARQL_ALLOWED)
+            if shape_message is not None and constraint.message is not None:
+                raise self.unsupported(node, "a sh:message on the shape and on its SPARQL constraint")
+            found.append(replace(constraint, message=constraint.message or shape_message))
+        return tuple(found)
 
     def targets(self, node: Term) -> Targets:
         def iris(local: str) -> tuple[str, ...]:
@@ -325,7 +331,7 @@ class _Reader:
         checks: list[ValueCheck] = []
         datatype = self.iri(node, "datatype")
         if datatype is not None:
-            if datatype not in DATATYPES:
+            if datatype not in _DATATYPES:
                 raise self.unsupported(node, f"sh:datatype <{datatype}>")
             checks.append(Datatype(datatype))
         for cls in self.objects(node, "class"):
