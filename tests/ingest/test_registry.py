@@ -36,6 +36,7 @@ BUILTIN_KINDS = [
     "pin-info",
     "terminal-schema",
     "tools",
+    "vec",
     "vrml",
     "wri",
     "x3d",
