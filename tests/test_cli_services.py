@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from tests.usecases.iema.test_services import MINI
 from tests.test_cli import run
+from tests.usecases.iema.test_services import MINI
 
 
 @pytest.fixture
