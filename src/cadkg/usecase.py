@@ -14,7 +14,7 @@ way. Importing the use case's package registers the mappings of its records
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from importlib.resources.abc import Traversable
 from pathlib import Path
@@ -25,7 +25,7 @@ from cadkg.services.display import Frame, MarkerSpec
 from cadkg.services.service import Service
 from cadkg.services.session import Session
 
-__all__ = ["Collector", "Derivation", "ExportView", "UseCase"]
+__all__ = ["Collector", "Derivation", "ExportOptions", "ExportView", "UseCase"]
 
 
 class Collector(Protocol):
@@ -60,8 +60,17 @@ class Derivation:
     base: Callable[[Any], str] = lambda model: str(getattr(model, "base", ""))
 
 
-ExportView = Callable[[Any, str, str | None], None]
-"""``view(graph, output, harness)``: writes one view of the graph (``cadkg export --view``)."""
+@dataclass(frozen=True)
+class ExportOptions:
+    """How ``cadkg export --view`` asks for a view: the modules of one variant, yEd graphics."""
+
+    modules: tuple[str, ...] = ()
+    yed: bool = False
+
+
+ExportView = Callable[[Any, str, str | None, ExportOptions], Sequence[str]]
+"""``view(graph, output, harness, options)``: writes one view of the graph (``cadkg export
+--view``) and returns the warnings to show (an ambiguous name ...)."""
 
 
 @dataclass(frozen=True)

@@ -43,6 +43,7 @@ BUILTIN_KINDS = [
     "pin-info",
     "terminal-diagram",
     "terminal-schema",
+    "vec",
     "vrml",
     "wri",
     "x3d",

@@ -30,6 +30,7 @@ from cadkg.ingest.manifest import load_manifest
 from cadkg.query.named import coerce_params, named_queries
 from cadkg.query.validate import validate as run_validation
 from cadkg.store import EXPORT_FORMATS
+from cadkg.usecase import ExportOptions
 
 __all__ = ["build", "export", "kinds", "push", "queries", "query", "validate"]
 
@@ -245,13 +246,28 @@ def validate(target: str, no_shacl: bool, strict: bool) -> None:
 @click.option(
     "--harness", default=None, metavar="ID", help="The harness of --view (when the store holds several)."
 )
+@click.option(
+    "--modules",
+    default=None,
+    metavar="M1,M2",
+    help="The variant of --view holding these modules of a modular harness (or a configuration's name).",
+)
+@click.option("--yed", is_flag=True, help="GraphML views: add yEd's node geometry and labels.")
 @guarded
-def export(target: str, fmt: str | None, output: str, view: str | None, harness: str | None) -> None:
+def export(
+    target: str,
+    fmt: str | None,
+    output: str,
+    view: str | None,
+    harness: str | None,
+    modules: str | None,
+    yed: bool,
+) -> None:
     """Write the graph as Turtle, N-Triples, N-Quads, TriG, JSON-LD or GraphML."""
     fmt = fmt or ("" if output == "-" else Path(output).suffix.lstrip(".").lower())
     if fmt not in (*EXPORT_FORMATS, "graphml"):
         raise click.BadParameter(f"cannot tell the format from {output!r}; give --format")
-    if harness is not None and view in (None, "structure"):
+    if (harness is not None or modules is not None or yed) and view in (None, "structure"):
         view = "topology"
     views = {name: write for case in registry.use_cases() for name, write in case.views.items()}
     if view not in (None, "structure", *views):
@@ -262,7 +278,9 @@ def export(target: str, fmt: str | None, output: str, view: str | None, harness:
     what = f"the {view} view" if view in views else "the graph"
     with err.status(f"exporting {what} as {fmt}"), write_output(output, "." + fmt) as path:
         if view in views:
-            views[view](kg, str(path), harness)
+            options = ExportOptions(tuple(m.strip() for m in (modules or "").split(",") if m.strip()), yed)
+            for warning in views[view](kg, str(path), harness, options):
+                err.print(f"cadkg: warning: {warning}", markup=False)
         else:
             kg.export(path, fmt)
     if output != "-":

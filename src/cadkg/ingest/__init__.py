@@ -6,7 +6,7 @@ per format that no single use case owns.
 - ``text``, ``sheet``, ``xml_input``: encodings and CSV sniffing, workbooks, untrusted XML;
 - ``wri``: WRI ID tables; ``assignments``: the robot/human overlay; ``placement``: poses as files state them;
 - ``eplan/``: EPLAN device tags and connection lists; ``scene/``: the X3D/VRML scene graph;
-  ``harness/``: harness records and KBL.
+  ``harness/``: harness records, KBL and VEC.
 
 Every reader returns typed records (frozen dataclasses) and knows nothing of triples.
 """

@@ -1,5 +1,5 @@
 """The formats no single use case owns: WRI tables, EPLAN connection lists, X3D and VRML
-scenes, KBL harnesses, robot/human assignments. Use cases add their own (see cadkg.usecase)."""
+scenes, KBL and VEC harnesses, robot/human assignments. Use cases add their own (see cadkg.usecase)."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from cadkg.ingest.eplan.bill_of_materials import looks_like_bill_of_materials, r
 from cadkg.ingest.eplan.connection_files import iter_connections, looks_like_connections, read_connections
 from cadkg.ingest.eplan.parts import looks_like_parts_management, read_parts_management
 from cadkg.ingest.harness.kbl import looks_like_kbl, read_kbl
+from cadkg.ingest.harness.vec import looks_like_vec, read_vec
 from cadkg.ingest.reader import Reader
 from cadkg.ingest.scene.read import read_vrml, read_x3d
 from cadkg.ingest.scene.vrml import looks_like_vrml97
@@ -70,7 +71,14 @@ READERS: tuple[Reader, ...] = (
         kind="kbl",
         suffixes=(".kbl",),
         read=read_kbl,
-        description="KBL harness (VDA 4964) 2.3 SR-1, 2.4: connectors, topology, wires",
+        description="KBL harness (VDA 4964) 2.3 SR-1, 2.4, 2.4 SR-1: connectors, topology, wires, modules",
         sniff=looks_like_kbl,
+    ),
+    Reader(
+        kind="vec",
+        suffixes=(".vec", ".xml"),
+        read=read_vec,
+        description="VEC harness description (VDA 4968) 1.1 to 2.1: connectors, topology, wires, variants",
+        sniff=looks_like_vec,
     ),
 )

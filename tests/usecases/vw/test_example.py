@@ -85,7 +85,7 @@ def test_call_harness_topology(store: Path) -> None:
         "length_m": 0.5,
         "segments": ["segment/DOOR-L/S1", "segment/DOOR-L/S2"],
     }
-    assert data["graphml"].startswith("<graphml ")
+    assert data["graphml"].startswith("<?xml version='1.0' encoding='utf-8'?>\n<graphml ")
     services = run("services")
     assert "harness_topology" in services.stdout and "vw" in services.stdout
 

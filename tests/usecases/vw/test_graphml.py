@@ -17,6 +17,7 @@ import cadkg
 from cadkg.errors import QueryError
 from cadkg.graph import KnowledgeGraph
 from cadkg.usecases.vw.graphml import graphml_text, harness_graph, harness_graphml, write_harness_graphml
+from cadkg.usecases.vw.views import View
 from tests.conftest import ROOT
 from tests.test_cli import run
 from tests.usecases.vw.test_views import VW, one_harness_cell, vw  # noqa: F401 - the fixture
@@ -78,6 +79,7 @@ def test_topology_golden_by_hand() -> None:
     read = nx.read_graphml(golden("DOOR-L", "topology"), force_multigraph=True)
     assert read.nodes["node/DOOR-L/B2"] == {
         "label": "B2",
+        "node_name": "B2",
         "kind": "fixing",
         "degree": 3,
         "connectors": "",
@@ -102,10 +104,14 @@ def test_output_is_stable() -> None:
 
 
 def test_lists_are_refused() -> None:
-    graph = nx.MultiGraph()
-    graph.add_node("a", wires=["W1", "W2"])
-    with pytest.raises(TypeError, match="node a: attribute 'wires' is a list, not a scalar"):
-        graphml_text(graph)
+    view = View(
+        {"harness": "H", "harness_id": "harness/H", "view": "topology"}, [("a", {"fixings": ["F1"]})], []
+    )
+    with pytest.raises(TypeError, match="node a: attribute 'fixings' is not a text"):
+        graphml_text(view)
+    view.nodes = [("a", {"colour": "red"})]
+    with pytest.raises(TypeError, match="a node attribute GraphML does not declare: 'colour'"):
+        graphml_text(view)
 
 
 def test_unknown_view(vw: KnowledgeGraph) -> None:  # noqa: F811
@@ -114,8 +120,11 @@ def test_unknown_view(vw: KnowledgeGraph) -> None:  # noqa: F811
 
 
 def test_write_to_a_file(vw: KnowledgeGraph, tmp_path: Path) -> None:  # noqa: F811
-    path = write_harness_graphml(vw, tmp_path / "door.graphml", "topology", "DOOR-L")
+    path = tmp_path / "door.graphml"
+    view = write_harness_graphml(vw, path, "topology", "DOOR-L")
     assert path.read_text(encoding="utf-8") == golden("DOOR-L", "topology").read_text(encoding="utf-8")
+    assert (len(view.nodes), len(view.edges), view.warnings) == (6, 5, [])
+    assert [p.name for p in tmp_path.iterdir()] == ["door.graphml"]  # no partial file left beside
 
 
 # -- the command line ---------------------------------------------------------------------------------

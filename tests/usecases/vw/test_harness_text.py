@@ -20,6 +20,7 @@ from cadkg.ingest.harness.records import (
     HarnessSegment,
     HarnessWire,
     WireEnd,
+    WireRoute,
 )
 from cadkg.registry import sniff_kind
 from cadkg.usecases.vw.harness_text import FILE_FORMAT, read_harness_text
@@ -57,7 +58,7 @@ def test_door_harness_by_hand() -> None:
         ("X4", ("1", "2", "3")),
     ]
     assert connectors[1] == HarnessConnector(
-        "DOOR-L", "X2", "connector", ("1", "2", "3", "4"), "door control unit", 6
+        "DOOR-L", "X2", "X2", "connector", ("1", "2", "3", "4"), "door control unit", 6
     )
     assert [(n.ident, n.connectors) for n in of(records, HarnessNode)] == [
         ("X1", ("X1",)),
@@ -79,7 +80,7 @@ def test_door_harness_by_hand() -> None:
         ident="W3",
         label="W3",
         ends=(WireEnd("X1", "3"), WireEnd("X3", "1")),
-        route=("S1", "S3", "S4"),  # found: the one chain of segments from X1 to X3
+        routes=(WireRoute("W3", ("S1", "S3", "S4")),),  # found: the one chain of segments from X1 to X3
         section_mm2=Decimal("1.5"),
         colour="RD/WH",
         length_m=Decimal("0.75"),
@@ -98,12 +99,12 @@ def test_door_harness_by_hand() -> None:
         "W7": ("S1", "S3", "S5"),
     }
     assert of(records, HarnessFixing) == [
-        HarnessFixing("DOOR-L", "F1", "clip at the door hinge", (), ("S1",), 29),
-        HarnessFixing("DOOR-L", "F2", "cable tie", ("B2",), (), 30),
+        HarnessFixing("DOOR-L", "F1", "F1", "clip at the door hinge", (), ("S1",), 29),
+        HarnessFixing("DOOR-L", "F2", "F2", "cable tie", ("B2",), (), 30),
     ]
     assert of(records, HarnessProtection) == [
-        HarnessProtection("DOOR-L", "P1", "corrugated tube through the hinge", ("S1",), None, 31),
-        HarnessProtection("DOOR-L", "P2", "tape", ("S3", "S4"), None, 32),
+        HarnessProtection("DOOR-L", "P1", "P1", "corrugated tube through the hinge", ("S1",), None, 31),
+        HarnessProtection("DOOR-L", "P2", "P2", "tape", ("S3", "S4"), None, 32),
     ]
 
 
@@ -130,7 +131,7 @@ def test_connector_at_a_node_cable_cores_and_forward_references(write: Write) ->
     assert of(records, Harness)[0].description == "two words"
     assert [(n.ident, n.connectors) for n in of(records, HarnessNode)] == [("B", ("B",)), ("N", ("A",))]
     assert of(records, HarnessConnector)[0].cavities == ("1", "2", "S")
-    assert of(records, HarnessCable) == [HarnessCable("H", "K", Decimal(1), 0.005, 4)]
+    assert of(records, HarnessCable) == [HarnessCable("H", "K", "K", Decimal(1), 0.005, 4)]
     (wire,) = of(records, HarnessWire)
     assert (wire.cable, wire.signal, wire.section_mm2, wire.route) == ("K", "KL 30", Decimal("0.5"), ("S1",))
     assert of(records, HarnessSegment)[0].section_mm2 == Decimal("12.5")
@@ -221,3 +222,29 @@ def test_the_harness_comes_first(write: Write) -> None:
 @pytest.mark.parametrize(("text", "reason"), [("", "empty"), ("# only a comment\n\n", "no statements")])
 def test_empty(write: Write, text: str, reason: str) -> None:
     assert reason in str(error(write, text))
+
+
+def test_positions_of_nodes_and_connectors(write: Write) -> None:
+    """position= gives a node's place (a connector's: that of the node named like it), in metres."""
+    text = HEAD + "node M position=1.2m,-350mm,40cm\nconnector C cavities=1 position=0m,0m,0m\n"
+    nodes = {n.ident: n.position for n in of(read(write, text), HarnessNode)}
+    assert nodes == {"A": None, "B": None, "C": (0.0, 0.0, 0.0), "M": (1.2, -0.35, 0.4)}
+
+
+@pytest.mark.parametrize(
+    ("body", "found", "reason"),
+    [
+        ("node M position=1,2\n", "1,2", "malformed position"),
+        ("node M position=1m,2m,3\n", "1m,2m,3", "malformed position"),
+        (
+            "node M\nconnector C cavities=1 at=M position=1m,2m,3m\n",
+            "at=M",
+            "connector C has both at= and position=",
+        ),
+    ],
+)
+def test_bad_positions(write: Write, body: str, found: str, reason: str) -> None:
+    with pytest.raises(IngestError) as caught:
+        read(write, HEAD + body)
+    assert (caught.value.found, caught.value.line) == (found, HEAD.count("\n") + body.count("\n"))
+    assert reason in str(caught.value)

@@ -1,1 +1,1 @@
-"""Wire harness descriptions: the records every harness format reads into (``records``) and KBL."""
+"""Wire harness descriptions: the records every harness format reads into (``records``), KBL and VEC."""

@@ -4,9 +4,12 @@ KBL is the XML a harness design tool exports: parts (housings, wires, terminals)
 of the container, their occurrences inside ``<Harness>``, and the harness topology (nodes,
 segments, routings) beside it. cadkg reads what a robot cell or a detection system needs:
 connector occurrences (and component boxes) with their cavities, wires and cores with the
-cavities their ends are in, cables, nodes, segments with length and bundle section, the
-segments each wire is routed through, fixings and protections. Lengths become metres.
+cavities their ends are in, cables, nodes with their positions, segments with length and
+bundle section, the segments each wire is routed through, fixings and protections, and the
+modules (variants) of a modular harness. Lengths become metres, positions metres in REP 103.
 
+Things are keyed by their XML ``id`` (unique in a file); their ``Id`` (a connector's
+designation, which repeats across the modules of a 150 % harness) and wire numbers are labels.
 Every reference (an IDREF) is resolved while reading; one that names nothing, or the wrong
 kind of thing, is a located error, so a harness is never half read. The file is untrusted
 XML: no DTD, no entities, no network. See docs/formats/kbl.md.
@@ -14,14 +17,13 @@ XML: no DTD, no entities, no network. See docs/formats/kbl.md.
 
 from __future__ import annotations
 
-import warnings
 from collections import defaultdict
-from dataclasses import dataclass
-from decimal import Decimal
+from collections.abc import Iterable
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from cadkg.errors import IngestError, IngestWarning
+from cadkg.errors import IngestError
 from cadkg.ingest.harness.kbl_document import (
     EXPECTED,
     KBL_NAMESPACE,
@@ -30,7 +32,9 @@ from cadkg.ingest.harness.kbl_document import (
     child_text,
     first_child,
 )
-from cadkg.ingest.harness.kbl_topology import KblTopology, Placement
+from cadkg.ingest.harness.kbl_modules import KblModules
+from cadkg.ingest.harness.kbl_parts import KblParts, WireInfo
+from cadkg.ingest.harness.kbl_topology import Placement
 from cadkg.ingest.harness.records import (
     Harness,
     HarnessCable,
@@ -41,14 +45,13 @@ from cadkg.ingest.harness.records import (
     HarnessRecord,
     HarnessSegment,
     HarnessWire,
-    WireEnd,
+    WireRoute,
 )
+from cadkg.ingest.harness.variants import Modules, as_tuple, topology_modules, union, walk
 from cadkg.ingest.text import xml_document
 from cadkg.ingest.xml_input import parse_untrusted_xml
 
 __all__ = ["KBL_NAMESPACE", "KBL_VERSIONS", "looks_like_kbl", "read_kbl"]
-
-_XSI_TYPE = "{http://www.w3.org/2001/XMLSchema-instance}type"
 
 
 def looks_like_kbl(head: bytes) -> bool:
@@ -57,7 +60,8 @@ def looks_like_kbl(head: bytes) -> bool:
 
 
 def read_kbl(path: str | Path) -> list[HarnessRecord]:
-    """Read one KBL file: the harness, its connectors, topology, wires, fixings and protections.
+    """Read one KBL file: the harness, its connectors, topology, wires, fixings, protections
+    and modules.
 
     Raises
     ------
@@ -65,9 +69,10 @@ def read_kbl(path: str | Path) -> list[HarnessRecord]:
         On an unreadable, empty or binary file, a DOCTYPE or entity declaration, malformed
         XML, a root that is not a KBL container, a ``version_id`` other than 2.3 SR-1, 2.4 or
         2.4 SR-1, a missing ``<Harness>``, a reference (IDREF) naming nothing or the wrong kind
-        of element (a wire to a missing cavity ...), a malformed number, a unit that is not a
-        length or area where one is needed, and a connector Id or XML id given twice; located
-        at file:line.
+        of element (a wire to a missing cavity ...), a malformed number or point, a unit that
+        is not a length or area where one is needed, an XML id given twice, a routing that is
+        not a path (or names a segment twice), and a module list naming no module; located at
+        file:line.
     """
     path = Path(path)
     try:
@@ -80,25 +85,20 @@ def read_kbl(path: str | Path) -> list[HarnessRecord]:
 
 
 @dataclass
-class _Cavity:
-    connector: str
-    name: str
+class _Things:
+    """What the harness holds, by XML id, before the variants are known."""
+
+    connectors: dict[str, HarnessConnector]
+    nodes: dict[str, HarnessNode]
+    segments: dict[str, HarnessSegment]
+    wires: dict[str, WireInfo]
+    cables: dict[str, HarnessCable]
+    fixings: dict[str, Any]
+    protections: dict[str, Any]
+    placements: dict[str, Placement]
 
 
-@dataclass
-class _WireInfo:
-    element: Any
-    ident: str
-    label: str
-    cable: str | None
-    part: Any
-    ends: tuple[WireEnd, ...] = ()
-    route: tuple[str, ...] = ()
-    signal: str | None = None
-    connection: Any = None
-
-
-class _Kbl(KblTopology):
+class _Kbl(KblParts):
     """The harness a KBL document describes, as records."""
 
     def records(self) -> list[HarnessRecord]:
@@ -112,152 +112,40 @@ class _Kbl(KblTopology):
         head = Harness(
             self.harness, child_text(harness, "Description"), f"KBL {self.version}", harness.sourceline
         )
-        connectors, cavities, contacts = self._connectors(harness)
-        nodes, node_connectors, node_fixings = self._nodes(harness, connectors, cavities, contacts)
-        wires, cables = self._wires(harness)
-        self._connections(harness, wires, contacts)
-        fixings = self._occurrences(harness, "Fixing_occurrence")
-        protections = self._occurrences(harness, "Wire_protection_occurrence")
-        placements: dict[str, Placement] = defaultdict(Placement)
-        for fixing, node in node_fixings:
-            placements[fixing].nodes.append(node)
-        segments = self.segments(nodes, fixings, protections, placements)
-        self._routings(wires, segments)
-        records: list[HarnessRecord] = [head]
-        records.extend(connectors.values())
-        records.extend(
-            HarnessNode(self.harness, ident, label, tuple(dict.fromkeys(node_connectors[ident])), line)
-            for ident, (label, line) in nodes.items()
-        )
-        records.extend(segments.values())
-        records.extend(cables)
-        records.extend(self._wire_record(w) for w in wires.values())
-        records.extend(
-            HarnessFixing(
-                self.harness,
-                name,
-                child_text(element, "Description"),
-                tuple(dict.fromkeys(placements[name].nodes)),
-                tuple(dict.fromkeys(placements[name].segments)),
-                element.sourceline,
-            )
-            for name, element in fixings.items()
-        )
-        records.extend(
-            HarnessProtection(
-                self.harness,
-                name,
-                child_text(element, "Description"),
-                tuple(dict.fromkeys(placements[name].segments)),
-                self.length(first_child(element, "Protection_length")),
-                element.sourceline,
-            )
-            for name, element in protections.items()
-        )
+        modules = KblModules(self, harness, self.harness)
+        things = self._things(harness)
+        records: list[HarnessRecord] = [head, *modules.records, *modules.configurations]
+        records.extend(self._in_variants(things, modules))
         return records
 
-    # -- connectors and cavities -------------------------------------------------------------------
-    def _connectors(
-        self, harness: Any
-    ) -> tuple[dict[str, HarnessConnector], dict[str, _Cavity], dict[str, tuple[str, Any]]]:
-        connectors: dict[str, HarnessConnector] = {}
-        cavities: dict[str, _Cavity] = {}
-        contacts: dict[str, tuple[str, Any]] = {}
-        by_element: dict[str, str] = {}
-        for kind, tag in (
-            ("connector", "Connector_occurrence"),
-            ("component box", "Component_box_occurrence"),
-        ):
-            for occurrence in child_elements(harness, tag):
-                name = child_text(occurrence, "Id")
-                if name is None:
-                    self.error(f"<{tag}> without <Id>", occurrence, expected="the connector's name")
-                if name in connectors:
-                    self.error(
-                        "connector Id given twice",
-                        occurrence,
-                        found=name,
-                        expected=f"unique connector Ids (first on line {connectors[name].line})",
-                    )
-                by_element[occurrence.get("id")] = str(name)
-                names = self._cavities(occurrence, str(name), kind, cavities)
-                connectors[str(name)] = HarnessConnector(
-                    self.harness,
-                    str(name),
-                    kind,
-                    names,
-                    child_text(occurrence, "Description"),
-                    occurrence.sourceline,
-                )
-                for contact in child_elements(occurrence, "Contact_points"):
-                    contacts[contact.get("id")] = (str(name), contact)
-        self.connector_ids = by_element
-        self.cavities = cavities
-        return connectors, cavities, contacts
-
-    def _cavities(
-        self, occurrence: Any, connector: str, kind: str, table: dict[str, _Cavity]
-    ) -> tuple[str, ...]:
-        found: list[tuple[str | None, str, Any]] = []
-        groups: list[tuple[str | None, Any]]
-        if kind == "connector":
-            groups = [(None, occurrence)]
-        else:
-            # A component box's cavities sit in its box connectors, named by the connector part's Id.
-            groups = []
-            for box_connector in child_elements(occurrence, "Component_box_connectors"):
-                part = self.ids.get((child_text(box_connector, "Part") or "").strip())
-                prefix = child_text(part, "Id") if part is not None else None
-                groups.append((prefix or box_connector.get("id"), box_connector))
-        for prefix, holder in groups:
-            for slot in child_elements(holder, "Slots"):
-                for cavity in child_elements(slot, "Cavities"):
-                    part = self.ids.get((child_text(cavity, "Part") or "").strip())
-                    number = child_text(part, "Cavity_number") if part is not None else None
-                    if number is None:
-                        self.error(
-                            "cavity occurrence names no cavity with a <Cavity_number>",
-                            cavity,
-                            found=child_text(cavity, "Part") or "no <Part>",
-                            expected="the id of a <Cavities> element of a connector housing",
-                        )
-                    found.append((prefix, str(number), cavity))
-        counts: dict[str, int] = defaultdict(int)
-        for prefix, number, _ in found:
-            counts[f"{prefix}/{number}" if prefix else number] += 1
-        names = []
-        for prefix, number, cavity in found:
-            name = f"{prefix}/{number}" if prefix else number
-            if counts[name] > 1:
-                # Two slots numbering their cavities alike: tell them apart by the slot occurrence.
-                name = f"{cavity.getparent().get('id')}/{name}"
-            names.append(name)
-            table[cavity.get("id")] = _Cavity(connector, name)
-        return tuple(names)
+    def _things(self, harness: Any) -> _Things:
+        connectors = self.connectors(harness)
+        fixings = {f.get("id"): f for f in child_elements(harness, "Fixing_occurrence")}
+        protections = {p.get("id"): p for p in child_elements(harness, "Wire_protection_occurrence")}
+        node_elements = {n.get("id"): n for n in child_elements(self.root, "Node")}
+        placements: dict[str, Placement] = defaultdict(Placement)
+        nodes = self._nodes(node_elements, fixings, placements)
+        wires, cables = self.wires(harness)
+        self.connections(harness, wires)
+        segments = self.segments(node_elements, fixings, protections, placements)
+        self._routings(wires, segments, nodes)
+        return _Things(connectors, nodes, segments, wires, cables, fixings, protections, placements)
 
     # -- topology ------------------------------------------------------------------------------------
     def _nodes(
-        self,
-        harness: Any,
-        connectors: dict[str, HarnessConnector],
-        cavities: dict[str, _Cavity],
-        contacts: dict[str, tuple[str, Any]],
-    ) -> tuple[dict[str, tuple[str, int]], dict[str, list[str]], list[tuple[str, str]]]:
+        self, elements: dict[str, Any], fixings: dict[str, Any], placements: dict[str, Placement]
+    ) -> dict[str, HarnessNode]:
         # A node names what sits on it; a ring terminal (special terminal) stands for the
-        # connector whose contact point carries it.
+        # connector whose contact point carries it, a box connector (2.4 SR-1) for its box.
         carried: dict[str, list[str]] = defaultdict(list)
-        for connector, contact in contacts.values():
+        for connector, contact in self.contacts.values():
             for part in (child_text(contact, "Associated_parts") or "").split():
                 carried[part].append(connector)
-        fixing_ids = {f.get("id"): child_text(f, "Id") for f in child_elements(harness, "Fixing_occurrence")}
-        nodes: dict[str, tuple[str, int]] = {}
-        on_node: dict[str, list[str]] = defaultdict(list)
-        fixings: list[tuple[str, str]] = []
-        for node in child_elements(self.root, "Node"):
-            ident = node.get("id")
+        nodes: dict[str, HarnessNode] = {}
+        for ident, node in elements.items():
             if ident is None:
                 self.error("<Node> without an id attribute", node, expected='<Node id="...">')
-            nodes[ident] = (child_text(node, "Id") or ident, node.sourceline)
+            on_node: list[str] = []
             for name in ("Referenced_components", "Referenced_cavities"):
                 child = first_child(node, name)
                 for token in (child.text or "").split() if child is not None else []:
@@ -268,145 +156,35 @@ class _Kbl(KblTopology):
                             found=token,
                             expected="the id of a component occurrence",
                         )
-                    if token in self.connector_ids:
-                        on_node[ident].append(self.connector_ids[token])
-                    elif token in cavities:
-                        on_node[ident].append(cavities[token].connector)
-                    elif token in fixing_ids:
-                        fixings.append((str(fixing_ids[token]), ident))
+                    if token in self.holder:
+                        on_node.append(self.holder[token])
+                    elif token in self.cavities:
+                        on_node.append(self.cavities[token].connector)
+                    elif token in fixings:
+                        placements[token].nodes.append(ident)
                     else:
-                        on_node[ident].extend(carried.get(token, ()))
-        return nodes, on_node, fixings
-
-    def _occurrences(self, harness: Any, tag: str) -> dict[str, Any]:
-        found: dict[str, Any] = {}
-        for element in child_elements(harness, tag):
-            name = child_text(element, "Id") or element.get("id")
-            found[str(name)] = element
-        return found
-
-    # -- wires and connections --------------------------------------------------------------------
-    def _wires(self, harness: Any) -> tuple[dict[str, _WireInfo], list[HarnessCable]]:
-        wires: dict[str, _WireInfo] = {}
-        cables: list[HarnessCable] = []
-        used: dict[str, int] = defaultdict(int)
-
-        def unique(number: str, element: Any) -> str:
-            used[number] += 1
-            if used[number] == 1:
-                return number
-            warnings.warn(
-                IngestWarning(
-                    self.path,
-                    "wire number given twice; this wire is told apart with a suffix",
-                    line=element.sourceline,
-                    found=number,
-                    expected=f"{number}~{used[number]}",
-                ),
-                stacklevel=4,
+                        on_node.extend(carried.get(token, ()))
+            nodes[ident] = HarnessNode(
+                self.harness,
+                ident,
+                child_text(node, "Id") or ident,
+                tuple(dict.fromkeys(on_node)),
+                node.sourceline,
+                self.position(node),
             )
-            return f"{number}~{used[number]}"
+        return nodes
 
-        general_wires = {w.get("id"): w for w in child_elements(self.root, "General_wire")}
-        cores = {c.get("id"): c for w in general_wires.values() for c in child_elements(w, "Core")}
-        for occurrence in child_elements(harness, "General_wire_occurrence"):
-            kind = (occurrence.get(_XSI_TYPE) or "").rpartition(":")[2]
-            if not kind:
-                kind = (
-                    "Special_wire_occurrence"
-                    if first_child(occurrence, "Special_wire_id") is not None
-                    else "Wire_occurrence"
-                )
-            part = self.ref(occurrence, "Part", general_wires, "a <General_wire>")[0]
-            if kind == "Wire_occurrence":
-                number = child_text(occurrence, "Wire_number")
-                if number is None:
-                    self.error(
-                        "wire occurrence without <Wire_number>", occurrence, expected="the wire number"
-                    )
-                wires[occurrence.get("id")] = _WireInfo(
-                    occurrence, unique(str(number), occurrence), str(number), None, part
-                )
-            elif kind == "Special_wire_occurrence":
-                cable = child_text(occurrence, "Special_wire_id")
-                if cable is None:
-                    self.error(
-                        "special wire occurrence without <Special_wire_id>",
-                        occurrence,
-                        expected="the cable id",
-                    )
-                cables.append(
-                    HarnessCable(
-                        self.harness,
-                        str(cable),
-                        self._wire_length(occurrence),
-                        self.diameter(part),
-                        occurrence.sourceline,
-                    )
-                )
-                for core in child_elements(occurrence, "Core_occurrence"):
-                    number = child_text(core, "Wire_number")
-                    if number is None:
-                        self.error(
-                            "core occurrence without <Wire_number>", core, expected="the core's wire number"
-                        )
-                    core_part = self.ref(core, "Part", cores, "a <Core> of a <General_wire>")[0]
-                    wires[core.get("id")] = _WireInfo(
-                        core, unique(str(number), core), str(number), str(cable), core_part
-                    )
-            else:
-                self.error(
-                    "unknown kind of wire occurrence",
-                    occurrence,
-                    found=kind,
-                    expected="kbl:Wire_occurrence or kbl:Special_wire_occurrence",
-                )
-        return wires, cables
-
-    def _connections(
-        self, harness: Any, wires: dict[str, _WireInfo], contacts: dict[str, tuple[str, Any]]
+    def _routings(
+        self, wires: dict[str, WireInfo], segments: dict[str, HarnessSegment], nodes: dict[str, HarnessNode]
     ) -> None:
-        self.connections: dict[str, _WireInfo] = {}
-        for connection in child_elements(harness, "Connection"):
-            wire = self.ref(connection, "Wire", wires, "a wire or core occurrence")[0]
-            if wire.connection is not None:
-                self.error(
-                    "wire is in two connections",
-                    connection,
-                    found=wire.label,
-                    expected=f"one <Connection> per wire (first on line {wire.connection.sourceline})",
-                )
-            ends: list[tuple[float, int, WireEnd]] = []
-            for extremity in child_elements(connection, "Extremities"):
-                try:
-                    position = float(child_text(extremity, "Position_on_wire") or "0")
-                except ValueError:
-                    self.error(
-                        "bad number in <Position_on_wire>",
-                        extremity,
-                        found=child_text(extremity, "Position_on_wire"),
-                        expected="a number from 0 to 1",
-                    )
-                _, contact = self.ref(
-                    extremity, "Contact_point", contacts, "a <Contact_points> of a connector"
-                )[0]
-                cavity = self.ref(
-                    contact,
-                    "Contacted_cavity",
-                    self.cavities,
-                    "a cavity occurrence of a connector",
-                    many=True,
-                )[0]
-                ends.append((position, len(ends), WireEnd(cavity.connector, cavity.name)))
-            wire.ends = tuple(end for _, _, end in sorted(ends))
-            wire.signal = child_text(connection, "Signal_name")
-            wire.connection = connection
-            self.connections[connection.get("id")] = wire
-
-    def _routings(self, wires: dict[str, _WireInfo], segments: dict[str, HarnessSegment]) -> None:
+        ends = {ident: (s.start, s.end) for ident, s in segments.items()}
+        at: dict[str, list[str]] = defaultdict(list)
+        for node in nodes.values():
+            for connector in node.connectors:
+                at[connector].append(node.ident)
         routed: dict[str, Any] = {}
         for routing in child_elements(self.root, "Routing"):
-            wire = self.ref(routing, "Routed_wire", self.connections, "a <Connection>")[0]
+            wire = self.ref(routing, "Routed_wire", self.by_connection, "a <Connection>")[0]
             if wire.ident in routed:
                 self.error(
                     "connection routed twice",
@@ -415,37 +193,124 @@ class _Kbl(KblTopology):
                     expected=f"one <Routing> per connection (first on line {routed[wire.ident].sourceline})",
                 )
             routed[wire.ident] = routing
-            if first_child(routing, "Segments") is not None and (child_text(routing, "Segments") or ""):
-                chosen = self.ref(routing, "Segments", segments, "a <Segment>", many=True)
-                wire.route = tuple(s.ident for s in chosen)
+            chosen: list[str] = []
+            if child_text(routing, "Segments"):
+                chosen = [s.ident for s in self.ref(routing, "Segments", segments, "a <Segment>", many=True)]
+            twice = next((s for n, s in enumerate(chosen) if s in chosen[:n]), None)
+            if twice is not None:
+                self.error(
+                    "a routing names a segment twice",
+                    first_child(routing, "Segments"),
+                    found=twice,
+                    expected="each segment of the wire's path once",
+                )
+            first = at.get(wire.ends[0].connector, []) if wire.ends else []
+            path, broken = walk(chosen, ends, first, reorder=True)
+            if broken is not None:
+                self.error(
+                    f"the routing of wire {wire.label} is not a path",
+                    first_child(routing, "Segments"),
+                    found=f"{chosen[broken]} after {chosen[broken - 1]}",
+                    expected="segments that each share a node with the one before",
+                )
+            wire.route = path
+            wire.routing = routing.get("id") or wire.ident
 
-    def _wire_record(self, wire: _WireInfo) -> HarnessWire:
+    # -- variants ------------------------------------------------------------------------------------
+    def _in_variants(self, things: _Things, modules: KblModules) -> list[HarnessRecord]:
+        """The records, each with the modules of the variants it is in (see records.in_variant)."""
+        control = modules.control
+        wire_modules: dict[str, Modules] = {}
+        for ident, wire in things.wires.items():
+            wire_modules[ident] = control(wire.connection if wire.connection is not None else wire.element)
+        ending: dict[str, list[Modules]] = defaultdict(list)
+        for ident, wire in things.wires.items():
+            for end in wire.ends:
+                ending[end.connector].append(wire_modules[ident])
+        connector_modules: dict[str, Modules] = {}
+        for ident in things.connectors:
+            own = control(self.ids[ident])
+            # A connector no module controls (a ring terminal's dummy, VOBES's base connectors)
+            # is where the wires ending in it are; with none, in every variant.
+            held = ending.get(ident, [])
+            connector_modules[ident] = (
+                union([own, *held]) if own is not None else union(held) if held else None
+            )
+        fixing_modules = {i: control(e) for i, e in things.fixings.items()}
+        protection_modules = {i: control(e) for i, e in things.protections.items()}
+        carriers: list[tuple[Modules, Iterable[str]]] = [
+            (wire_modules[i], w.route) for i, w in things.wires.items()
+        ]
+        carriers += [(fixing_modules[i], things.placements[i].segments) for i in things.fixings]
+        carriers += [(protection_modules[i], things.placements[i].segments) for i in things.protections]
+        on_nodes: dict[str, list[Modules]] = defaultdict(list)
+        for node in things.nodes.values():
+            on_nodes[node.ident].extend(connector_modules[c] for c in node.connectors)
+        for ident in things.fixings:
+            for node_ident in things.placements[ident].nodes:
+                on_nodes[node_ident].append(fixing_modules[ident])
+        segment_modules, node_modules = topology_modules(
+            {i: (s.start, s.end) for i, s in things.segments.items()}, carriers, on_nodes
+        )
+        cores: dict[str, list[Modules]] = defaultdict(list)
+        for ident, wire in things.wires.items():
+            if wire.cable is not None:
+                cores[wire.cable].append(wire_modules[ident])
+        records: list[HarnessRecord] = []
+        records.extend(
+            replace(c, modules=as_tuple(connector_modules[i])) for i, c in things.connectors.items()
+        )
+        records.extend(replace(n, modules=as_tuple(node_modules.get(i))) for i, n in things.nodes.items())
+        records.extend(replace(s, modules=as_tuple(segment_modules[i])) for i, s in things.segments.items())
+        records.extend(replace(c, modules=as_tuple(union(cores[i]))) for i, c in things.cables.items())
+        records.extend(self._wire_record(w, wire_modules[i]) for i, w in things.wires.items())
+        records.extend(
+            HarnessFixing(
+                self.harness,
+                ident,
+                child_text(element, "Id") or ident,
+                child_text(element, "Description"),
+                tuple(dict.fromkeys(things.placements[ident].nodes)),
+                tuple(dict.fromkeys(things.placements[ident].segments)),
+                element.sourceline,
+                as_tuple(fixing_modules[ident]),
+            )
+            for ident, element in things.fixings.items()
+        )
+        records.extend(
+            HarnessProtection(
+                self.harness,
+                ident,
+                child_text(element, "Id") or ident,
+                child_text(element, "Description"),
+                tuple(dict.fromkeys(things.placements[ident].segments)),
+                self.length(first_child(element, "Protection_length")),
+                element.sourceline,
+                as_tuple(protection_modules[ident]),
+            )
+            for ident, element in things.protections.items()
+        )
+        return records
+
+    def _wire_record(self, wire: WireInfo, modules: Modules) -> HarnessWire:
         part = wire.part
         colours = [
             child_text(c, "Colour_value")
             for c in child_elements(part, "Cover_colour") + child_elements(part, "Core_colour")
         ]
+        routes = (WireRoute(wire.routing, wire.route, as_tuple(modules)),) if wire.routing else ()
         return HarnessWire(
             harness=self.harness,
             ident=wire.ident,
             label=wire.label,
             ends=wire.ends,
-            route=wire.route,
+            routes=routes,
             section_mm2=self.area(first_child(part, "Cross_section_area")),
             colour="/".join(c for c in colours if c) or None,
-            length_m=self._wire_length(wire.element),
+            length_m=self.wire_length(wire.element),
             diameter_m=self.diameter(part),
             cable=wire.cable,
             signal=wire.signal,
             line=wire.element.sourceline,
+            modules=as_tuple(modules),
         )
-
-    def _wire_length(self, occurrence: Any) -> Decimal | None:
-        # Several lengths (DMU, production ...) may be given; the first one listed is taken.
-        for info in child_elements(occurrence, "Length_information"):
-            return self.length(first_child(info, "Length_value"))
-        return None
-
-    def diameter(self, part: Any) -> float | None:
-        value = self.length(first_child(part, "Outside_diameter"))
-        return float(value) if value is not None else None

@@ -8,13 +8,13 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Iterable, Mapping
-from decimal import Decimal, InvalidOperation
+from decimal import Decimal
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import Any
 
 from lxml import etree
 
-from cadkg.errors import IngestError
+from cadkg.ingest.harness.xml_tree import XmlDocument, child_elements, child_text, element_name, first_child
 
 __all__ = [
     "EXPECTED",
@@ -54,44 +54,16 @@ def _key(version: str) -> str:
 _VERSION_KEYS = {_key(v): v for v in KBL_VERSIONS}
 
 
-def element_name(element: Any) -> str:
-    return str(etree.QName(element).localname)
-
-
-def child_elements(element: Any, name: str) -> list[Any]:
-    return [c for c in element if isinstance(c.tag, str) and element_name(c) == name]
-
-
-def first_child(element: Any, name: str) -> Any | None:
-    found = child_elements(element, name)
-    return found[0] if found else None
-
-
-def child_text(element: Any, name: str) -> str | None:
-    child = first_child(element, name)
-    if child is None or child.text is None:
-        return None
-    value = child.text.strip()
-    # KBL writers put /NULL where a value is unknown.
-    return value if value and value != "/NULL" else None
-
-
-class KblDocument:
+class KblDocument(XmlDocument):
     """A parsed KBL container: its version, its elements by XML id and its units."""
 
     def __init__(self, path: Path, root: Any) -> None:
-        self.path = path
-        self.root = root
+        super().__init__(path, root)
         self.version = self._version()
-        self.ids = self._ids()
+        self.ids = self.index_ids()
         self.units = {u.get("id"): u for u in child_elements(root, "Unit")}
 
-    # -- errors and references ----------------------------------------------------------------
-    def error(
-        self, reason: str, element: Any, found: object | None = None, expected: str | None = None
-    ) -> NoReturn:
-        raise IngestError(self.path, reason, line=element.sourceline, found=found, expected=expected)
-
+    # -- references ------------------------------------------------------------------------------
     def ref(
         self, owner: Any, name: str, table: dict[str, Any], expected: str, *, many: bool = False
     ) -> list[Any]:
@@ -135,40 +107,9 @@ class KblDocument:
             )
         return str(version)
 
-    def _ids(self) -> dict[str, Any]:
-        ids: dict[str, Any] = {}
-        for element in self.root.iter():
-            if not isinstance(element.tag, str):
-                continue
-            ident = element.get("id")
-            if ident is None:
-                continue
-            if ident in ids:
-                self.error(
-                    "XML id given twice",
-                    element,
-                    found=ident,
-                    expected=f"unique ids (first on line {ids[ident].sourceline})",
-                )
-            ids[ident] = element
-        return ids
-
     # -- numbers and units ------------------------------------------------------------------------
     def _value(self, element: Any) -> tuple[Decimal, Any]:
-        raw = child_text(element, "Value_component")
-        try:
-            value = Decimal(raw or "")
-        except InvalidOperation:
-            value = Decimal("NaN")
-        exponent = value.as_tuple().exponent
-        # 1e999999999 would be written out as a gigabyte of digits in the graph.
-        if not value.is_finite() or not isinstance(exponent, int) or not -30 <= exponent <= 30:
-            self.error(
-                f"bad number in <{element_name(element)}>",
-                first_child(element, "Value_component") if raw is not None else element,
-                found=raw or "nothing",
-                expected="a number such as 625.08",
-            )
+        value = self.decimal(element, "Value_component")
         unit = self.ref(element, "Unit_component", self.units, "a <Unit>")[0]
         return value, unit
 

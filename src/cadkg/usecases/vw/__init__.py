@@ -1,18 +1,20 @@
 """Volkswagen: the harness state a detection system starts from (D3.1 section 4.4).
 
-A harness description (KBL, or a small text form) is read into the graph's harness terms
-and exported as GraphML in two views: the topology (connectors, branch points and fixings
-as nodes; segments with their wires as edges) and the wires (cavities as nodes, wires as
-edges), by ``cadkg export --view`` and the ``harness_topology`` service.
+A harness description (KBL, VEC, or a small text form) is read into the graph's harness
+terms and exported as GraphML in two views: the topology (connectors, branch points and
+fixings as nodes, with their positions; segments with their wires as edges) and the wires
+(cavities as nodes, wires as edges), of the whole harness or of one variant of a modular
+harness, by ``cadkg export --view`` and the ``harness_topology`` service.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from importlib import resources
 from typing import Any
 
 from cadkg.ingest.reader import Reader
-from cadkg.usecase import UseCase
+from cadkg.usecase import ExportOptions, ExportView, UseCase
 from cadkg.usecases.vw.graphml import write_harness_graphml
 from cadkg.usecases.vw.harness_text import looks_like_harness_text, read_harness_text
 from cadkg.usecases.vw.services import SERVICES
@@ -20,9 +22,9 @@ from cadkg.usecases.vw.services import SERVICES
 __all__ = ["USE_CASE"]
 
 
-def _view(name: str) -> Any:
-    def write(kg: Any, output: str, harness: str | None) -> None:
-        write_harness_graphml(kg, output, name, harness)
+def _view(name: str) -> ExportView:
+    def write(kg: Any, output: str, harness: str | None, options: ExportOptions) -> Sequence[str]:
+        return write_harness_graphml(kg, output, name, harness, options.modules, yed=options.yed).warnings
 
     return write
 

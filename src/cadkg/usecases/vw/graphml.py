@@ -1,95 +1,381 @@
 """GraphML export of a harness for detection systems: the topology view and the wire view.
 
-The graphs come from :mod:`cadkg.usecases.vw.views`; this module only writes them with networkx's
-GraphML writer. Keys are typed (``string``, ``int``, ``double``), every attribute is a
-scalar (lists are ``;``-joined strings), node and edge ids are the things' IRIs relative to
-the cell, and nodes and edges are written in id order, so the same graph always gives the
-same file. No yEd ``y:`` elements are written: yEd, Gephi and networkx read plain GraphML.
-See docs/formats/graphml.md for the keys.
+The views (:mod:`cadkg.usecases.vw.views`) are written straight to the file, element by element,
+without building a networkx graph or a document tree: a 100k-wire harness writes in a second.
+Keys are typed (``string``, ``long``, ``double``) and declared for every attribute a view may
+carry; every value is a scalar (lists are ``;``-joined strings); node and edge ids are the
+things' IRIs relative to the cell, written in id order, so the same graph always gives the same
+file. With ``yed``, yEd's graphics extension is added: each node's geometry (from its position,
+else from a layout of the graph) and label, so yEd draws the harness as it opens it.
+See docs/formats/graphml.md.
 """
 
 from __future__ import annotations
 
+import io
+import math
+from collections import defaultdict, deque
+from collections.abc import Callable, Sequence
+from operator import itemgetter
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
-
-import networkx as nx
+from typing import TYPE_CHECKING, Any, TextIO
 
 from cadkg.errors import QueryError
-from cadkg.usecases.vw.views import topology_graph, wire_graph
+from cadkg.usecases.vw.harness_data import find_harness, topology_data, wire_data
+from cadkg.usecases.vw.views import View, choose_modules, networkx_graph, topology_view, wire_view
 
 if TYPE_CHECKING:
+    import networkx as nx
+
     from cadkg.graph import KnowledgeGraph
 
-__all__ = ["VIEWS", "graphml_text", "harness_graph", "harness_graphml", "write_harness_graphml"]
+__all__ = [
+    "VIEWS",
+    "graphml_text",
+    "harness_graph",
+    "harness_graphml",
+    "harness_view",
+    "write_graphml",
+    "write_harness_graphml",
+]
 
 VIEWS = ("topology", "wires")
 """``topology``: nodes are harness nodes, edges segments; ``wires``: nodes are cavities, edges wires."""
 
-_SCALARS = (str, int, float, bool)
+_GRAPH_KEYS = (
+    ("harness", "string"),
+    ("harness_id", "string"),
+    ("view", "string"),
+    ("modules", "string"),
+    ("frame", "string"),
+)
+_KEYS = {
+    "topology": (
+        (
+            ("label", "string"),
+            ("node_name", "string"),
+            ("kind", "string"),
+            ("degree", "long"),
+            ("connectors", "string"),
+            ("fixings", "string"),
+            ("x", "double"),
+            ("y", "double"),
+            ("z", "double"),
+        ),
+        (
+            ("label", "string"),
+            ("from_node", "string"),
+            ("to_node", "string"),
+            ("length_m", "double"),
+            ("length_source", "string"),
+            ("diameter_m", "double"),
+            ("section_mm2", "double"),
+            ("wires", "string"),
+            ("wire_ids", "string"),
+            ("wire_count", "long"),
+            ("fixings", "string"),
+            ("protections", "string"),
+        ),
+    ),
+    "wires": (
+        (("label", "string"), ("connector", "string"), ("cavity", "string"), ("harness_node", "string")),
+        (
+            ("label", "string"),
+            ("wire_number", "string"),
+            ("from_cavity", "string"),
+            ("to_cavity", "string"),
+            ("section_mm2", "double"),
+            ("length_m", "double"),
+            ("diameter_m", "double"),
+            ("colour", "string"),
+            ("cable", "string"),
+            ("signal", "string"),
+            ("segments", "string"),
+        ),
+    ),
+}
+_HEAD = (
+    "<?xml version='1.0' encoding='utf-8'?>\n"
+    '<graphml xmlns="http://graphml.graphdrawing.org/xmlns"'
+    ' xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"{yed}'
+    ' xsi:schemaLocation="http://graphml.graphdrawing.org/xmlns'
+    ' http://graphml.graphdrawing.org/xmlns/1.0/graphml.xsd">\n'
+)
+_YED_NS = ' xmlns:y="http://www.yworks.com/xml/graphml"'
+# yEd's canvas: one unit per millimetre of the harness, seen from above with the front to the left.
+_PER_METRE = 1000.0
+_SIZE = 20.0
+_COLOURS = {
+    "connector": "#FF9900",
+    "fixing": "#3366CC",
+    "branch": "#999999",
+    "end": "#CCCCCC",
+    "inline": "#E0E0E0",
+}
+_CHUNK = 20_000
 
 
-def harness_graph(kg: KnowledgeGraph, view: str = "topology", harness: str | None = None) -> nx.MultiGraph:
-    """The networkx graph of one view of a harness.
+def _escape(text: str) -> str:
+    if "&" in text or "<" in text or ">" in text or '"' in text:
+        return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
+    return text
+
+
+class _Lines:
+    """The line of a node or edge, from one template per set of attributes it carries: the
+    values are formatted in one call, their texts checked (and escaped where needed) at once."""
+
+    def __init__(
+        self, element: str, keys: Sequence[tuple[str, str]], ids: dict[tuple[str, str], str]
+    ) -> None:
+        self.element = element
+        self.types = dict(keys)
+        self.ids = {name: ids[(element, name)] for name, _ in keys}
+        self.templates: dict[
+            tuple[str, ...], tuple[str, Callable[[list[Any]], tuple[Any, ...]], set[int]]
+        ] = {}
+
+    def _template(
+        self, names: tuple[str, ...], head: str, count: int
+    ) -> tuple[str, Callable[[list[Any]], tuple[Any, ...]], set[int]]:
+        parts = [head]
+        texts = list(range(count))
+        for index, name in enumerate(names, start=count):
+            kind = self.types.get(name)
+            if kind is None:
+                raise TypeError(f"a {self.element} attribute GraphML does not declare: {name!r}")
+            parts.append(f'<data key="{self.ids[name]}">{{{index}{"!r" if kind == "double" else ""}}}</data>')
+            if kind == "string":
+                texts.append(index)
+        pick = itemgetter(*texts)
+        picker: Callable[[list[Any]], tuple[Any, ...]] = pick if len(texts) > 1 else lambda v: (pick(v),)
+        return "".join(parts) + f"</{self.element}>\n", picker, set(texts)
+
+    def line(
+        self, head: str, count: int, fixed: Sequence[str], attributes: dict[str, Any], where: str
+    ) -> str:
+        names = tuple(attributes)
+        entry = self.templates.get(names)
+        if entry is None:
+            entry = self.templates[names] = self._template(names, head, count)
+        template, pick, texts = entry
+        values = [*fixed, *attributes.values()]
+        try:
+            joined = "".join(pick(values))
+        except TypeError:
+            # GraphML has no list type; a list would be written as its Python repr.
+            wrong = next(names[i - count] for i in sorted(texts) if not isinstance(values[i], str))
+            raise TypeError(f"{where}: attribute {wrong!r} is not a text") from None
+        if "&" in joined or "<" in joined or ">" in joined or '"' in joined:
+            values = [_escape(v) if i in texts else v for i, v in enumerate(values)]
+        return template.format(*values)
+
+
+def write_graphml(view: View, out: TextIO, *, yed: bool = False) -> None:
+    """Write ``view`` as GraphML to ``out``, streaming: keys, graph data, nodes, edges.
+
+    Raises
+    ------
+    TypeError
+        When an attribute is not a scalar of its key's type (a list ...), or has no key.
+    """
+    node_keys, edge_keys = _KEYS[view.graph["view"]]
+    ids: dict[tuple[str, str], str] = {}
+    lines = [_HEAD.format(yed=_YED_NS if yed else "")]
+    for scope, keys in (("graph", _GRAPH_KEYS), ("node", node_keys), ("edge", edge_keys)):
+        for name, kind in keys:
+            ident = ids[(scope, name)] = f"d{len(ids)}"
+            lines.append(f'  <key id="{ident}" for="{scope}" attr.name="{name}" attr.type="{kind}"/>\n')
+    graphics = f"d{len(ids)}"
+    if yed:
+        lines.append(f'  <key id="{graphics}" for="node" yfiles.type="nodegraphics"/>\n')
+    lines.append('  <graph edgedefault="undirected">\n')
+    for name, kind in _GRAPH_KEYS:
+        if name in view.graph:
+            value = view.graph[name]
+            shown = repr(float(value)) if kind == "double" else _escape(str(value))
+            lines.append(f'    <data key="{ids[("graph", name)]}">{shown}</data>\n')
+    nodes, edges = _Lines("node", node_keys, ids), _Lines("edge", edge_keys, ids)
+    places = _places(view) if yed else {}
+    kind = view.graph["view"]
+    write = out.write
+    for node, attributes in view.nodes:
+        line = nodes.line('    <node id="{0}">', 1, (node,), attributes, f"node {node}")
+        if yed:
+            line = line[: -len("</node>\n")] + _shape(graphics, places[node], attributes, kind) + "</node>\n"
+        lines.append(line)
+        if len(lines) >= _CHUNK:
+            write("".join(lines))
+            lines.clear()
+    for u, v, key, attributes in view.edges:
+        source, target = (u, v) if u <= v else (v, u)
+        lines.append(
+            edges.line(
+                '    <edge source="{0}" target="{1}" id="{2}">',
+                3,
+                (source, target, key),
+                attributes,
+                f"edge {key}",
+            )
+        )
+        if len(lines) >= _CHUNK:
+            write("".join(lines))
+            lines.clear()
+    lines.append("  </graph>\n</graphml>\n")
+    write("".join(lines))
+
+
+# -- yEd -----------------------------------------------------------------------------------------------
+
+
+def _shape(key: str, place: tuple[float, float], attributes: dict[str, Any], view: str) -> str:
+    x, y = place
+    colour = _COLOURS.get(attributes.get("kind", ""), "#FFCC66" if view == "wires" else "#CCCCCC")
+    return (
+        f'<data key="{key}"><y:ShapeNode><y:Geometry x="{x - _SIZE / 2:.1f}" y="{y - _SIZE / 2:.1f}"'
+        f' width="{_SIZE:.1f}" height="{_SIZE:.1f}"/><y:Fill color="{colour}" transparent="false"/>'
+        f"<y:NodeLabel>{_escape(str(attributes.get('label', '')))}</y:NodeLabel>"
+        '<y:Shape type="ellipse"/></y:ShapeNode></data>'
+    )
+
+
+def _places(view: View) -> dict[str, tuple[float, float]]:
+    """Where yEd draws each node: the top view of its position, else a layered layout."""
+    nodes = dict(view.nodes)
+    if view.graph["view"] == "topology":
+        if nodes and all("x" in a for a in nodes.values()):
+            return {n: (-a["x"] * _PER_METRE, a["y"] * _PER_METRE) for n, a in nodes.items()}
+        return _layers(list(nodes), [(u, v) for u, v, _, _ in view.edges])
+    # Wires: a connector's cavities in a row at its harness node, or connectors on a grid.
+    by_connector: dict[str, list[str]] = defaultdict(list)
+    for node, attributes in view.nodes:
+        by_connector[attributes.get("connector", "")].append(node)
+    columns = max(1, math.ceil(math.sqrt(len(by_connector))))
+    places = {}
+    for index, (_, cavities) in enumerate(sorted(by_connector.items())):
+        row, column = divmod(index, columns)
+        for offset, node in enumerate(cavities):
+            places[node] = (column * 400.0 + offset * (_SIZE + 5), row * 120.0)
+    return places
+
+
+def _layers(nodes: list[str], edges: Sequence[tuple[str, str]]) -> dict[str, tuple[float, float]]:
+    """Breadth-first layers from the first node of each connected part: one column per layer."""
+    neighbours: dict[str, list[str]] = defaultdict(list)
+    for u, v in edges:
+        neighbours[u].append(v)
+        neighbours[v].append(u)
+    depth: dict[str, int] = {}
+    rows: dict[int, int] = defaultdict(int)
+    places = {}
+    offset = 0
+    for root in nodes:
+        if root in depth:
+            continue
+        depth[root] = 0
+        queue = deque([root])
+        deepest = 0
+        while queue:
+            node = queue.popleft()
+            level = depth[node]
+            deepest = max(deepest, level)
+            places[node] = ((offset + level) * 120.0, rows[offset + level] * 60.0)
+            rows[offset + level] += 1
+            for other in sorted(neighbours[node]):
+                if other not in depth:
+                    depth[other] = level + 1
+                    queue.append(other)
+        offset += deepest + 1
+    return places
+
+
+# -- one view of a harness in the graph -------------------------------------------------------------------
+
+
+def harness_view(
+    kg: KnowledgeGraph, view: str = "topology", harness: str | None = None, modules: Sequence[str] = ()
+) -> View:
+    """One view of a harness (of the variant of ``modules``, when given).
 
     Raises
     ------
     QueryError
-        On an unknown view; when no harness is named and the graph holds several.
+        On an unknown view or module; when no harness is named and the graph holds several.
     NotFound
         When the graph holds no harness of that name.
     """
+    if view not in VIEWS:
+        raise QueryError(f"unknown harness view {view!r}; one of {', '.join(VIEWS)}")
+    ref = find_harness(kg, harness)
     if view == "topology":
-        return topology_graph(kg, harness)
-    if view == "wires":
-        return wire_graph(kg, harness)
-    raise QueryError(f"unknown harness view {view!r}; one of {', '.join(VIEWS)}")
+        data = topology_data(kg, ref)
+        return topology_view(data, choose_modules(data, modules))
+    wires = wire_data(kg, ref)
+    return wire_view(wires, choose_modules(wires.topology, modules))
 
 
-def _ordered(graph: nx.MultiGraph) -> nx.MultiGraph:
-    """A copy whose nodes, and the edges of each node pair, are inserted in id order."""
-    ordered = nx.MultiGraph(**graph.graph)
-    for node in sorted(graph.nodes):
-        ordered.add_node(node, **_checked(graph.nodes[node], f"node {node}"))
-    for u, v, key, data in sorted(graph.edges(keys=True, data=True), key=lambda e: str(e[2])):
-        ordered.add_edge(u, v, key=key, **_checked(data, f"edge {key}"))
-    return ordered
+def harness_graph(
+    kg: KnowledgeGraph, view: str = "topology", harness: str | None = None, modules: Sequence[str] = ()
+) -> nx.MultiGraph:
+    """The networkx graph of one view of a harness.
+
+    Raises
+    ------
+    QueryError, NotFound
+        As :func:`harness_view`.
+    """
+    return networkx_graph(harness_view(kg, view, harness, modules))
 
 
-def _checked(data: dict[str, Any], where: str) -> dict[str, Any]:
-    for name, value in data.items():
-        if not isinstance(value, _SCALARS):
-            # GraphML has no list type; a list would be written as its Python repr.
-            raise TypeError(f"{where}: attribute {name!r} is a {type(value).__name__}, not a scalar")
-    return data
+def graphml_text(view: View, *, yed: bool = False) -> str:
+    """The GraphML document of ``view``."""
+    out = io.StringIO()
+    write_graphml(view, out, yed=yed)
+    return out.getvalue()
 
 
-def graphml_text(graph: nx.MultiGraph) -> str:
-    """The GraphML document of ``graph``, nodes and edges in id order (typed keys ``d0``, ``d1`` ...)."""
-    return "\n".join(nx.generate_graphml(_ordered(graph), prettyprint=True)) + "\n"
-
-
-def harness_graphml(kg: KnowledgeGraph, view: str = "topology", harness: str | None = None) -> str:
+def harness_graphml(
+    kg: KnowledgeGraph,
+    view: str = "topology",
+    harness: str | None = None,
+    modules: Sequence[str] = (),
+    *,
+    yed: bool = False,
+) -> str:
     """One view of a harness as GraphML text.
 
     Raises
     ------
     QueryError, NotFound
-        As :func:`harness_graph`.
+        As :func:`harness_view`.
     """
-    return graphml_text(harness_graph(kg, view, harness))
+    return graphml_text(harness_view(kg, view, harness, modules), yed=yed)
 
 
 def write_harness_graphml(
-    kg: KnowledgeGraph, path: str | Path, view: str = "topology", harness: str | None = None
-) -> Path:
-    """Write one view of a harness to ``path`` as GraphML (UTF-8).
+    kg: KnowledgeGraph,
+    path: str | Path,
+    view: str = "topology",
+    harness: str | None = None,
+    modules: Sequence[str] = (),
+    *,
+    yed: bool = False,
+) -> View:
+    """Write one view of a harness to ``path`` as GraphML (UTF-8); returns the view written.
 
     Raises
     ------
     QueryError, NotFound
-        As :func:`harness_graph`.
+        As :func:`harness_view`.
     """
+    written = harness_view(kg, view, harness, modules)
     path = Path(path)
-    path.write_text(harness_graphml(kg, view, harness), encoding="utf-8")
-    return path
+    # Written beside and renamed, so a failed export leaves no half-written file.
+    partial = path.with_name(path.name + ".part")
+    try:
+        with partial.open("w", encoding="utf-8", newline="\n") as out:
+            write_graphml(written, out, yed=yed)
+        partial.replace(path)
+    finally:
+        partial.unlink(missing_ok=True)
+    return written

@@ -22,6 +22,7 @@ EXPECTED = (
 _NAME = re.compile(r"^[^\s:,=#\"']+$")
 _CAVITY = re.compile(r"^[^\s,=#\"']+$")
 _LENGTH = re.compile(r"^(?P<number>\d+(?:\.\d*)?|\.\d+)(?P<unit>mm|cm|m)$")
+_COORDINATE = re.compile(r"^(?P<number>[+-]?(?:\d+(?:\.\d*)?|\.\d+))(?P<unit>mm|cm|m)$")
 _SECTION = re.compile(r"^(?P<number>\d+(?:\.\d*)?|\.\d+)(?:mm2|mm²)?$")
 _RANGE = re.compile(r"^(?P<first>\d+)-(?P<last>\d+)$")
 _METRES = {"mm": Decimal("0.001"), "cm": Decimal("0.01"), "m": Decimal(1)}
@@ -30,8 +31,8 @@ _MAX_CAVITIES = 1000
 # Statement → (number of positional words after the keyword, required keys, optional keys).
 GRAMMAR: dict[str, tuple[tuple[str, ...], frozenset[str], frozenset[str]]] = {
     "harness": (("name",), frozenset(), frozenset({"description"})),
-    "connector": (("name",), frozenset({"cavities"}), frozenset({"at", "description"})),
-    "node": (("name",), frozenset(), frozenset()),
+    "connector": (("name",), frozenset({"cavities"}), frozenset({"at", "description", "position"})),
+    "node": (("name",), frozenset(), frozenset({"position"})),
     "segment": (("name", "from-node", "to-node"), frozenset({"length"}), frozenset({"diameter", "section"})),
     "wire": (
         ("name", "from connector:cavity", "to connector:cavity"),
@@ -128,6 +129,20 @@ class StatementReader:
                 expected="a positive number with mm, cm or m, e.g. 250mm",
             )
         return Decimal(match["number"]) * _METRES[match["unit"]]
+
+    def position(self, s: Statement) -> tuple[float, float, float]:
+        """``position=X,Y,Z``: each with its unit, metres in REP 103 axes (x forward, y left, z up)."""
+        raw = s.options["position"]
+        matches = [_COORDINATE.match(part) for part in raw.split(",")]
+        if len(matches) != 3 or any(m is None for m in matches):
+            raise self.error(
+                "malformed position",
+                s.line,
+                found=raw,
+                expected="x,y,z each with mm, cm or m, e.g. 1200mm,-350mm,400mm",
+            )
+        x, y, z = (float(Decimal(m["number"]) * _METRES[m["unit"]]) for m in matches if m is not None)
+        return (x, y, z)
 
     def section(self, s: Statement) -> Decimal | None:
         raw = s.options.get("section")

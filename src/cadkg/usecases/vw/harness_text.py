@@ -39,6 +39,7 @@ from cadkg.ingest.harness.records import (
     HarnessSegment,
     HarnessWire,
     WireEnd,
+    WireRoute,
 )
 from cadkg.ingest.text import read_text
 from cadkg.usecases.vw.harness_statements import EXPECTED, FILE_FORMAT, Statement, StatementReader
@@ -79,6 +80,8 @@ class _Harness:
     line: int = 0
     connectors: dict[str, Statement] = field(default_factory=dict)
     nodes: dict[str, int] = field(default_factory=dict)
+    # The statement giving a node's position=: the node's own, or its connector's.
+    positions: dict[str, Statement] = field(default_factory=dict)
     segments: dict[str, Statement] = field(default_factory=dict)
     wires: dict[str, Statement] = field(default_factory=dict)
     cables: dict[str, Statement] = field(default_factory=dict)
@@ -127,6 +130,13 @@ class _Parser(StatementReader):
                     expected=f"unique names (first on line {table[name].line})",
                 )
             table[name] = s
+        if s.keyword == "connector" and "at" in s.options and "position" in s.options:
+            raise self.error(
+                f"connector {name} has both at= and position=",
+                s.line,
+                found=f"at={s.options['at']}",
+                expected=f"position= on node {s.options['at']}, where the connector sits",
+            )
         if s.keyword == "node" or (s.keyword == "connector" and "at" not in s.options):
             if name in h.nodes:
                 raise self.error(
@@ -137,6 +147,8 @@ class _Parser(StatementReader):
                     expected=f"unique node and connector names (first on line {h.nodes[name]})",
                 )
             h.nodes[name] = s.line
+            if "position" in s.options:
+                h.positions[name] = s
 
     # -- values ---------------------------------------------------------------------------------------
     def records(self, h: _Harness) -> list[HarnessRecord]:
@@ -171,29 +183,44 @@ class _Parser(StatementReader):
                 )
         records: list[HarnessRecord] = [Harness(h.name, h.description, FILE_FORMAT, h.line)]
         records.extend(
-            HarnessConnector(h.name, name, "connector", cavities[name], s.options.get("description"), s.line)
+            HarnessConnector(
+                h.name, name, name, "connector", cavities[name], s.options.get("description"), s.line
+            )
             for name, s in h.connectors.items()
         )
         records.extend(
-            HarnessNode(h.name, node, node, tuple(c for c, at in located.items() if at == node), line)
-            for node, line in h.nodes.items()
+            HarnessNode(
+                h.name,
+                node,
+                node,
+                tuple(c for c, at in located.items() if at == node),
+                h.nodes[node],
+                self.position(h.positions[node]) if node in h.positions else None,
+            )
+            for node in h.nodes
         )
         records.extend(segments.values())
         records.extend(
-            HarnessCable(h.name, name, self.length(s, "length"), self.diameter(s), s.line)
+            HarnessCable(h.name, name, name, self.length(s, "length"), self.diameter(s), s.line)
             for name, s in h.cables.items()
         )
         records.extend(self.wire(h, s, cavities, located, segments, graph) for s in h.wires.values())
         for name, s in h.fixings.items():
             nodes, on_segments = self.placement(h, s, allow_nodes=True)
             records.append(
-                HarnessFixing(h.name, name, s.options.get("description"), nodes, on_segments, s.line)
+                HarnessFixing(h.name, name, name, s.options.get("description"), nodes, on_segments, s.line)
             )
         for name, s in h.protections.items():
             _, on_segments = self.placement(h, s, allow_nodes=False)
             records.append(
                 HarnessProtection(
-                    h.name, name, s.options.get("description"), on_segments, self.length(s, "length"), s.line
+                    h.name,
+                    name,
+                    name,
+                    s.options.get("description"),
+                    on_segments,
+                    self.length(s, "length"),
+                    s.line,
                 )
             )
         return records
@@ -314,7 +341,7 @@ class _Parser(StatementReader):
             ident=name,
             label=name,
             ends=ends,
-            route=route,
+            routes=(WireRoute(name, route),),
             section_mm2=self.section(s),
             colour=s.options.get("colour"),
             length_m=self.length(s, "length"),

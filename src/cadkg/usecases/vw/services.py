@@ -2,9 +2,10 @@
 
 D3.1 section 4.4: the detection system reads a description of the harness and represents
 its state in GraphML. ``harness_topology`` gives that description from the graph: the
-topology (nodes with what sits on them, segments with length, diameter and wires), the
-wires with their cavities and routes, and one GraphML view as text. The model is built from
-the graph once per session (:func:`build_model`); an unknown harness or view gives
+topology (nodes with what sits on them and their positions, segments with length, diameter
+and wires), the wires with their cavities and routes, and one GraphML view as text, of the
+whole harness or of the variant of some of its modules. The harnesses' data are read from
+the graph once per session (:func:`build_model`); an unknown harness, view or module gives
 ``success=False`` and a message.
 """
 
@@ -14,13 +15,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-import networkx as nx
-
 from cadkg.errors import NotFound, QueryError
 from cadkg.services.service import Service, on_model
 from cadkg.services.session import Session
 from cadkg.usecases.vw.graphml import VIEWS, graphml_text
-from cadkg.usecases.vw.views import LIST_SEPARATOR, HarnessRef, harnesses, topology_graph, wire_graph
+from cadkg.usecases.vw.harness_data import HarnessRef, WireData, choose_harness, harnesses, wire_data
+from cadkg.usecases.vw.views import LIST_SEPARATOR, choose_modules, topology_view, wire_view
 
 if TYPE_CHECKING:
     from cadkg.graph import KnowledgeGraph
@@ -49,6 +49,10 @@ class TopologyNode:
     degree: int
     connectors: tuple[str, ...]
     fixings: tuple[str, ...]
+    # metres, REP 103 axes; None where the description gives no position
+    x: float | None = None
+    y: float | None = None
+    z: float | None = None
 
 
 @dataclass(frozen=True)
@@ -96,103 +100,96 @@ class HarnessTopologyResult:
 
 @dataclass(frozen=True)
 class VwModel:
-    """Every harness of the graph with its two views (by harness IRI)."""
+    """Every harness of the graph with the data of its views (by harness IRI)."""
 
     harnesses: tuple[HarnessRef, ...]
-    topology: Mapping[str, nx.MultiGraph]
-    wires: Mapping[str, nx.MultiGraph]
+    data: Mapping[str, WireData]
 
 
 def build_model(kg: KnowledgeGraph) -> VwModel:
-    """The views of every harness in the graph, from SPARQL over it."""
+    """The data of the views of every harness in the graph."""
     refs = tuple(harnesses(kg))
-    return VwModel(
-        refs,
-        {r.iri: topology_graph(kg, r.iri) for r in refs},
-        {r.iri: wire_graph(kg, r.iri) for r in refs},
-    )
+    return VwModel(refs, {r.iri: wire_data(kg, r, whole=True) for r in refs})
 
 
 def _split(value: str) -> tuple[str, ...]:
     return tuple(value.split(LIST_SEPARATOR)) if value else ()
 
 
-def _find(model: VwModel, harness: str) -> HarnessRef:
-    if not model.harnesses:
-        raise NotFound("the graph holds no harness")
-    if not harness:
-        if len(model.harnesses) > 1:
-            names = ", ".join(r.label for r in model.harnesses)
-            raise QueryError(f"the graph holds {len(model.harnesses)} harnesses; name one: {names}")
-        return model.harnesses[0]
-    for ref in model.harnesses:
-        if harness in (ref.label, ref.id, ref.iri):
-            return ref
-    raise NotFound(f"no harness {harness!r}; known: {', '.join(r.label for r in model.harnesses)}")
-
-
-def harness_topology(model: VwModel, harness: str = "", view: str = "topology") -> HarnessTopologyResult:
+def harness_topology(
+    model: VwModel, harness: str = "", view: str = "topology", modules: str = ""
+) -> HarnessTopologyResult:
     """The topology and wires of a harness, and its ``view`` (topology or wires) as GraphML.
 
     ``harness`` is the harness label (a KBL part number, a text description's name), its id
-    or IRI; it may be empty when the graph holds one harness.
+    or IRI; it may be empty when the graph holds one harness. ``modules`` (comma separated
+    module names, or a configuration's name) gives the variant of a modular harness holding them.
     """
     view = view or "topology"
     if view not in VIEWS:
         return HarnessTopologyResult(False, f"unknown view {view!r}; one of {', '.join(VIEWS)}")
     try:
-        ref = _find(model, harness)
+        ref = choose_harness(list(model.harnesses), harness)
+        data = model.data[ref.iri]
+        variant = choose_modules(data.topology, [m.strip() for m in modules.split(",") if m.strip()])
     except (NotFound, QueryError) as err:
         return HarnessTopologyResult(False, str(err))
-    topology, wires = model.topology[ref.iri], model.wires[ref.iri]
+    topology, wires = topology_view(data.topology, variant), wire_view(data, variant)
     nodes = tuple(
         TopologyNode(
             node,
-            data["label"],
-            data["kind"],
-            data["degree"],
-            _split(data["connectors"]),
-            _split(data["fixings"]),
+            attributes["label"],
+            attributes["kind"],
+            attributes["degree"],
+            _split(attributes["connectors"]),
+            _split(attributes["fixings"]),
+            attributes.get("x"),
+            attributes.get("y"),
+            attributes.get("z"),
         )
-        for node, data in sorted(topology.nodes(data=True))
+        for node, attributes in topology.nodes
     )
     segments = tuple(
         TopologySegment(
             key,
-            data["label"],
-            data["from_node"],
-            data["to_node"],
-            data.get("length_m"),
-            data.get("diameter_m"),
-            _split(data["wires"]),
-            _split(data["fixings"]),
-            _split(data["protections"]),
+            attributes["label"],
+            attributes["from_node"],
+            attributes["to_node"],
+            attributes.get("length_m"),
+            attributes.get("diameter_m"),
+            _split(attributes["wires"]),
+            _split(attributes["fixings"]),
+            _split(attributes["protections"]),
         )
-        for _, _, key, data in sorted(topology.edges(keys=True, data=True), key=lambda e: e[2])
+        for _, _, key, attributes in topology.edges
     )
+    cavities = dict(wires.nodes)
     wire_list = []
-    for _, _, key, data in sorted(wires.edges(keys=True, data=True), key=lambda e: e[2]):
-        start, end = wires.nodes[data["from_cavity"]], wires.nodes[data["to_cavity"]]
+    for _, _, key, attributes in wires.edges:
+        start, end = cavities[attributes["from_cavity"]], cavities[attributes["to_cavity"]]
         wire_list.append(
             TopologyWire(
                 key,
-                data["label"],
+                attributes["label"],
                 start["connector"],
                 start["cavity"],
                 end["connector"],
                 end["cavity"],
-                data.get("section_mm2"),
-                data.get("colour", ""),
-                data.get("length_m"),
-                _split(data["segments"]),
+                attributes.get("section_mm2"),
+                attributes.get("colour", ""),
+                attributes.get("length_m"),
+                _split(attributes["segments"]),
             )
         )
     graph = topology if view == "topology" else wires
+    name = ref.label + (f" ({', '.join(variant.labels)})" if variant.modules is not None else "")
     message = (
-        f"{ref.label}: {len(nodes)} nodes, {len(segments)} segments, {len(wire_list)} wires"
+        f"{name}: {len(nodes)} nodes, {len(segments)} segments, {len(wire_list)} wires"
         if segments or wire_list
-        else f"{ref.label}: no topology or wires in the graph"
+        else f"{name}: no topology or wires in the graph"
     )
+    for warning in dict.fromkeys(graph.warnings):
+        message += f"; warning: {warning}"
     return HarnessTopologyResult(
         True, message, ref.label, ref.file_format, nodes, segments, tuple(wire_list), graphml_text(graph)
     )
@@ -205,10 +202,11 @@ def _model(session: Session) -> VwModel:
 SERVICES: tuple[Service, ...] = (
     Service(
         "harness_topology",
-        "a harness's nodes, segments (length, diameter, wires) and wires (cavities, route), and GraphML",
-        {"harness": str, "view": str},
+        "a harness's nodes (position), segments (length, diameter, wires) and wires (cavities, route), "
+        "and GraphML; of the variant of some modules",
+        {"harness": str, "view": str, "modules": str},
         on_model(harness_topology, _model),
         profile=PROFILE,
-        optional=frozenset({"harness", "view"}),
+        optional=frozenset({"harness", "view", "modules"}),
     ),
 )

@@ -1,390 +1,375 @@
-"""Networkx views of a wire harness, built from SPARQL over the graph: topology and wires.
+"""The two views of a wire harness, built from its data in the store: topology and wires.
 
-Whatever file a harness came from (KBL, the harness text format, an ELVEZ harness
-structure), the views ask for the ontology's harness terms only: ``ck:Harness``, things
-``ck:partOf`` it, ``ck:Segment ck:segmentFrom/ck:segmentTo ck:HarnessNode``,
-``ck:Connector ck:atNode``, ``ck:routedThrough``, ``ck:placedOn``, and wire ends
-``ck:fromPin/ck:toPin`` → ``ck:Pin ck:inCavity ck:Cavity`` of the connector it is
-``ck:pinOf``.
+A :class:`View` is the graph's data, its nodes and its edges with their attributes, in id
+order: the GraphML writer (:mod:`cadkg.usecases.vw.graphml`) streams it to a file, and
+:func:`topology_graph` and :func:`wire_graph` make it a networkx graph for the Python API.
 
 Node and edge ids are the things' IRIs relative to the cell's base IRI
 (``segment/DOOR-L/S1``), so they are stable across rebuilds and unique across harnesses.
-Lists are ``;``-joined strings, never Python lists, so the graphs write to GraphML as they are.
+Lists are ``;``-joined strings, never Python lists, so a view writes to GraphML as it is.
+With ``modules``, a view holds one variant of a modular harness (see :func:`choose_modules`).
 """
 
 from __future__ import annotations
 
 from collections import defaultdict
-from collections.abc import Iterable
-from dataclasses import dataclass
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import networkx as nx
-import pyoxigraph as ox
 
-from cadkg.errors import NotFound, QueryError
+from cadkg.errors import QueryError
+from cadkg.usecases.vw.harness_data import (
+    TopologyData,
+    WireData,
+    find_harness,
+    topology_data,
+    value,
+    wire_data,
+)
 
 if TYPE_CHECKING:
     from cadkg.graph import KnowledgeGraph
 
 __all__ = [
+    "FRAME",
     "LIST_SEPARATOR",
     "NODE_KINDS",
-    "HarnessRef",
-    "find_harness",
-    "harnesses",
+    "Variant",
+    "View",
+    "choose_modules",
+    "networkx_graph",
     "topology_graph",
+    "topology_view",
     "wire_graph",
+    "wire_view",
 ]
 
 LIST_SEPARATOR = ";"
 NODE_KINDS = ("connector", "fixing", "branch", "end", "inline")
 """Kinds of topology nodes: a connector sits there, else a fixing, else by the number of
 segments: three or more ``branch``, one (or none) ``end``, two ``inline``."""
+FRAME = "REP 103: x forward, y left, z up; metres"
+"""The axes of the node positions (``x``, ``y``, ``z``)."""
 
-_HARNESSES = """
-SELECT ?h ?label ?number ?description ?format WHERE {
-  ?h a ck:Harness .
-  OPTIONAL { ?h ck:label ?label }
-  OPTIONAL { ?h ck:harnessNumber ?number }
-  OPTIONAL { ?h ck:description ?description }
-  OPTIONAL { ?h ck:fileFormat ?format }
-}
-"""
+Attributes = dict[str, Any]
 
-_BASE = "SELECT ?cell WHERE { ?cell a ck:Cell } LIMIT 1"
 
-_SEGMENTS = """
-SELECT ?s ?label ?from ?to ?length ?diameter ?section WHERE {
-  ?s a ck:Segment ; ck:partOf ?h ; ck:segmentFrom ?from ; ck:segmentTo ?to .
-  OPTIONAL { ?s ck:label ?label }
-  OPTIONAL { ?s ck:lengthM ?length }
-  OPTIONAL { ?s ck:diameterM ?diameter }
-  OPTIONAL { ?s ck:bundleSectionMm2 ?section }
-}
-"""
+@dataclass
+class View:
+    """One view of a harness: graph data, nodes and edges (``u``, ``v``, key) in id order."""
 
-_NODES = """
-SELECT DISTINCT ?n ?label WHERE {
-  { ?n a ck:HarnessNode ; ck:partOf ?h }
-  UNION { ?s ck:partOf ?h ; ck:segmentFrom|ck:segmentTo ?n }
-  OPTIONAL { ?n ck:label ?label }
-}
-"""
-
-_AT_NODES = """
-SELECT DISTINCT ?c ?n ?label WHERE {
-  ?c ck:atNode ?n . ?n ck:partOf ?h .
-  OPTIONAL { ?c ck:label ?label }
-}
-"""
-
-_PLACED = """
-SELECT DISTINCT ?x ?on ?type ?label WHERE {
-  ?x ck:placedOn ?on ; ck:partOf ?h ; a ?type .
-  VALUES ?type { ck:Fixing ck:Protection }
-  OPTIONAL { ?x ck:label ?label }
-}
-"""
-
-_ROUTES = """
-SELECT DISTINCT ?w ?s ?label ?number WHERE {
-  ?w ck:routedThrough ?s ; ck:partOf ?h .
-  OPTIONAL { ?w ck:label ?label }
-  OPTIONAL { ?w ck:wireNumber ?number }
-}
-"""
-
-_CONNECTORS = """
-SELECT DISTINCT ?c ?label ?cavity ?cavityLabel ?cavityIndex WHERE {
-  { ?h ck:hasConnector ?c } UNION { ?c a ck:Connector ; ck:partOf ?h }
-  UNION { ?h ck:hasBranch/ck:hasConnector ?c }
-  OPTIONAL { ?c ck:label ?label }
-  OPTIONAL {
-    ?c ck:hasCavity ?cavity .
-    OPTIONAL { ?cavity ck:label ?cavityLabel }
-    OPTIONAL { ?cavity ck:pinIndex ?cavityIndex }
-  }
-}
-"""
-
-_WIRES = """
-SELECT ?w ?label ?number ?from ?to ?section ?colour ?length ?diameter ?cable ?signal WHERE {
-  ?w ck:partOf ?h ; ck:fromPin ?from ; ck:toPin ?to .
-  FILTER EXISTS { ?w a ?kind . VALUES ?kind { ck:Wire ck:Cable } }
-  OPTIONAL { ?w ck:label ?label }
-  OPTIONAL { ?w ck:wireNumber ?number }
-  OPTIONAL { ?w ck:crossSectionMm2 ?section }
-  OPTIONAL { ?w ck:colour ?colour }
-  OPTIONAL { ?w ck:lengthM ?length }
-  OPTIONAL { ?w ck:diameterM ?diameter }
-  OPTIONAL { ?w ck:cableName ?cable }
-  OPTIONAL { ?w ck:potentialName ?signal }
-}
-"""
-
-_ENDS = """
-SELECT DISTINCT ?pin ?connector ?connectorLabel ?cavity ?cavityLabel ?pinName ?pinIndex WHERE {
-  ?w ck:partOf ?h ; ck:fromPin|ck:toPin|ck:intermediatePin ?pin .
-  ?pin ck:pinOf ?connector .
-  OPTIONAL { ?connector ck:label ?connectorLabel }
-  OPTIONAL { ?pin ck:inCavity ?cavity . OPTIONAL { ?cavity ck:label ?cavityLabel } }
-  OPTIONAL { ?pin ck:pinName ?pinName }
-  OPTIONAL { ?pin ck:pinIndex ?pinIndex }
-}
-"""
+    graph: Attributes
+    nodes: list[tuple[str, Attributes]]
+    edges: list[tuple[str, str, str, Attributes]]
+    warnings: list[str] = field(default_factory=list)
 
 
 @dataclass(frozen=True)
-class HarnessRef:
-    """A harness in the graph: its IRI, its id relative to the cell (``harness/DOOR-L``), label."""
+class Variant:
+    """The modules chosen (IRIs; None for the whole 150 % harness) and what to tell the user."""
 
-    iri: str
-    id: str
-    label: str
-    description: str
-    file_format: str
-
-
-def _base(kg: KnowledgeGraph) -> str:
-    rows = kg.query(_BASE).rows
-    cell = str(rows[0]["cell"]) if rows else ""
-    return cell.removesuffix("cell/this") if cell.endswith("cell/this") else ""
-
-
-def _relative(iri: str, base: str) -> str:
-    return iri[len(base) :] if base and iri.startswith(base) else iri
-
-
-def harnesses(kg: KnowledgeGraph) -> list[HarnessRef]:
-    """Every ``ck:Harness`` of the graph, by label."""
-    base = _base(kg)
-    refs = {}
-    for row in kg.query(_HARNESSES):
-        iri = row["h"]
-        if iri in refs:
-            continue
-        number = row["number"]
-        label = row["label"] or (f"WH{number}" if number is not None else _relative(iri, base))
-        refs[iri] = HarnessRef(
-            iri, _relative(iri, base), str(label), row["description"] or "", row["format"] or ""
-        )
-    return sorted(refs.values(), key=lambda r: (r.label, r.iri))
-
-
-def find_harness(kg: KnowledgeGraph, harness: str | None = None) -> HarnessRef:
-    """The harness named ``harness`` (its label, id or IRI); may be left out when the graph holds one.
-
-    Raises
-    ------
-    NotFound
-        When the graph holds no harness, or none of that name.
-    QueryError
-        When no name is given and the graph holds more than one harness.
-    """
-    known = harnesses(kg)
-    if not known:
-        raise NotFound("the graph holds no harness (ck:Harness)")
-    if not harness:
-        if len(known) > 1:
-            raise QueryError(
-                f"the graph holds {len(known)} harnesses; name one: {', '.join(r.label for r in known)}"
-            )
-        return known[0]
-    for ref in known:
-        if harness in (ref.label, ref.id, ref.iri):
-            return ref
-    raise NotFound(f"no harness {harness!r}; known: {', '.join(r.label for r in known)}")
-
-
-def _rows(kg: KnowledgeGraph, sparql: str, ref: HarnessRef) -> Iterable[dict[str, Any]]:
-    return kg.query(sparql, h=ox.NamedNode(ref.iri)).rows
+    modules: frozenset[str] | None
+    labels: tuple[str, ...]
+    warnings: tuple[str, ...]
 
 
 def _joined(values: Iterable[str]) -> str:
     return LIST_SEPARATOR.join(values)
 
 
-def topology_graph(kg: KnowledgeGraph, harness: str | None = None) -> nx.MultiGraph:
-    """The harness topology: nodes are harness nodes, edges are segments (keyed by segment id).
-
-    Node attributes: ``label``, ``kind`` (one of :data:`NODE_KINDS`), ``degree``,
-    ``connectors`` and ``fixings`` (labels, ``;``-joined). Edge attributes: ``label``,
-    ``from_node`` and ``to_node`` (the segment's direction), ``length_m``, ``diameter_m`` and
-    ``section_mm2`` when known, ``wires`` (labels) and ``wire_ids``, ``wire_count``,
-    ``fixings`` and ``protections`` (labels). Nodes and edges are added in id order.
+def choose_modules(data: TopologyData, names: Sequence[str]) -> Variant:
+    """The variant of the modules ``names`` (a module's label or id, or a configuration's label).
 
     Raises
     ------
-    NotFound, QueryError
-        As :func:`find_harness`.
+    QueryError
+        When the harness has no modules, or a name is none of its modules or configurations.
     """
-    ref = find_harness(kg, harness)
-    base = _base(kg)
-
-    def rel(iri: str) -> str:
-        return _relative(iri, base)
-
-    graph = nx.MultiGraph(harness=ref.label, harness_id=ref.id, view="topology")
-    nodes = {row["n"]: row["label"] or rel(row["n"]) for row in _rows(kg, _NODES, ref)}
-    connectors: dict[str, list[str]] = defaultdict(list)
-    for row in _rows(kg, _AT_NODES, ref):
-        connectors[row["n"]].append(row["label"] or rel(row["c"]))
-    placed: dict[tuple[str, str], list[str]] = defaultdict(list)
-    for row in _rows(kg, _PLACED, ref):
-        kind = "fixings" if row["type"].endswith("Fixing") else "protections"
-        placed[(row["on"], kind)].append(row["label"] or rel(row["x"]))
-    routed: dict[str, list[tuple[str, str]]] = defaultdict(list)
-    for row in _rows(kg, _ROUTES, ref):
-        routed[row["s"]].append((row["label"] or row["number"] or rel(row["w"]), rel(row["w"])))
-    segments = sorted(_rows(kg, _SEGMENTS, ref), key=lambda r: rel(r["s"]))
-    degree: dict[str, int] = defaultdict(int)
-    for row in segments:
-        degree[row["from"]] += 1
-        degree[row["to"]] += 1
-    for iri in sorted(nodes, key=rel):
-        fixings = sorted(placed.get((iri, "fixings"), []))
-        count = degree[iri]
-        if connectors.get(iri):
-            kind = "connector"
-        elif fixings:
-            kind = "fixing"
+    if not names:
+        return Variant(None, (), ())
+    if not data.modules:
+        raise QueryError(f"harness {data.ref.label} has no modules to choose from")
+    by_name: dict[str, set[str]] = defaultdict(set)
+    for module in data.modules.values():
+        for name in (module.label, module.id, module.id.rpartition("/")[2]):
+            by_name[name].add(module.id)
+    chosen: set[str] = set()
+    for name in names:
+        if name in by_name:
+            chosen.update(by_name[name])
+        elif name in data.configurations:
+            chosen.update(data.configurations[name])
         else:
-            kind = "branch" if count >= 3 else "inline" if count == 2 else "end"
-        graph.add_node(
-            rel(iri),
-            label=nodes[iri],
-            kind=kind,
-            degree=count,
-            connectors=_joined(sorted(connectors.get(iri, []))),
-            fixings=_joined(fixings),
-        )
-    for row in segments:
-        wires = sorted(set(routed.get(row["s"], [])))
-        data: dict[str, Any] = {
-            "label": row["label"] or rel(row["s"]),
-            "from_node": rel(row["from"]),
-            "to_node": rel(row["to"]),
-        }
-        for name, key in (("length_m", "length"), ("diameter_m", "diameter"), ("section_mm2", "section")):
-            if row[key] is not None:
-                data[name] = float(row[key])
-        data.update(
-            wires=_joined(label for label, _ in wires),
-            wire_ids=_joined(ident for _, ident in wires),
-            wire_count=len(wires),
-            fixings=_joined(sorted(placed.get((row["s"], "fixings"), []))),
-            protections=_joined(sorted(placed.get((row["s"], "protections"), []))),
-        )
-        for end in (row["from"], row["to"]):
-            if rel(end) not in graph:
-                graph.add_node(
-                    rel(end), label=rel(end), kind="end", degree=degree[end], connectors="", fixings=""
-                )
-        graph.add_edge(rel(row["from"]), rel(row["to"]), key=rel(row["s"]), **data)
+            known = sorted({m.label for m in data.modules.values()})
+            configurations = sorted(data.configurations)
+            raise QueryError(
+                f"harness {data.ref.label} has no module or configuration {name!r};"
+                f" modules: {', '.join(known)}"
+                + (f"; configurations: {', '.join(configurations)}" if configurations else "")
+            )
+    families: dict[str, list[str]] = defaultdict(list)
+    for ident in sorted(chosen):
+        module = data.modules[ident]
+        if module.family:
+            families[module.family].append(module.label)
+    warnings = tuple(
+        f"modules {', '.join(labels)} are of one family ({family}) and exclude each other"
+        for family, labels in sorted(families.items())
+        if len(labels) > 1
+    )
+    return Variant(frozenset(chosen), tuple(sorted(data.modules[m].label for m in chosen)), warnings)
+
+
+def _in(data: TopologyData, variant: Variant) -> Callable[[str], bool]:
+    chosen = variant.modules
+    in_module = data.in_module
+    if chosen is None or not in_module:
+        return lambda ident: True
+
+    def test(ident: str) -> bool:
+        modules = in_module.get(ident)
+        return not modules or not chosen.isdisjoint(modules)
+
+    return test
+
+
+def _graph_data(data: TopologyData, view: str, variant: Variant) -> Attributes:
+    graph: Attributes = {"harness": data.ref.label, "harness_id": data.ref.id, "view": view}
+    if variant.modules is not None:
+        graph["modules"] = _joined(variant.labels)
+    if data.positions:
+        graph["frame"] = FRAME
     return graph
 
 
-def wire_graph(kg: KnowledgeGraph, harness: str | None = None) -> nx.MultiGraph:
-    """The wire-level graph: nodes are connector cavities, edges are wires (keyed by wire id).
-
-    Every cavity of the harness's connectors is a node, used or not; a wire end in no cavity
-    is a node of its own (the contact). Node attributes: ``label`` (``connector:cavity``),
-    ``connector``, ``cavity``, ``harness_node`` (the topology node the connector sits at, or
-    empty). Edge attributes: ``label``, ``wire_number``, ``from_cavity`` and ``to_cavity``
-    (the wire's direction), and when known ``section_mm2``, ``colour``, ``length_m``,
-    ``diameter_m``, ``cable``, ``signal``; ``segments`` (topology edge ids in route order).
-
-    Raises
-    ------
-    NotFound, QueryError
-        As :func:`find_harness`.
-    """
-    ref = find_harness(kg, harness)
-    base = _base(kg)
-
-    def rel(iri: str) -> str:
-        return _relative(iri, base)
-
-    graph = nx.MultiGraph(harness=ref.label, harness_id=ref.id, view="wires")
-    at_node = {row["c"]: row["n"] for row in _rows(kg, _AT_NODES, ref)}
-    cavities: dict[str, dict[str, Any]] = {}
-
-    def add_cavity(node: str, connector: str, connector_label: str | None, cavity: str) -> None:
-        name = connector_label or rel(connector)
-        cavities.setdefault(
-            rel(node),
-            {
-                "label": f"{name}:{cavity}",
-                "connector": name,
-                "cavity": cavity,
-                "harness_node": rel(at_node[connector]) if connector in at_node else "",
-            },
+def topology_view(data: TopologyData, variant: Variant | None = None) -> View:
+    """Nodes are harness nodes, edges are segments (keyed by segment id); see docs/formats/graphml.md."""
+    variant = variant or Variant(None, (), ())
+    keep = _in(data, variant)
+    segments = {s: info for s, info in data.segments.items() if keep(s)}
+    connectors: dict[str, list[str]] = defaultdict(list)
+    for connector, node, label in data.at_node:
+        if keep(connector):
+            connectors[node].append(label or connector)
+    placed: dict[tuple[str, str], list[str]] = defaultdict(list)
+    for thing, on, kind, label in data.placed:
+        if keep(thing):
+            placed[(on, "fixings" if kind.endswith("Fixing") else "protections")].append(label or thing)
+    routed: dict[str, set[tuple[str, str]]] = defaultdict(set)
+    labels = data.wire_labels
+    for wire, path, routing in data.routings:
+        if keep(wire) and (not routing or keep(routing)):
+            entry = (labels.get(wire) or wire, wire)
+            for segment in path:
+                routed[segment].add(entry)
+    degree: dict[str, int] = defaultdict(int)
+    for info in segments.values():
+        degree[info.start] += 1
+        degree[info.end] += 1
+    nodes = []
+    for ident in sorted({n for n in data.nodes if keep(n)} | set(degree)):
+        name = data.nodes.get(ident) or ident
+        here = sorted(connectors.get(ident, []))
+        fixings = sorted(placed.get((ident, "fixings"), []))
+        count = degree.get(ident, 0)
+        kind = (
+            "connector"
+            if here
+            else "fixing"
+            if fixings
+            else "branch"
+            if count >= 3
+            else "inline"
+            if count == 2
+            else "end"
         )
+        attributes: Attributes = {
+            # Readable: the designations of the connectors there, else the node's own name.
+            "label": ", ".join(here) or name,
+            "node_name": name,
+            "kind": kind,
+            "degree": count,
+            "connectors": _joined(here),
+            "fixings": _joined(fixings),
+        }
+        if ident in data.positions:
+            attributes["x"], attributes["y"], attributes["z"] = data.positions[ident]
+        nodes.append((ident, attributes))
+    edges = []
+    for ident in sorted(segments):
+        info = segments[ident]
+        wires = sorted(routed.get(ident, ()))
+        attributes = {"label": info.label or ident, "from_node": info.start, "to_node": info.end}
+        for name, number in (
+            ("length_m", info.length_m),
+            ("diameter_m", info.diameter_m),
+            ("section_mm2", info.section_mm2),
+        ):
+            if number is not None:
+                attributes[name] = number
+        if info.length_source:
+            attributes["length_source"] = info.length_source
+        attributes["wires"] = _joined([label for label, _ in wires])
+        attributes["wire_ids"] = _joined([wire for _, wire in wires])
+        attributes["wire_count"] = len(wires)
+        attributes["fixings"] = _joined(sorted(placed.get((ident, "fixings"), [])))
+        attributes["protections"] = _joined(sorted(placed.get((ident, "protections"), [])))
+        edges.append((info.start, info.end, ident, attributes))
+    view = View(_graph_data(data, "topology", variant), nodes, edges, list(variant.warnings))
+    view.warnings.extend(_ambiguous(connectors.values()))
+    return view
 
-    for row in _rows(kg, _CONNECTORS, ref):
-        if row["cavity"] is not None:
-            name = row["cavityLabel"] or (str(row["cavityIndex"]) if row["cavityIndex"] is not None else None)
-            add_cavity(row["cavity"], row["c"], row["label"], name or rel(row["cavity"]))
-    end_of: dict[str, str] = {}
-    connector_of: dict[str, str] = {}
-    for row in _rows(kg, _ENDS, ref):
-        connector_of[row["pin"]] = row["connector"]
-        node = row["cavity"] or row["pin"]
-        name = (
-            row["cavityLabel"]
-            or row["pinName"]
-            or (str(row["pinIndex"]) if row["pinIndex"] is not None else "")
-        )
-        add_cavity(node, row["connector"], row["connectorLabel"], name or rel(node))
-        end_of[row["pin"]] = rel(node)
-    for node in sorted(cavities):
-        graph.add_node(node, **cavities[node])
-    routes: dict[str, set[str]] = defaultdict(set)
-    for row in _rows(kg, _ROUTES, ref):
-        routes[row["w"]].add(row["s"])
-    topology = _segment_ends(kg, ref)
-    wires = sorted(_rows(kg, _WIRES, ref), key=lambda r: rel(r["w"]))
-    seen = set()
-    for row in wires:
-        if row["w"] in seen:
+
+def _ambiguous(labels: Iterable[list[str]]) -> list[str]:
+    counts: dict[str, int] = defaultdict(int)
+    for here in labels:
+        for label in here:
+            counts[label] += 1
+    twice = sorted(label for label, count in counts.items() if count > 1)
+    return [f"connector designation {label} names several connectors" for label in twice]
+
+
+def wire_view(data: WireData, variant: Variant | None = None) -> View:
+    """Nodes are connector cavities, edges are wires (keyed by wire id); see docs/formats/graphml.md."""
+    variant = variant or Variant(None, (), ())
+    topology = data.topology
+    keep = _in(topology, variant)
+    at_node = {c: n for c, n, _ in topology.at_node}
+    connectors = data.connectors
+    shown = {c: label or c for c, label in connectors.items() if keep(c)}
+    cavities: dict[str, Attributes] = {}
+    holder: dict[str, str] = {}
+    for connector, cavity, name in data.cavities:
+        holder[cavity] = connector
+        if connector in shown:
+            label = shown[connector]
+            number = name or cavity
+            cavities[cavity] = {
+                "label": f"{label}:{number}",
+                "connector": label,
+                "cavity": number,
+                "harness_node": at_node.get(connector, ""),
+            }
+    routes: dict[str, list[tuple[str, list[str]]]] = {}
+    unordered: set[str] = set()
+    for wire, path, routing in topology.routings:
+        if not routing:
+            unordered.add(wire)
+        if not routing or keep(routing):
+            routes.setdefault(wire, []).append((routing, path))
+    edges = []
+    for row in sorted(data.wires):
+        wire = row[0]
+        if not keep(wire):
             continue
-        seen.add(row["w"])
-        data: dict[str, Any] = {
-            "label": row["label"] or row["number"] or rel(row["w"]),
-            "wire_number": row["number"] or "",
-            "from_cavity": end_of[row["from"]],
-            "to_cavity": end_of[row["to"]],
+        ends = [
+            _end(data, cavities, holder, at_node, pin, cavity)
+            for pin, cavity in ((row[1], row[3]), (row[2], row[4]))
+        ]
+        label, number = value(row[5]), value(row[6])
+        attributes: Attributes = {
+            "label": label or number or wire,
+            "wire_number": number,
+            "from_cavity": ends[0],
+            "to_cavity": ends[1],
         }
-        for name, key in (("section_mm2", "section"), ("length_m", "length"), ("diameter_m", "diameter")):
-            if row[key] is not None:
-                data[name] = float(row[key])
-        for name in ("colour", "cable", "signal"):
-            if row[name] is not None:
-                data[name] = str(row[name])
-        start = at_node.get(connector_of[row["from"]])
-        ordered = _in_route_order(routes.get(row["w"], set()), topology, start)
-        data["segments"] = _joined(rel(s) for s in ordered)
-        graph.add_edge(end_of[row["from"]], end_of[row["to"]], key=rel(row["w"]), **data)
-    return graph
+        for name, term in (("section_mm2", row[7]), ("length_m", row[9]), ("diameter_m", row[10])):
+            if term:
+                attributes[name] = float(value(term))
+        for name, term in (("colour", row[8]), ("cable", row[11]), ("signal", row[12])):
+            if term:
+                attributes[name] = value(term)
+        paths = [path for _, path in sorted(routes.get(wire, []))]
+        if wire in unordered:
+            start = cavities[ends[0]]["harness_node"]
+            paths = [_ordered(paths[0], topology, start)]
+        # Routings of one wire for different variants, all in the view of the whole harness: "|".
+        attributes["segments"] = "|".join([_joined(path) for path in paths])
+        edges.append((ends[0], ends[1], wire, attributes))
+    view = View(
+        _graph_data(topology, "wires", variant), sorted(cavities.items()), edges, list(variant.warnings)
+    )
+    view.warnings.extend(_ambiguous([[label for c, label in connectors.items() if c in shown and label]]))
+    return view
 
 
-def _segment_ends(kg: KnowledgeGraph, ref: HarnessRef) -> dict[str, tuple[str, str]]:
-    return {row["s"]: (row["from"], row["to"]) for row in _rows(kg, _SEGMENTS, ref)}
+def _end(
+    data: WireData,
+    cavities: dict[str, Attributes],
+    holder: dict[str, str],
+    at_node: dict[str, str],
+    pin: str,
+    cavity: str,
+) -> str:
+    """The node of a wire end: its cavity, or its pin when it is in none (a node of its own)."""
+    if cavity in cavities:
+        return cavity
+    if cavity:
+        connector, name = holder.get(cavity, ""), cavity
+    else:
+        cavity = pin
+        connector, name = data.pins.get(pin, ("", pin))
+    label = data.connectors.get(connector) or connector
+    cavities[cavity] = {
+        "label": f"{label}:{name}",
+        "connector": label,
+        "cavity": name,
+        "harness_node": at_node.get(connector, ""),
+    }
+    return cavity
 
 
-def _in_route_order(segments: set[str], ends: dict[str, tuple[str, str]], start: str | None) -> list[str]:
-    """The segments of a route walked from the node ``start``; by id where the walk cannot go on."""
-    left = set(segments)
+def _ordered(path: list[str], topology: TopologyData, start: str) -> list[str]:
+    """A set of routed segments (no routing) walked from ``start``; by id where the walk cannot go on."""
+    left = set(path)
     ordered: list[str] = []
     at = start
-    while left and at is not None:
-        step = sorted(s for s in left if s in ends and at in ends[s])
+    segments = topology.segments
+    while left and at:
+        step = sorted(s for s in left if s in segments and at in (segments[s].start, segments[s].end))
         if len(step) != 1:
             break
-        segment = step[0]
-        ordered.append(segment)
-        left.discard(segment)
-        first, second = ends[segment]
-        at = second if at == first else first
+        ordered.append(step[0])
+        left.discard(step[0])
+        at = segments[step[0]].end if at == segments[step[0]].start else segments[step[0]].start
     return ordered + sorted(left)
+
+
+# -- networkx, for the Python API -------------------------------------------------------------------------
+
+
+def networkx_graph(view: View) -> nx.MultiGraph:
+    """The view as a networkx multigraph (edges keyed by segment or wire id)."""
+    graph = nx.MultiGraph(**view.graph)
+    graph.add_nodes_from(view.nodes)
+    graph.add_edges_from(view.edges)
+    return graph
+
+
+def topology_graph(
+    kg: KnowledgeGraph, harness: str | None = None, modules: Sequence[str] = ()
+) -> nx.MultiGraph:
+    """The harness topology as networkx: nodes are harness nodes, edges are segments.
+
+    Raises
+    ------
+    NotFound, QueryError
+        When the harness is unknown or not named where several are; on an unknown module.
+    """
+    data = topology_data(kg, find_harness(kg, harness))
+    return networkx_graph(topology_view(data, choose_modules(data, modules)))
+
+
+def wire_graph(kg: KnowledgeGraph, harness: str | None = None, modules: Sequence[str] = ()) -> nx.MultiGraph:
+    """The wire-level graph as networkx: nodes are connector cavities, edges are wires.
+
+    Raises
+    ------
+    NotFound, QueryError
+        As :func:`topology_graph`.
+    """
+    ref = find_harness(kg, harness)
+    data = wire_data(kg, ref)
+    return networkx_graph(wire_view(data, choose_modules(data.topology, modules)))

@@ -1,0 +1,155 @@
+"""The SPARQL of the harness views (:mod:`cadkg.usecases.vw.harness_data` runs them).
+
+Each query asks for few patterns: the store evaluates joins one lookup per row, and starts a
+join with a bound harness from every thing of the harness, so the things are read as they are
+indexed and kept when they are the harness's (a set lookup in Python).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from cadkg.store import GraphStore
+
+__all__ = [
+    "AT_NODES",
+    "BASE",
+    "CAVITIES",
+    "CONFIGURATIONS",
+    "CONNECTORS",
+    "CONNECTOR_MEMBERS",
+    "HARNESSES",
+    "IN_MODULE",
+    "LOOSE_PINS",
+    "MEMBERS",
+    "MODULES",
+    "NODES",
+    "PLACED",
+    "ROUTED",
+    "ROUTINGS",
+    "ROUTINGS_ONLY",
+    "SEGMENTS",
+    "STATED",
+    "WIRE_VALUES",
+    "wires_query",
+]
+
+HARNESSES = """
+SELECT ?h ?label ?number ?description ?format WHERE {
+  ?h a ck:Harness .
+  OPTIONAL { ?h ck:label ?label }
+  OPTIONAL { ?h ck:harnessNumber ?number }
+  OPTIONAL { ?h ck:description ?description }
+  OPTIONAL { ?h ck:fileFormat ?format }
+}
+"""
+BASE = "SELECT ?cell WHERE { ?cell a ck:Cell } LIMIT 1"
+MEMBERS = "SELECT ?x WHERE { ?x ck:partOf ?h }"
+SEGMENTS = """
+SELECT ?s ?from ?to ?label ?length ?diameter ?section ?source WHERE {
+  ?s a ck:Segment ; ck:segmentFrom ?from ; ck:segmentTo ?to .
+  OPTIONAL { ?s ck:label ?label }
+  OPTIONAL { ?s ck:lengthM ?length }
+  OPTIONAL { ?s ck:diameterM ?diameter }
+  OPTIONAL { ?s ck:bundleSectionMm2 ?section }
+  OPTIONAL { ?s ck:lengthSource ?source }
+}
+"""
+NODES = """
+SELECT ?n ?label ?x ?y ?z WHERE {
+  ?n a ck:HarnessNode .
+  OPTIONAL { ?n ck:label ?label }
+  OPTIONAL { ?n ck:nodeX ?x ; ck:nodeY ?y ; ck:nodeZ ?z }
+}
+"""
+AT_NODES = "SELECT ?c ?n ?label WHERE { ?c ck:atNode ?n . OPTIONAL { ?c ck:label ?label } }"
+PLACED = """
+SELECT ?x ?on ?type ?label WHERE {
+  ?x ck:placedOn ?on ; a ?type .
+  VALUES ?type { ck:Fixing ck:Protection }
+  OPTIONAL { ?x ck:label ?label }
+}
+"""
+ROUTINGS = """
+SELECT ?r ?w ?order ?label ?number WHERE {
+  ?r ck:routingOf ?w ; ck:segmentOrder ?order .
+  OPTIONAL { ?w ck:label ?label }
+  OPTIONAL { ?w ck:wireNumber ?number }
+}
+"""
+ROUTINGS_ONLY = "SELECT ?r ?w ?order ?label ?number WHERE { ?r ck:routingOf ?w ; ck:segmentOrder ?order }"
+ROUTED = """
+SELECT ?w ?s ?label ?number WHERE {
+  ?w ck:routedThrough ?s .
+  OPTIONAL { ?w ck:label ?label }
+  OPTIONAL { ?w ck:wireNumber ?number }
+}
+"""
+IN_MODULE = "SELECT ?x ?m WHERE { ?x ck:inModule ?m }"
+MODULES = """
+SELECT ?m ?label ?kind ?family ?familyLabel WHERE {
+  ?m a ck:HarnessModule .
+  OPTIONAL { ?m ck:label ?label }
+  OPTIONAL { ?m ck:moduleKind ?kind }
+  OPTIONAL { ?m ck:moduleFamily ?family . OPTIONAL { ?family ck:label ?familyLabel } }
+}
+"""
+CONFIGURATIONS = """
+SELECT ?c ?label ?m WHERE {
+  ?c a ck:HarnessConfiguration ; ck:configurationModule ?m .
+  OPTIONAL { ?c ck:label ?label }
+}
+"""
+CONNECTORS = """
+SELECT DISTINCT ?c ?label WHERE {
+  { ?h ck:hasConnector ?c } UNION { ?h ck:hasBranch/ck:hasConnector ?c }
+  OPTIONAL { ?c ck:label ?label }
+}
+"""
+CONNECTOR_MEMBERS = "SELECT ?c ?label WHERE { ?c a ck:Connector . OPTIONAL { ?c ck:label ?label } }"
+CAVITIES = """
+SELECT ?c ?cavity ?label ?index WHERE {
+  ?c ck:hasCavity ?cavity .
+  OPTIONAL { ?cavity ck:label ?label }
+  OPTIONAL { ?cavity ck:pinIndex ?index }
+}
+"""
+# A wire's ends are the cavities its pins are in; a pin in no cavity is told by its own name.
+WIRE_VALUES = (
+    ("label", "label"),
+    ("number", "wireNumber"),
+    ("section", "crossSectionMm2"),
+    ("colour", "colour"),
+    ("length", "lengthM"),
+    ("diameter", "diameterM"),
+    ("cable", "cableName"),
+    ("signal", "potentialName"),
+)
+STATED = "ASK {{ ?s ck:{} ?o }}"
+
+
+def wires_query(kg: GraphStore) -> str:
+    """The wires and their values; a value no thing of the store states is left out of the
+    query (every OPTIONAL is a lookup per wire)."""
+    optional = "\n".join(
+        f"  OPTIONAL {{ ?w ck:{term} ?{name} }}" for name, term in WIRE_VALUES if kg.ask(STATED.format(term))
+    )
+    names = " ".join(f"?{name}" for name, _ in WIRE_VALUES)
+    return (
+        f"SELECT ?w ?from ?to ?fromCavity ?toCavity {names} WHERE {{\n"
+        "  ?w ck:fromPin ?from ; ck:toPin ?to .\n"
+        "  OPTIONAL { ?from ck:inCavity ?fromCavity }\n"
+        "  OPTIONAL { ?to ck:inCavity ?toCavity }\n"
+        f"{optional}\n}}"
+    )
+
+
+LOOSE_PINS = """
+SELECT ?pin ?connector ?name ?index WHERE {
+  ?pin ck:pinOf ?connector .
+  FILTER NOT EXISTS { ?pin ck:inCavity ?cavity }
+  OPTIONAL { ?pin ck:pinName ?name }
+  OPTIONAL { ?pin ck:pinIndex ?index }
+}
+"""
