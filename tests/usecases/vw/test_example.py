@@ -147,3 +147,14 @@ def test_the_command_line_reports_a_bad_file_in_one_line(store: Path, tmp_path: 
         "door-l.harness:25: wire W5 ends in a cavity connector X4 does not have (found 'X4:7', "
         "expected a cavity of X4: 1, 2, 3)"
     )
+
+
+def test_the_kbl_harness_of_the_readme_in_its_topology_view(store: Path) -> None:
+    from cadkg.usecases.vw.views import topology_graph
+
+    with KnowledgeGraph.open(store) as kg:
+        graph = topology_graph(kg, "000971619")
+    node = graph.nodes["node/000971619/Node_21"]
+    assert (node["label"], node["node_name"], node["connectors"]) == ("D25", "PNID21", "D25")
+    assert all({"x", "y", "z"} <= set(d) for _, d in graph.nodes(data=True))
+    assert graph.graph["frame"] == "REP 103: x forward, y left, z up; metres"

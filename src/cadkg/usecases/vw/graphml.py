@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
 from cadkg.errors import QueryError
+from cadkg.loading import paused_gc
 from cadkg.usecases.vw.harness_data import find_harness, topology_data, wire_data
 from cadkg.usecases.vw.views import View, choose_modules, networkx_graph, topology_view, wire_view
 
@@ -307,11 +308,13 @@ def harness_view(
     if view not in VIEWS:
         raise QueryError(f"unknown harness view {view!r}; one of {', '.join(VIEWS)}")
     ref = find_harness(kg, harness)
-    if view == "topology":
-        data = topology_data(kg, ref)
-        return topology_view(data, choose_modules(data, modules))
-    wires = wire_data(kg, ref)
-    return wire_view(wires, choose_modules(wires.topology, modules))
+    # Millions of rows, lists and dicts, none in a reference cycle: see paused_gc.
+    with paused_gc():
+        if view == "topology":
+            data = topology_data(kg, ref)
+            return topology_view(data, choose_modules(data, modules))
+        wires = wire_data(kg, ref)
+        return wire_view(wires, choose_modules(wires.topology, modules))
 
 
 def harness_graph(
@@ -373,7 +376,7 @@ def write_harness_graphml(
     # Written beside and renamed, so a failed export leaves no half-written file.
     partial = path.with_name(path.name + ".part")
     try:
-        with partial.open("w", encoding="utf-8", newline="\n") as out:
+        with partial.open("w", encoding="utf-8", newline="\n") as out, paused_gc():
             write_graphml(written, out, yed=yed)
         partial.replace(path)
     finally:

@@ -264,30 +264,36 @@ def wire_view(data: WireData, variant: Variant | None = None) -> View:
         wire = row[0]
         if not keep(wire):
             continue
-        ends = [
-            _end(data, cavities, holder, at_node, pin, cavity)
-            for pin, cavity in ((row[1], row[3]), (row[2], row[4]))
-        ]
-        label, number = value(row[5]), value(row[6])
+        # Hot loop (a row per wire): plain literals and numbers are read without a call.
+        start, end = row[3], row[4]
+        if start not in cavities:
+            start = _end(data, cavities, holder, at_node, row[1], start)
+        if end not in cavities:
+            end = _end(data, cavities, holder, at_node, row[2], end)
+        term = row[5]
+        label = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
+        term = row[6]
+        number = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
         attributes: Attributes = {
             "label": label or number or wire,
             "wire_number": number,
-            "from_cavity": ends[0],
-            "to_cavity": ends[1],
+            "from_cavity": start,
+            "to_cavity": end,
         }
         for name, term in (("section_mm2", row[7]), ("length_m", row[9]), ("diameter_m", row[10])):
             if term:
-                attributes[name] = float(value(term))
+                attributes[name] = float(term) if term[0] != '"' else float(value(term))
         for name, term in (("colour", row[8]), ("cable", row[11]), ("signal", row[12])):
             if term:
-                attributes[name] = value(term)
-        paths = [path for _, path in sorted(routes.get(wire, []))]
+                attributes[name] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
+        routings = routes.get(wire, [])
         if wire in unordered:
-            start = cavities[ends[0]]["harness_node"]
-            paths = [_ordered(paths[0], topology, start)]
+            paths = [_ordered(routings[0][1], topology, cavities[start]["harness_node"])]
+        else:
+            paths = [path for _, path in sorted(routings)] if len(routings) > 1 else [p for _, p in routings]
         # Routings of one wire for different variants, all in the view of the whole harness: "|".
-        attributes["segments"] = "|".join([_joined(path) for path in paths])
-        edges.append((ends[0], ends[1], wire, attributes))
+        attributes["segments"] = "|".join([";".join(path) for path in paths])
+        edges.append((start, end, wire, attributes))
     view = View(
         _graph_data(topology, "wires", variant), sorted(cavities.items()), edges, list(variant.warnings)
     )
