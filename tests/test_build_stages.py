@@ -7,18 +7,11 @@ from pathlib import Path
 
 import cadkg
 from cadkg.graph import KnowledgeGraph
+from cadkg.ingest.manifest import load_manifest
 from tests.conftest import IEMA
 from tests.test_cli import run
 
-FILES = [
-    "ids.wri",
-    "components.xml",
-    "component-list.csv",
-    "terminals.csv",
-    "scene.x3d",
-    "lista-cablaggio.csv",
-    "assignments.csv",
-]
+FILES = [source.rel for source in load_manifest(IEMA).sources]
 
 
 def test_stages_are_named_in_order_and_add_up_to_the_build(tmp_path: Path) -> None:

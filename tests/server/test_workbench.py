@@ -155,20 +155,12 @@ def test_elvez_scene(elvez: cadkg.KnowledgeGraph) -> None:
         scene = httpx.get(f"{base}/api/scene", timeout=60).json()
     assert scene["profile"] == "elvez" and scene["problems"] == []
     frames = {f["name"] for f in scene["frames"]}
-    kinds: dict[str, list[dict]] = {}
-    for point in scene["points"]:
-        assert point["frame"] in frames
-        kinds.setdefault(point["kind"], []).append(point)
-    guides = [f"G{i}" for i in range(1, 9)] + [f"H{i}" for i in range(1, 7)]
-    assert {p["label"] for p in kinds["key-corner"]} == {f"{g}_key_corner" for g in guides}
-    assert {f"{g}_key" for g in guides} <= {p["label"] for p in kinds["key"]}
-    taped = sorted((p["frame"], p["label"]) for p in kinds["tape-spot"])
-    assert [frame for frame, _ in taped] == ["G1_key", "G1_key", "G4_key", "G4_key", "G7_key"]
-    assert taped[0][1] == "G1: taping (operation 4)"
-    assert {o["label"] for o in scene["objects"]} >= {"G4", "H1", "CH1", "ATC1", "FS1"}
-    assert len(scene["meshes"]) == 9
-    route = next(r for r in scene["routes"] if r["label"] == "W101")
-    assert route["via"] == ["G1_key", "G2_key", "G3_key"]
+    assert all(point["frame"] in frames for point in scene["points"])
+    # The real ELVEZ files' elements, each at its platform's frame with its mesh.
+    labels = [o["label"] for o in scene["objects"]]
+    assert {"J1", "J2", "J3", "J4", "C1", "C2", "B1", "T1", "T2", "Agun", "Agripper"} <= set(labels)
+    assert all(o["frame"] in frames for o in scene["objects"])
+    assert len(scene["meshes"]) == 11
 
 
 def test_elimco_and_vw_scenes() -> None:
