@@ -416,5 +416,7 @@ def ros_type_of(service: Any) -> str:
 
 
 def ros_service_name(service: Any, namespace: str) -> str:
-    """Where the node serves a service: its own namespace or ``namespace``, then its ROS name."""
-    return f"{(service.ros_namespace or namespace).rstrip('/')}/{service.ros_name or service.name}"
+    """Where a node in the root namespace serves a service: its own namespace or ``namespace``,
+    then its ROS name (``/CAD_platform/guide_info``, ``/elvez/guide_info``)."""
+    prefix = (service.ros_namespace or namespace).strip("/")
+    return f"/{prefix}/{service.ros_name or service.name}"

@@ -167,7 +167,7 @@ def test_every_service_of_the_profile_answers(ros: Any, profile: tuple[str, Serv
     elif name == "vw":
         topology = call(srv.HarnessTopology, "harness_topology", harness="DOOR-L", view="")
         assert topology.success and len(topology.segments) == 5 and len(topology.wires) == 7
-        assert topology.graphml.startswith("<graphml") and topology.graphml.count("<edge ") == 5
+        assert "<graphml" in topology.graphml[:200] and topology.graphml.count("<edge ") == 5
     else:
         hose = call(srv.HoseInfo, "hose_info", product="HX-25")
         assert hose.success and close((hose.diameter, hose.bend_radius), (0.0254, 0.125))
