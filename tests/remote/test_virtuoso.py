@@ -342,3 +342,28 @@ def test_serve_answers_from_the_store(virtuoso: dict[str, str], remote: RemoteGr
     finally:
         server.terminate()
         server.wait(timeout=30)
+
+
+def test_the_page_draws_the_cell_from_the_store(
+    virtuoso: dict[str, str], remote: RemoteGraph, browser: Any
+) -> None:
+    # The workbench against the remote store, in a browser: the same cell, picked and queried as
+    # on the embedded store; the items are boxes, since the mesh files stay with the build.
+    from tests.server.browser import health, set_editor, text_of, wait
+    from tests.server.cell_view import click_on, open_cell, picked
+    from tests.server.serving import cadkg_serve
+
+    with cadkg_serve(virtuoso["VIRTUOSO_SPARQL"]) as base:
+        open_cell(browser, base)
+        status = text_of(browser, "cell-status")
+        assert "110 objects" in status and "110 wires" in status, status
+        click_on(browser, "F1500.1")
+        component = "https://example.org/cell/iema-qe01/component/F1500.1"
+        wait(browser, lambda d: picked(d) == component, 60, "F1500.1 picked")
+        script = "return document.getElementById('cell-status').dataset.pins"
+        wait(browser, lambda d: d.execute_script(script) == "10", 60, "its 10 pins")
+        wait(browser, lambda d: "ck:hasPin" in text_of(d, "pick-facts"), 60, "its facts")
+        set_editor(browser, "SELECT ?n WHERE { ?w a ck:Wire ; ck:wireNumber ?n }")
+        browser.find_element("id", "run").click()
+        wait(browser, lambda d: "110 row(s)" in text_of(d, "status"), 60, "the wires")
+        assert health(browser, base) == []

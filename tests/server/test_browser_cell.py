@@ -1,12 +1,14 @@
 """The 3D view of the page end to end in headless Chromium (WebGL by SwiftShader), against
-``cadkg serve`` on the IEMA, ELVEZ and VW examples: the cell drawn as a committed golden picture
+``cadkg serve`` on the IEMA, ELVEZ, ELIMCO and VW examples: the cell drawn as a committed golden picture
 shows it (within a tolerance), a click picks an object and shows its label, IRI, facts and (for
 a component) its pins, a result row naming a component highlights it, and group_connection_provider
 steps through the wires.
 
 Expected values come from the examples (see tests/server/test_workbench.py): IEMA's 110 items
 (55 distinct meshes) and 110 wires, ``cad_service`` giving ``F1500.1`` 10 pins with screw and
-hole; ELVEZ's 39 points of interest; the KBL harness's 31 nodes and its connector ``TMR.2A1``.
+hole; ELVEZ's 7 guides (a key and a key corner each) and 3 taping spots; ELIMCO's 6 bench pins
+(one double) and 3 routes; the KBL harness's 31 nodes and its connector ``TMR.2A1`` at
+``Cartesian_point_231``.
 """
 
 from __future__ import annotations
@@ -16,58 +18,15 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
 
 from tests.conftest import EXAMPLES
-from tests.server.browser import (
-    compare_with_golden,
-    health,
-    open_page,
-    set_editor,
-    settled,
-    text_of,
-    wait,
-)
+from tests.server.browser import compare_with_golden, health, set_editor, settled, text_of, wait
+from tests.server.cell_view import click_on, open_cell, picked, picture, visible_labels
 from tests.server.serving import cadkg_serve
 
 IEMA = "https://example.org/cell/iema-qe01/"
-
-
-def open_cell(driver: Any, base: str) -> None:
-    open_page(driver, f"{base}/")
-    driver.find_element(By.ID, "view-3d").click()
-    script = "return document.getElementById('cell-view').dataset.ready"
-    wait(driver, lambda d: d.execute_script(script) == "true", 120, "the 3D view")
-    settled(driver)
-
-
-def picture(driver: Any) -> bytes:
-    png: bytes = driver.find_element(By.ID, "cell-view").screenshot_as_png
-    return png
-
-
-def click_on(driver: Any, label: str) -> None:
-    """Click the 3D view where ``label`` (a component, a harness node) is drawn."""
-    point = driver.execute_script(
-        "return document.getElementById('cell-view').cellView.screenPosition(arguments[0])", label
-    )
-    assert point is not None, f"{label} is not in the 3D view"
-    canvas = driver.find_element(By.CSS_SELECTOR, "#cell-view canvas")
-    rect = canvas.rect
-    dx = round(point["x"] - rect["x"] - rect["width"] / 2)
-    dy = round(point["y"] - rect["y"] - rect["height"] / 2)
-    ActionChains(driver).move_to_element_with_offset(canvas, dx, dy).click().perform()
-
-
-def picked(driver: Any) -> str:
-    iri: str = driver.find_element(By.ID, "cell-pick").get_attribute("data-iri") or ""
-    return iri
-
-
-def visible_labels(driver: Any, selector: str = ".cell-label") -> list[str]:
-    labels = driver.find_elements(By.CSS_SELECTOR, f"#cell-view {selector}")
-    return [str(e.get_attribute("textContent")) for e in labels if e.is_displayed()]
+ELVEZ = "https://example.org/cell/elvez/"
 
 
 def test_the_iema_cell_in_3d(browser: Any, iema_site: str, tmp_path: Path) -> None:
@@ -115,21 +74,43 @@ def elvez_site() -> Iterator[str]:
 
 def test_the_elvez_cell_with_its_platforms(browser: Any, elvez_site: str, tmp_path: Path) -> None:
     # The example in the real ELVEZ files: tables, jigs, combs, the box and the ATC slots, each
-    # at its platform's frame with its mesh. (Its guides' key frames are not drawn as points yet.)
+    # at its platform's frame with its mesh; the key centre and corner of the 7 guides, the 3
+    # taping spots and the 7 cables' routes over the keys.
     driver = browser
     open_cell(driver, elvez_site)
     status = text_of(driver, "cell-status")
-    assert "12 objects (11 distinct meshes)" in status, status
+    assert "12 objects (11 distinct meshes)" in status and "17 points of interest" in status, status
+    assert "7 wires" in status, status
     compare_with_golden(picture(driver), "elvez-cell", tmp_path)
+    click_on(driver, "J3 guide 2")
+    wait(driver, lambda d: picked(d) == f"{ELVEZ}element/platform/ID0004", 30, "J3's guide 2 picked")
+    assert text_of(driver, "pick-title") == "J3 guide 2"
     assert health(driver, elvez_site) == []
 
 
-def test_the_vw_harness_at_its_layout(browser: Any, tmp_path: Path) -> None:
+def test_the_elimco_bench_with_its_pins(browser: Any, tmp_path: Path) -> None:
+    driver = browser
+    with cadkg_serve(str(EXAMPLES / "elimco-bench" / "manifest.toml")) as base:
+        open_cell(driver, base)
+        status = text_of(driver, "cell-status")
+        # pin_info.xml: 6 pins, one of them double (its frame and one for each prong: 8 points);
+        # path_info.xml: 3 routes.
+        assert "8 points of interest" in status and "3 wires" in status, status
+        compare_with_golden(picture(driver), "elimco-bench", tmp_path)
+        click_on(driver, "A918VC1A")
+        wait(driver, lambda d: picked(d).endswith("/bench-pin/A918VC1A"), 30, "the pin A918VC1A")
+        assert text_of(driver, "pick-title") == "A918VC1A"
+        wait(driver, lambda d: "ck:BenchPin" in text_of(d, "pick-facts"), 30, "its facts")
+        assert health(driver, base) == []
+
+
+def test_the_vw_harness_at_its_coordinates(browser: Any, tmp_path: Path) -> None:
     driver = browser
     with cadkg_serve(str(EXAMPLES / "vw-harness" / "manifest.toml")) as base:
         open_cell(driver, base)
         status = text_of(driver, "cell-status")
-        assert "harness 000971619: 31 nodes at a layout (the graph has no coordinates)" in status, status
+        assert "harness 000971619: 31 nodes at the coordinates of their harness file" in status, status
+        assert "harness DOOR-L: 6 nodes at a layout (the graph has no coordinates)" in status, status
         assert "TMR.2A1" in visible_labels(driver)
         compare_with_golden(picture(driver), "vw-harness", tmp_path)
         click_on(driver, "TMR.2A1")

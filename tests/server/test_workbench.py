@@ -4,8 +4,8 @@ every example (and of a remote store), the mesh files, and the token a writing s
 
 Expected values come from the examples' files: IEMA's ``ids.wri`` places 110 items with a mesh
 (55 distinct boxes) and ``lista-cablaggio.csv`` has 110 wires; ``F1500.1`` has 8 wire ends;
-ELVEZ has 8 + 6 guides with a key and a key corner each, and
-``action-plan.csv`` tapes at G1 (operations 4, 9), G4 (9, 14) and G7 (14); ELIMCO's
+ELVEZ's jigs and combs have 7 guides (``ELVEZ_GUIDES``) with a key and a key corner each,
+and its sequence tapes at J1.1, J2.1 (operation 5) and J3.1 (operation 9); ELIMCO's
 ``pin_info.xml`` has 6 pins, one double, and ``path_info.xml`` 3 routes; the KBL has 31 nodes
 and 30 segments.
 """
@@ -24,10 +24,13 @@ from cadkg.remote import RemoteGraph
 from cadkg.server.columns import star_order
 from cadkg.server.workbench import page
 from cadkg.server.workbench.harness_layout import layout
+from cadkg.services.session import Session
+from cadkg.services.table import call
 from tests.conftest import EXAMPLES
 from tests.server.serving import serving
 
 SRJ = "application/sparql-results+json"
+ELVEZ_GUIDES = [("C1", 1), ("C2", 1), ("J1", 1), ("J2", 1), ("J3", 1), ("J3", 2), ("J4", 1)]
 BASE = "https://example.org/cell/iema-qe01/"
 
 
@@ -161,28 +164,36 @@ def test_elvez_scene(elvez: cadkg.KnowledgeGraph) -> None:
     assert {"J1", "J2", "J3", "J4", "C1", "C2", "B1", "T1", "T2", "Agun", "Agripper"} <= set(labels)
     assert all(o["frame"] in frames for o in scene["objects"])
     assert len(scene["meshes"]) == 11
-
-
-def test_elimco_and_vw_scenes() -> None:
-    elimco = cadkg.build(EXAMPLES / "elimco-bench" / "manifest.toml")
-    with serving(elimco) as base:
-        scene = httpx.get(f"{base}/api/scene", timeout=60).json()
-    pins = {p["frame"]: p for p in scene["points"] if p["kind"] == "bench-pin"}
-    assert len({p["label"] for p in pins.values()}) == 6
-    assert {"pin_pin_1_doble_a", "pin_pin_1_doble_b"} <= set(pins)
-    assert pins["pin_A918VC1A"]["iri"].endswith("/bench-pin/A918VC1A")
-    assert sorted(len(r["via"]) for r in scene["routes"]) == [2, 2, 3]
-
-    vw = cadkg.build(EXAMPLES / "vw-harness" / "manifest.toml")
-    with serving(vw) as base:
-        scene = httpx.get(f"{base}/api/scene", timeout=60).json()
-    harnesses = {h["label"]: h for h in scene["harnesses"]}
-    kbl = harnesses["000971619"]
-    assert len(kbl["nodes"]) == 31 and len(kbl["segments"]) == 30
-    assert kbl["coordinates"] == "layout"
-    assert harnesses["DOOR-L"]["coordinates"] == "layout"
-    connectors = {c for n in kbl["nodes"] for c in n["connectors"]}
-    assert "TMR.2A1" in connectors
+    # Every guide's key centre and key corner, where jig_info puts them (in robot_base).
+    points = {(p["kind"], p["label"]): p for p in scene["points"]}
+    keys = sorted(label for kind, label in points if kind == "key")
+    assert keys == [f"{g} guide {n}" for g, n in ELVEZ_GUIDES]
+    assert len([kind for kind, _ in points if kind == "key-corner"]) == len(ELVEZ_GUIDES)
+    jig = call(Session(elvez.cell_model(), kg=elvez), "CAD_platform.jig_info", {"jig": "J3"})
+    key = jig.guides[1].key_center_frame.position  # (x, y, z)
+    at = points[("key", "J3 guide 2")]
+    assert at["frame"] == "robot_base" and at["position"] == pytest.approx(list(key), abs=1e-9)
+    # Taped at J1.1 and J2.1 (operation 5: no taping spot there, so at the guide's key) and at
+    # J3.1 (operation 9: J3's taping spot 1, whose centre is not a key).
+    spots = {label: p for (kind, label), p in points.items() if kind == "tape-spot"}
+    assert sorted(spots) == [
+        "J1.1: taping (operation 5)",
+        "J2.1: taping (operation 5)",
+        "J3.1: taping (operation 9)",
+    ]
+    assert spots["J1.1: taping (operation 5)"]["position"] == points[("key", "J1 guide 1")]["position"]
+    centre = jig.taping_spots[0].center_frame.position
+    assert spots["J3.1: taping (operation 9)"]["position"] == pytest.approx(list(centre), abs=1e-9)
+    assert all(
+        p["position"] not in [k["position"] for k in points.values() if k["kind"] == "key"]
+        for label, p in spots.items()
+        if label.startswith("J3")
+    )
+    # Each cable of wh_routes through the keys of its guides: CA1 over J1.1, J2.1, J3.1.
+    routes = {r["label"]: r for r in scene["routes"]}
+    assert sorted(routes) == [f"CA{n}" for n in range(1, 8)]
+    via = [points[("key", f"{g} guide 1")]["position"] for g in ("J1", "J2", "J3")]
+    assert routes["CA1"]["frame"] == "robot_base" and routes["CA1"]["points"] == [v for p in via for v in p]
 
 
 def test_a_harness_is_drawn_at_the_coordinates_the_graph_gives() -> None:

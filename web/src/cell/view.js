@@ -18,6 +18,12 @@ const $ = (id) => document.getElementById(id);
 const CLIENT = "web-3d";
 const MESH_REQUESTS = 6;
 const MOVING_MS = 40;
+// Where a harness's node positions come from (the scene's `coordinates`).
+const COORDINATES = {
+  graph: "their poses in the cell",
+  file: "the coordinates of their harness file",
+  layout: "a layout (the graph has no coordinates)",
+};
 
 /** Whether WebGL is drawn on the CPU here (SwiftShader, llvmpipe). */
 function softwareRenderer() {
@@ -104,7 +110,7 @@ export class CellView {
     this.root.add(this.routes.lines);
     this.pickables.push(this.routes.lines);
     this.size = this.extent();
-    const points = data.points.map((p) => ({ ...p, position: new THREE.Vector3().setFromMatrixPosition(this.matrixOf(p.frame) || new THREE.Matrix4()) }));
+    const points = data.points.map((p) => ({ ...p, position: this.pointAt(p) }));
     this.points = points;
     const radius = this.size * 0.006;
     const solid = points.filter((p) => p.kind !== "tape-spot");
@@ -130,6 +136,12 @@ export class CellView {
     this.setLabels();
   }
 
+  /** Where a point of interest is: at its frame's origin, or at its position in that frame. */
+  pointAt(p) {
+    const matrix = this.matrixOf(p.frame) || new THREE.Matrix4();
+    return p.position ? new THREE.Vector3(...p.position).applyMatrix4(matrix) : new THREE.Vector3().setFromMatrixPosition(matrix);
+  }
+
   /** The size of the cell: the diagonal of everything placed (frames, harness nodes). */
   extent() {
     // What is drawn: objects, points, wires, harness nodes; the frames only when there is
@@ -137,7 +149,7 @@ export class CellView {
     const box = new THREE.Box3();
     const at = (name) => new THREE.Vector3().setFromMatrixPosition(this.matrixOf(name) || new THREE.Matrix4());
     for (const o of this.data.objects) box.expandByPoint(at(o.frame));
-    for (const p of this.data.points) box.expandByPoint(at(p.frame));
+    for (const p of this.data.points) box.expandByPoint(this.pointAt(p));
     for (const h of this.data.harnesses) for (const n of h.nodes) box.expandByPoint(new THREE.Vector3(...n.position));
     for (const r of this.routes.paths) for (const p of r) box.expandByPoint(p);
     if (box.isEmpty()) for (const f of this.data.frames) box.expandByPoint(at(f.name));
@@ -184,7 +196,7 @@ export class CellView {
     if (d.routes.length) parts.push(`${d.routes.length.toLocaleString()} wires`);
     if (d.points.length) parts.push(`${d.points.length} points of interest`);
     for (const h of d.harnesses) {
-      parts.push(`harness ${h.label}: ${h.nodes.length} nodes at ${h.coordinates === "graph" ? "their coordinates" : "a layout (the graph has no coordinates)"}`);
+      parts.push(`harness ${h.label}: ${h.nodes.length} nodes at ${COORDINATES[h.coordinates] || COORDINATES.layout}`);
     }
     parts.push(`${d.frames.length.toLocaleString()} frames`);
     const problems = [...d.problems];
@@ -584,8 +596,8 @@ export class CellView {
 
   // -- for tests and the benchmark ---------------------------------------------------------
 
-  /** Where a component's first object (or a harness node of that label or connector) is on the
-   * screen, in client coordinates; null when there is none. */
+  /** Where a component's first object (or a harness node of that label or connector, or a
+   * point of interest) is on the screen, in client coordinates; null when there is none. */
   screenPosition(label) {
     const centre = new THREE.Vector3();
     const component = this.data.components.find((c) => c.label === label);
@@ -599,8 +611,9 @@ export class CellView {
     } else {
       const found = this.harnesses.flatMap((h, i) => this.data.harnesses[i].nodes.map((n, j) => [n, h.positions[j]]))
         .find(([n]) => n.label === label || n.connectors.includes(label));
-      if (!found) return null;
-      centre.copy(found[1]);
+      const point = this.points.find((p) => p.label === label);
+      if (!found && !point) return null;
+      centre.copy(found ? found[1] : point.position);
     }
     this.root.localToWorld(centre);
     centre.project(this.camera);

@@ -1,12 +1,16 @@
 """What each profile adds to the 3D view: its points of interest, routes and harnesses.
 
-- elvez: every guide's key frames (``G4_key``, ``G4_key_corner``), the spots a taping
-  operation works at, and each cable's route through the keys of its guides (``wh_routes``);
+- elvez: the key centre and key corner of every guide of every jig and comb (``jig_info``,
+  in the reference frame), the spots a taping operation works at (a jig's taping spot of that
+  number, else its guide of that number), and each cable's route through the keys of its
+  guides (``wh_routes``);
 - elimco: the bench pins (one frame each, as ``pin_frames`` gives them) and each cable's
   route over them;
 - harnesses (vw, and any cell holding a ``ck:Harness`` with a topology): nodes and segments,
-  at the coordinates the graph gives (a node's ``ck:hasPose``), else laid out in a plane from
-  the segment lengths (:func:`cadkg.server.workbench.harness_layout.layout`), and said so.
+  at the poses the graph gives in the cell (a node's ``ck:hasPose``: ``coordinates`` is
+  ``graph``), else at the harness file's own coordinates (``ck:nodeX/Y/Z``: ``file``), else
+  laid out in a plane from the segment lengths
+  (:func:`cadkg.server.workbench.harness_layout.layout`: ``layout``), and said so.
 
 Each is read through the profile's services or the ontology's terms, as a client would.
 """
@@ -19,17 +23,17 @@ from cadkg.errors import CadkgError
 from cadkg.server.workbench.harness_layout import layout
 from cadkg.services.service import to_jsonable
 from cadkg.services.table import call
+from cadkg.usecases.elvez.services import REFERENCE_NAMESPACE
 
 __all__ = ["profile_extras"]
 
-_KEY_SUFFIXES = ("_key", "_key_corner")
 _HARNESS_GAP = 0.3  # metres between harnesses laid out in one plane
 _TAPED = """
-SELECT DISTINCT ?spot ?label ?index WHERE {
-  ?op a ck:TapeOperation ; ck:atSpot ?spot . ?spot ck:label ?label .
+SELECT ?spot ?label ?guide ?index WHERE {
+  ?op a ck:TapeOperation ; ck:atSpot ?spot . ?spot ck:label ?label ; ck:guideId ?guide .
   OPTIONAL { ?op ck:sequenceIndex ?index }
-} ORDER BY ?index"""
-_GUIDES = "SELECT ?guide ?label WHERE { ?guide a ck:Component ; ck:label ?label }"
+} ORDER BY ?index ?label ?guide"""
+_ELEMENTS = "SELECT DISTINCT ?e ?label WHERE { ?e a ck:Element ; ck:label ?label } ORDER BY ?label"
 _HARNESS_NUMBERS = "SELECT DISTINCT ?n WHERE { ?h a ck:Harness ; ck:harnessNumber ?n } ORDER BY ?n"
 _BENCH_PINS = "SELECT ?pin ?label WHERE { ?pin a ck:BenchPin ; ck:label ?label }"
 _ROUTES = """
@@ -51,27 +55,77 @@ def _labels(graph: Any, text: str, key: str) -> dict[str, str]:
     return {str(row["label"]): row[key] for row in graph.query(text).rows}
 
 
-def _elvez(graph: Any, session: Any, frames: set[str], out: dict[str, list[Any]]) -> None:
-    guides = _labels(graph, _GUIDES, "guide")
-    for name in sorted(frames):
-        for suffix in _KEY_SUFFIXES:
-            label = name.removesuffix(suffix)
-            if name.endswith(suffix) and label in guides:
-                kind = "key" if suffix == "_key" else "key-corner"
-                out["points"].append({"kind": kind, "frame": name, "label": name, "iri": guides[label]})
-                break
-    for row in graph.query(_TAPED).rows:
+def _at(pose: dict[str, Any] | None) -> list[float] | None:
+    if not pose:
+        return None
+    at = pose["position"]
+    return [round(float(at[axis]), 9) for axis in "xyz"]
+
+
+_Points = dict[str, list[float]]
+
+
+def _guides(
+    graph: Any, session: Any, frames: set[str], out: dict[str, list[Any]]
+) -> tuple[str, _Points, _Points]:
+    """The key points of every guide of every jig and comb, in the reference frame; returns
+    that frame and where a cable passes each guide or is taped at each spot (``J3.1``)."""
+    reference, keys, spots = "", {}, {}  # type: tuple[str, _Points, _Points]
+    for row in graph.query(_ELEMENTS).rows:
         label = str(row["label"])
-        frame = f"{label}_key" if f"{label}_key" in frames else None
-        if frame is not None:
-            text = f"{label}: taping" + (f" (operation {row['index']})" if row["index"] is not None else "")
-            out["points"].append({"kind": "tape-spot", "frame": frame, "label": text, "iri": row["spot"]})
+        jig = to_jsonable(call(session, f"{REFERENCE_NAMESPACE}.jig_info", {"jig": label}))
+        # The services give poses in the cell's reference frame, which their message names.
+        frame = str(jig["message"]).rsplit(" in ", 1)[-1]
+        if not jig.get("success") or frame not in frames:
+            continue  # a box, tool or station: no guides
+        reference = frame
+        for guide in jig["guides"]:
+            for kind, key in (("key", "key_center_frame"), ("key-corner", "key_corner_frame")):
+                at = _at(guide.get(key))
+                if at is None:
+                    continue
+                text = f"{label} guide {guide['id']}" + (" key corner" if kind == "key-corner" else "")
+                point = {"kind": kind, "frame": frame, "position": at, "label": text, "iri": row["e"]}
+                out["points"].append(point)
+                if kind == "key":
+                    keys[f"{label}.{guide['id']}"] = at
+        for spot in jig["taping_spots"]:
+            at = _at(spot.get("center_frame"))
+            if at is not None:
+                spots[f"{label}.{spot['id']}"] = at
+    return reference, keys, spots
+
+
+def _elvez(graph: Any, session: Any, frames: set[str], out: dict[str, list[Any]]) -> None:
+    reference, keys, spots = _guides(graph, session, frames, out)
+    # A taping operation at a jig without that taping spot tapes at the guide of its number.
+    spots = {**keys, **spots}
+    taped: dict[str, tuple[str, list[str]]] = {}
+    for row in graph.query(_TAPED).rows:
+        name = f"{row['label']}.{row['guide']}"
+        indices = taped.setdefault(name, (row["spot"], []))[1]
+        if row["index"] is not None and str(row["index"]) not in indices:
+            indices.append(str(row["index"]))
+    for name, (iri, indices) in taped.items():
+        if name in spots:
+            text = f"{name}: taping" + (f" (operation {', '.join(indices)})" if indices else "")
+            point = {
+                "kind": "tape-spot",
+                "frame": reference,
+                "position": spots[name],
+                "label": text,
+                "iri": iri,
+            }
+            out["points"].append(point)
     for row in graph.query(_HARNESS_NUMBERS).rows:
         result = to_jsonable(call(session, "wh_routes", {"number": int(row["n"])}))
         for route in result.get("routes", []):
-            via = [f"{g}_key" for g in route["guides"] if f"{g}_key" in frames]
+            via = [keys[g] for g in route["guides"] if g in keys]
             if len(via) >= 2:
-                out["routes"].append({"label": route["cable"], "iri": None, "via": via})
+                points = [v for at in via for v in at]
+                out["routes"].append(
+                    {"label": route["cable"], "iri": None, "frame": reference, "points": points}
+                )
 
 
 def _elimco(graph: Any, session: Any, frames: set[str], out: dict[str, list[Any]]) -> None:
@@ -128,6 +182,10 @@ def _harnesses(graph: Any, session: Any, out: dict[str, list[Any]]) -> None:
         if nodes and all(row is not None for row in stated):
             positions = [[float(r["x"]), float(r["y"]), float(r["z"])] for r in stated if r is not None]
             frame, coordinates = stated[0]["frame"] if stated[0] else None, "graph"
+        elif nodes and all(node.get("x") is not None for node in nodes):
+            # The harness file's own coordinates (a KBL's or VEC's node points), in metres.
+            positions = [[float(node[axis]) for axis in "xyz"] for node in nodes]
+            frame, coordinates = None, "file"
         else:
             planar = layout(len(nodes), [(s["from"], s["to"], s["length"]) for s in segments])
             positions, frame, coordinates = [[x + offset, y, 0.0] for x, y in planar], None, "layout"
@@ -153,6 +211,22 @@ def _harnesses(graph: Any, session: Any, out: dict[str, list[Any]]) -> None:
         )
 
 
+def _beside(harnesses: list[dict[str, Any]]) -> None:
+    """Moves the laid-out harnesses beside those drawn at their files' coordinates (a
+    vehicle's, metres from the origin), so one view shows all of them."""
+    placed = [n["position"] for h in harnesses if h["coordinates"] == "file" for n in h["nodes"]]
+    laid = [n["position"] for h in harnesses if h["coordinates"] == "layout" for n in h["nodes"]]
+    if not placed or not laid:
+        return
+    shift = [
+        max(p[0] for p in placed) + _HARNESS_GAP - min(p[0] for p in laid),
+        min(p[1] for p in placed) - min(p[1] for p in laid),
+        min(p[2] for p in placed),
+    ]
+    for position in laid:
+        position[:] = [round(v + d, 6) for v, d in zip(position, shift, strict=True)]
+
+
 def profile_extras(
     graph: Any, session: Any, profile: str, frames: set[str], problems: list[str]
 ) -> dict[str, list[Any]]:
@@ -166,6 +240,7 @@ def profile_extras(
         if profile in steps:
             steps[profile](graph, session, frames, out)
         _harnesses(graph, session, out)
+        _beside(out["harnesses"])
     except CadkgError as err:
         problems.append(f"{profile or 'cell'} details left out: {err}")
     return out

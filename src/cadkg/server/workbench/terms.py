@@ -46,8 +46,10 @@ SELECT ?term ?kind ?label ?comment WHERE {
   ?term a ?kind . FILTER(isIRI(?term))
   OPTIONAL { ?term rdfs:label ?label } OPTIONAL { ?term rdfs:comment ?comment }
 }"""
+# Sorted here, not in the query: a remote store may refuse to sort more rows than it returns
+# (Virtuoso sorts at most 10,000).
 _LABELS = """
-SELECT DISTINCT ?label WHERE { ?c a ck:Component ; ck:label ?label } ORDER BY ?label LIMIT {limit}"""
+SELECT DISTINCT ?label WHERE { ?c a ck:Component ; ck:label ?label } LIMIT {limit}"""
 _KINDS = {
     "http://www.w3.org/2002/07/owl#ObjectProperty": "object",
     "http://www.w3.org/2002/07/owl#DatatypeProperty": "datatype",
@@ -87,7 +89,7 @@ def completion_terms(graph: Any, max_labels: int = 20000) -> dict[str, Any]:
     prefixes = dict(STANDARD_PREFIXES)
     if base:
         prefixes[CELL_PREFIX] = base
-    labels = [str(r["label"]) for r in graph.query(_LABELS.replace("{limit}", str(max_labels + 1))).rows]
+    labels = sorted(str(r["label"]) for r in graph.query(_LABELS.replace("{limit}", str(max_labels + 1))).rows)
     return {
         "prefixes": prefixes,
         "base": base,
