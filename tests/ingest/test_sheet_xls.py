@@ -175,3 +175,13 @@ def test_damaged_compound_files_are_one_line(tmp_path: Path, damage: object, rea
     message, seconds, _ = read_in_child(path, timeout=60)
     assert message.startswith(f"{path}: corrupt workbook ({reason}")
     assert seconds < 5
+
+
+def test_the_stream_is_found_by_its_name_in_any_case(tmp_path: Path) -> None:
+    # The library finds "WORKBOOK" as it finds "Workbook", so the scan does too.
+    path = write_xls(tmp_path / "upper.xls", [("S", [(0, 0, "a"), (65535, 255, 1.0)])])
+    data = path.read_bytes()
+    name = "Workbook".encode("utf-16-le")
+    assert data.count(name) == 1
+    path.write_bytes(data.replace(name, "WORKBOOK".encode("utf-16-le")))
+    assert _refused(path).cell == "S!IV65536"

@@ -119,7 +119,7 @@ class _Container:
             raise DamagedWorkbookError("the compound file's header gives sizes no workbook has")
         self.sector_size = 1 << shift
         self.file_size = file_size
-        self.count = -(-(file_size - self.sector_size) // self.sector_size)  # a cut last one counts
+        self.count = max(0, -(-(file_size - self.sector_size) // self.sector_size))  # a cut last one counts
         needed = -(-self.count * 4 // self.sector_size)
         ids = list(struct.unpack_from("<109I", header, 0x4C))
         if needed > len(ids):
@@ -174,23 +174,26 @@ class _Container:
         return sectors
 
     def workbook_streams(self) -> list[_Stream]:
-        """The Workbook and Book streams, wherever the directory holds them."""
+        """The first Workbook and Book streams of the directory.
+
+        The library reads the first entry of either name, in any case, whatever its type and
+        wherever it stands in the tree (tried on crafted files); the next few are scanned too,
+        so that a reader choosing otherwise still reads a scanned stream.
+        """
         directory = self.chain(self.directory, self.fat, self.count, "the directory")
-        root: tuple[int, int] | None = None
+        root = (_LAST_SECTOR, 0)
         found: list[tuple[int, int]] = []
         for index, sector in enumerate(directory):
             block = self._sector(sector)
             for at in range(0, self.sector_size, _ENTRY):
                 entry = block[at : at + _ENTRY]
-                length, kind = struct.unpack_from("<HB", entry, 64)
+                length = struct.unpack_from("<H", entry, 64)[0]
                 start, size = struct.unpack_from("<IQ", entry, 116)
-                if kind == 5 and index == at == 0:
+                if index == at == 0:
                     root = (start, size)
                 name = entry[: max(0, min(length, 64) - 2)].decode("utf-16-le", "replace").lower()
-                if kind == 2 and name in _STREAMS and (start, size) not in found:
+                if name in _STREAMS and (start, size) not in found and len(found) < _MAX_STREAMS:
                     found.append((start, size))
-        if len(found) > _MAX_STREAMS:
-            raise DamagedWorkbookError("the compound file holds more workbook streams than a workbook has")
         streams = []
         for start, size in found:
             if size > self.file_size:
@@ -200,7 +203,7 @@ class _Container:
             if size >= _MINI_CUTOFF:
                 sectors = self.chain(start, self.fat, -(-size // self.sector_size), "the workbook stream")
                 streams.append(_Stream(self.handle, sectors, self.sector_size, size))
-            elif root is not None:
+            else:
                 streams.append(_Stream.held(self._mini(root, start, size)))
         return streams
 
