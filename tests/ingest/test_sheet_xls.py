@@ -64,6 +64,7 @@ def _refused(path: Path) -> IngestError:
 _CELLS = "the sheet's cells span more than cadkg reads of a sheet"
 _RANGE = "the sheet declares a range larger than cadkg reads of a sheet"
 _BEYOND = "a cell lies beyond the last row or column a sheet can have"
+_INVERTED = "the sheet declares a range beyond the last row or column a sheet can have, or inverted"
 
 
 @pytest.mark.parametrize(
@@ -78,8 +79,10 @@ _BEYOND = "a cell lies beyond the last row or column a sheet can have"
         ([(0, 0, "a"), (65535, 65535, 1.0)], (0, 1, 0, 1), "S!XFE65536", _BEYOND),
         # A declared range only: the library reserves it (40 bytes a cell) and aborts on 40 GB.
         ([(0, 0, "a")], (0, 65536, 0, 16384), "S!XFD65536", _RANGE),
+        # Rows 6 to 2: the library's count of them wraps round to 4 billion (it asks for 515 GB).
+        ([(0, 0, "a")], (5, 2, 0, 3), "S!C2", _INVERTED),
     ],
-    ids=["column-IV", "corners", "column-65536", "declared-range"],
+    ids=["column-IV", "corners", "column-65536", "declared-range", "inverted-range"],
 )
 def test_xls_bombs_are_refused_in_bounded_memory(
     tmp_path: Path,
@@ -177,11 +180,19 @@ def test_damaged_compound_files_are_one_line(tmp_path: Path, damage: object, rea
     assert seconds < 5
 
 
-def test_the_stream_is_found_by_its_name_in_any_case(tmp_path: Path) -> None:
-    # The library finds "WORKBOOK" as it finds "Workbook", so the scan does too.
-    path = write_xls(tmp_path / "upper.xls", [("S", [(0, 0, "a"), (65535, 255, 1.0)])])
-    data = path.read_bytes()
+@pytest.mark.parametrize("damage", ["upper-case", "name-length"])
+def test_the_stream_is_found_as_the_library_finds_it(tmp_path: Path, damage: str) -> None:
+    # The library finds "WORKBOOK" as it finds "Workbook", and a name whose length is damaged
+    # by its terminating NUL: so does the scan.
+    path = write_xls(tmp_path / "found.xls", [("S", [(0, 0, "a"), (65535, 255, 1.0)])])
+    data = bytearray(path.read_bytes())
     name = "Workbook".encode("utf-16-le")
-    assert data.count(name) == 1
-    path.write_bytes(data.replace(name, "WORKBOOK".encode("utf-16-le")))
-    assert _refused(path).cell == "S!IV65536"
+    at = data.find(name)
+    assert data.count(name) == 1 and at % 128 == 0
+    if damage == "upper-case":
+        data[at : at + len(name)] = "WORKBOOK".encode("utf-16-le")
+    else:
+        struct.pack_into("<H", data, at + 64, 0xFFFF)
+    path.write_bytes(bytes(data))
+    error = _refused(path)
+    assert (error.cell, error.reason) == ("S!IV65536", _RANGE)  # by the scan, before the library

@@ -36,7 +36,7 @@ _LAST_SECTOR = 0xFFFFFFFA  # numbers from here on mark a chain's end, a FAT sect
 _MINI_SECTOR = 64
 _MINI_CUTOFF = 4096  # streams shorter than this live in the mini stream
 _ENTRY = 128
-_STREAMS = ("workbook", "book")  # BIFF8 and BIFF5 (an Excel 97/95 file may hold both)
+_STREAMS = {"workbook", "book"}  # BIFF8 and BIFF5 (an Excel 97/95 file may hold both)
 _MAX_STREAMS = 4
 _CHUNK = 1 << 20
 _MAX_STRINGS = MAX_CELLS
@@ -191,8 +191,10 @@ class _Container:
                 start, size = struct.unpack_from("<IQ", entry, 116)
                 if index == at == 0:
                     root = (start, size)
-                name = entry[: max(0, min(length, 64) - 2)].decode("utf-16-le", "replace").lower()
-                if name in _STREAMS and (start, size) not in found and len(found) < _MAX_STREAMS:
+                # By its length or up to its first NUL: a damaged length must not hide it.
+                text = entry[:64].decode("utf-16-le", "replace").lower()
+                names = {text[: max(0, min(length, 64) // 2 - 1)], text.partition("\x00")[0]}
+                if names & _STREAMS and (start, size) not in found and len(found) < _MAX_STREAMS:
                     found.append((start, size))
         streams = []
         for start, size in found:
@@ -342,19 +344,20 @@ class _Sheet:
         return IngestError(self.path, reason, cell=cell_address(self.name, row, column), expected=expected)
 
     def check_range(self, data: bytes) -> None:
-        # The library reserves the declared range, so unlike an XLSX dimension it is held to
-        # the cells a sheet may span. BIFF8 numbers rows in 32 bits, BIFF5 in 16: a record is
-        # read both ways when it is long enough for both, as a reader might take either.
+        # The library reserves (last row + 1 - first row) x (last column + 1) cells, 40 bytes
+        # each, with 32-bit rows from a 14-byte record (BIFF8) and 16-bit ones from a 10-byte
+        # one (BIFF5), the subtraction wrapping round when the rows are inverted. Unlike an
+        # XLSX dimension the declared range is therefore held to the cells a sheet may span.
         ranges = []
         if len(data) >= 12:
             ranges.append(struct.unpack_from("<IIHH", data))
-        if len(data) >= 8:
+        if 8 <= len(data) < 14:
             ranges.append(struct.unpack_from("<HHHH", data))
-        for _, rows, _, columns in ranges:
-            if rows > MAX_ROWS or columns > MAX_COLUMNS:
+        for first_row, rows, first_column, columns in ranges:
+            if rows > MAX_ROWS or columns > MAX_COLUMNS or first_row > rows or first_column > columns:
                 raise self.refuse(
-                    "the sheet declares a range beyond the last row or column a sheet can have"
-                    " (a damaged workbook)",
+                    "the sheet declares a range beyond the last row or column a sheet can have,"
+                    " or inverted (a damaged workbook)",
                     rows,
                     columns - 1,
                 )
