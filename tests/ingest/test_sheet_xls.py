@@ -135,14 +135,28 @@ def test_merged_cells_cut_short_are_a_corrupt_workbook(tmp_path: Path) -> None:
     assert error.reason == "corrupt workbook (a list of merged cells of sheet S is cut short)"
 
 
-def test_two_sheets_on_the_same_records_are_a_corrupt_workbook(tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    ("offset", "reason"),
+    [
+        (None, "sheet T starts within another sheet's records"),
+        # The library would slice its stream there and panic.
+        (0xFFFFFF00, "sheet T starts past the end of the workbook stream"),
+    ],
+    ids=["same-records", "past-the-end"],
+)
+def test_sheets_on_records_they_cannot_have_are_a_corrupt_workbook(
+    tmp_path: Path, offset: int | None, reason: str
+) -> None:
     stream = bytearray(biff_workbook([("S", [(0, 0, "a")]), ("T", [(0, 0, "b")])]))
-    first = stream.find(record(0x0085, b"")[:2])
-    second = stream.find(record(0x0085, b"")[:2], first + 1)
-    stream[second + 4 : second + 8] = stream[first + 4 : first + 8]
-    path = tmp_path / "twice.xls"
+    first = stream.find(struct.pack("<H", 0x0085))
+    second = stream.find(struct.pack("<H", 0x0085), first + 1)
+    if offset is None:
+        stream[second + 4 : second + 8] = stream[first + 4 : first + 8]
+    else:
+        struct.pack_into("<I", stream, second + 4, offset)
+    path = tmp_path / "sheets.xls"
     path.write_bytes(cfb(bytes(stream)))
-    assert _refused(path).reason == "corrupt workbook (sheet T starts within another sheet's records)"
+    assert _refused(path).reason == f"corrupt workbook ({reason})"
 
 
 def _container(tmp_path: Path) -> bytearray:

@@ -460,7 +460,8 @@ def _scan_stream(stream: _Stream, path: str | Path) -> dict[str, dict[tuple[int,
     spans: list[tuple[int, int]] = []
     for name, offset in sheets:
         if offset >= stream.size:
-            continue  # the library cannot read such a sheet either
+            # The library would slice its stream there and panic.
+            raise DamagedWorkbookError(f"sheet {name} starts past the end of the workbook stream")
         # Two sheets reading the same records would be built (and scanned) twice from one
         # file's bytes: checked before the scan and, for a sheet starting further on, after it.
         if any(start <= offset < end for start, end in spans):
