@@ -1,42 +1,35 @@
 """Limits a legacy XLS workbook must keep: checked on its BIFF records before the library reads it.
 
-An XLS is a stream of BIFF records inside an OLE2 compound file. The workbook library trusts
-both: it reserves 40 bytes for every cell of a sheet's declared DIMENSIONS range, builds each
-sheet as a dense block from A1 to its last cell, takes a column number up to 65,535 although a
-sheet has 256 columns, and follows a sector chain wherever it leads. Measured with
-python-calamine 0.9: two cells, at A1 and IV65536 (a 2.5 KB file), take 1 GB; a cell in
-column 65,536 or a declared range of 65,536 × 16,384 makes it ask for 40 GB to 11 PB and abort
-the process; a directory whose sector chain loops keeps it busy forever.
+An XLS is a stream of BIFF records inside an OLE2 compound file, and the workbook library
+trusts both: it reserves 40 bytes for every cell of a sheet's declared DIMENSIONS range
+(counting inverted rows round to four billion), builds each sheet as a dense block from A1 to
+its last cell, and takes column numbers up to 65,535 although a sheet has 256. Measured with
+python-calamine 0.9: two cells, at A1 and IV65536 (a 2.5 KB file), take 1.1 GB; a cell in
+column 65,536 or a declared range of 65,536 × 16,384 makes it ask for 137 or 43 GB and abort
+the process.
 
-So the compound file is walked here first, with every sector number, chain and count checked
-against the file's size (the FAT is the only table held whole, 4 bytes a sector), and the
-Workbook stream is read in 1 MiB chunks: its shared strings (counts and each string's length),
-then each sheet's declared range and cells, refused at the cell that crosses a limit of
-:mod:`cadkg.ingest.sheet_bounds`. The scan also notes the formula errors (``#NAME?``) the
-library reads as empty cells, as the XLSX scan does.
+So the Workbook stream is read first, through :mod:`cadkg.ingest.compound_file` and in 1 MiB
+chunks: its shared strings (counts and each string's length), then each sheet's declared range
+and cells, refused at the cell that crosses a limit of :mod:`cadkg.ingest.sheet_bounds`. The
+scan also notes the formula errors (``#NAME?``) the library reads as empty cells, as the XLSX
+scan does, and refuses as damaged the few records on which the library would panic instead
+of failing.
 """
 
 from __future__ import annotations
 
 import os
 import struct
-import sys
-from array import array
 from collections.abc import Iterator
 from pathlib import Path
-from typing import BinaryIO
 
 from cadkg.errors import IngestError
+from cadkg.ingest.compound_file import CompoundFile, DamagedWorkbookError, Stream
 from cadkg.ingest.sheet_bounds import MAX_CELLS, MAX_COLUMNS, MAX_ROWS, MAX_TEXT, cell_address
 
 __all__ = ["DamagedWorkbookError", "scan_xls"]
 
-_SIGNATURE = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
-_LAST_SECTOR = 0xFFFFFFFA  # numbers from here on mark a chain's end, a FAT sector or a free one
-_MINI_SECTOR = 64
-_MINI_CUTOFF = 4096  # streams shorter than this live in the mini stream
-_ENTRY = 128
-_STREAMS = {"workbook", "book"}  # BIFF8 and BIFF5 (an Excel 97/95 file may hold both)
+_STREAMS = frozenset({"workbook", "book"})  # BIFF8 and BIFF5 (an Excel 97/95 file may hold both)
 _MAX_STREAMS = 4
 _CHUNK = 1 << 20
 _MAX_STRINGS = MAX_CELLS
@@ -62,169 +55,7 @@ _ERRORS = {
 }
 
 
-class DamagedWorkbookError(ValueError):
-    """The compound file or its records cannot be what an XLS is; the reader reports it as a
-    corrupt workbook."""
-
-
-class _Stream:
-    """A stream of the compound file, read at any offset from its sectors (or held, when small)."""
-
-    def __init__(self, handle: BinaryIO, sectors: array[int], sector_size: int, size: int) -> None:
-        self.handle = handle
-        self.sectors = sectors
-        self.sector_size = sector_size
-        self.size = min(size, len(sectors) * sector_size)
-        self.data: bytes | None = None
-
-    @classmethod
-    def held(cls, data: bytes) -> _Stream:
-        stream = cls.__new__(cls)
-        stream.data, stream.size = data, len(data)
-        return stream
-
-    def read(self, offset: int, length: int) -> bytes:
-        length = max(0, min(length, self.size - offset))
-        if self.data is not None or not length:
-            return (self.data or b"")[offset : offset + length]
-        parts = []
-        first, last = offset // self.sector_size, (offset + length - 1) // self.sector_size
-        index = first
-        while index <= last:
-            # Consecutive sectors are read at once: a stream written in one go is mostly one run.
-            run = 1
-            while index + run <= last and self.sectors[index + run] == self.sectors[index] + run:
-                run += 1
-            self.handle.seek((self.sectors[index] + 1) * self.sector_size)
-            parts.append(self.handle.read(run * self.sector_size))
-            index += run
-        skip = offset - first * self.sector_size
-        return b"".join(parts)[skip : skip + length]
-
-
-class _Container:
-    """The parts of an OLE2 compound file the workbook streams are read through."""
-
-    def __init__(self, handle: BinaryIO, file_size: int) -> None:
-        self.handle = handle
-        header = handle.read(512)
-        if len(header) < 512 or not header.startswith(_SIGNATURE):
-            raise DamagedWorkbookError("the compound file's header is cut short")
-        shift, mini_shift = struct.unpack_from("<HH", header, 0x1E)
-        fat_count, self.directory, _, cutoff = struct.unpack_from("<IIII", header, 0x2C)
-        self.mini_fat_start, _, difat_start, difat_count = struct.unpack_from("<IIII", header, 0x3C)
-        # Any other sizes are no XLS, and another cutoff would place a stream where the
-        # library, which takes the standard one, does not look for it.
-        if shift not in (9, 12) or mini_shift != 6 or cutoff != _MINI_CUTOFF:
-            raise DamagedWorkbookError("the compound file's header gives sizes no workbook has")
-        self.sector_size = 1 << shift
-        self.file_size = file_size
-        self.count = max(0, -(-(file_size - self.sector_size) // self.sector_size))  # a cut last one counts
-        needed = -(-self.count * 4 // self.sector_size)
-        ids = list(struct.unpack_from("<109I", header, 0x4C))
-        if needed > len(ids):
-            ids += self._difat(difat_start, difat_count, needed)
-        fat_ids = []
-        for sector in ids[: min(fat_count, needed)]:
-            if sector >= _LAST_SECTOR:
-                break
-            fat_ids.append(self._check(sector, "the FAT"))
-        self.fat = array("I")
-        for sector in fat_ids:
-            self.fat.frombytes(self._sector(sector))
-        if sys.byteorder == "big":
-            self.fat.byteswap()
-        del self.fat[self.count :]
-
-    def _check(self, sector: int, what: str) -> int:
-        if sector >= self.count:
-            raise DamagedWorkbookError(f"{what} points to sector {sector}, past the end of the file")
-        return sector
-
-    def _sector(self, sector: int) -> bytes:
-        self.handle.seek((sector + 1) * self.sector_size)
-        return self.handle.read(self.sector_size).ljust(self.sector_size, b"\xff")
-
-    def _difat(self, sector: int, count: int, needed: int) -> list[int]:
-        ids: list[int] = []
-        seen: set[int] = set()
-        per = self.sector_size // 4 - 1
-        while sector < _LAST_SECTOR and len(seen) < count and len(ids) < needed:
-            if self._check(sector, "the FAT list") in seen:
-                raise DamagedWorkbookError("the compound file's list of FAT sectors loops")
-            seen.add(sector)
-            *entries, sector = struct.unpack(f"<{per + 1}I", self._sector(sector))
-            ids += entries
-        return ids
-
-    def chain(self, start: int, table: array[int], limit: int, what: str) -> array[int]:
-        """The sectors of a chain from ``start``, at most ``limit`` of them; a chain that leaves
-        the table or comes back to a sector it passed is damaged."""
-        sectors = array("I")
-        seen = bytearray(len(table))
-        sector = start
-        while sector < _LAST_SECTOR and len(sectors) < limit:
-            if sector >= len(table):
-                raise DamagedWorkbookError(f"{what} points to sector {sector}, past the end of the file")
-            if seen[sector]:
-                raise DamagedWorkbookError(f"{what} loops back to sector {sector}")
-            seen[sector] = 1
-            sectors.append(sector)
-            sector = table[sector]
-        return sectors
-
-    def workbook_streams(self) -> list[_Stream]:
-        """The first Workbook and Book streams of the directory.
-
-        The library reads the first entry of either name, in any case, whatever its type and
-        wherever it stands in the tree (tried on crafted files); the next few are scanned too,
-        so that a reader choosing otherwise still reads a scanned stream.
-        """
-        directory = self.chain(self.directory, self.fat, self.count, "the directory")
-        root = (_LAST_SECTOR, 0)
-        found: list[tuple[int, int]] = []
-        for index, sector in enumerate(directory):
-            block = self._sector(sector)
-            for at in range(0, self.sector_size, _ENTRY):
-                entry = block[at : at + _ENTRY]
-                length = struct.unpack_from("<H", entry, 64)[0]
-                start, size = struct.unpack_from("<IQ", entry, 116)
-                if index == at == 0:
-                    root = (start, size)
-                # By its length or up to its first NUL: a damaged length must not hide it.
-                text = entry[:64].decode("utf-16-le", "replace").lower()
-                names = {text[: max(0, min(length, 64) // 2 - 1)], text.partition("\x00")[0]}
-                if names & _STREAMS and (start, size) not in found and len(found) < _MAX_STREAMS:
-                    found.append((start, size))
-        streams = []
-        for start, size in found:
-            if size > self.file_size:
-                raise DamagedWorkbookError(
-                    f"a workbook stream declares {size:,} bytes, more than the file holds"
-                )
-            if size >= _MINI_CUTOFF:
-                sectors = self.chain(start, self.fat, -(-size // self.sector_size), "the workbook stream")
-                streams.append(_Stream(self.handle, sectors, self.sector_size, size))
-            else:
-                streams.append(_Stream.held(self._mini(root, start, size)))
-        return streams
-
-    def _mini(self, root: tuple[int, int], start: int, size: int) -> bytes:
-        """A small stream, gathered from the mini stream (the root entry's stream)."""
-        mini_fat_sectors = self.chain(self.mini_fat_start, self.fat, self.count, "the mini FAT")
-        mini_fat = array("I", b"".join(self._sector(s) for s in mini_fat_sectors))
-        if sys.byteorder == "big":
-            mini_fat.byteswap()
-        root_start, root_size = root
-        holder = self.chain(root_start, self.fat, -(-root_size // self.sector_size), "the mini stream")
-        mini_stream = _Stream(self.handle, holder, self.sector_size, root_size)
-        del mini_fat[-(-mini_stream.size // _MINI_SECTOR) :]
-        sectors = self.chain(start, mini_fat, -(-size // _MINI_SECTOR), "the workbook stream")
-        data = b"".join(mini_stream.read(s * _MINI_SECTOR, _MINI_SECTOR) for s in sectors)
-        return data[:size]
-
-
-def _records(stream: _Stream, offset: int, position: list[int]) -> Iterator[tuple[int, bytes]]:
+def _records(stream: Stream, offset: int, position: list[int]) -> Iterator[tuple[int, bytes]]:
     """(type, data) of each record from ``offset`` to the stream's end or a record cut short;
     ``position[0]`` follows the offset of the next record."""
     buffer, pos, at = b"", 0, offset
@@ -437,7 +268,7 @@ def _sheet_name(data: bytes, biff8: bool) -> str:
     return data[8 : 8 + length].decode("latin-1")
 
 
-def _scan_stream(stream: _Stream, path: str | Path) -> dict[str, dict[tuple[int, int], str]]:
+def _scan_stream(stream: Stream, path: str | Path) -> dict[str, dict[tuple[int, int], str]]:
     position = [0]
     records = _records(stream, 0, position)
     sheets: list[tuple[str, int]] = []
@@ -487,9 +318,9 @@ def scan_xls(path: str | Path) -> dict[str, dict[tuple[int, int], str]]:
         a corrupt workbook.
     """
     with Path(path).open("rb") as handle:
-        container = _Container(handle, os.fstat(handle.fileno()).st_size)
+        container = CompoundFile(handle, os.fstat(handle.fileno()).st_size)
         errors: dict[str, dict[tuple[int, int], str]] = {}
-        for stream in container.workbook_streams():
+        for stream in container.streams(_STREAMS, _MAX_STREAMS):
             for name, found in _scan_stream(stream, path).items():
                 errors.setdefault(name, {}).update(found)
         return errors
