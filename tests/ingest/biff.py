@@ -149,8 +149,9 @@ def _entry(name: str, kind: int, start: int, size: int, child: int = FREE) -> by
     )
 
 
-def cfb(stream: bytes, name: str = "Workbook") -> bytes:
-    """An OLE2 compound file (version 3, 512-byte sectors) holding one stream.
+def cfb(stream: bytes, name: str = "Workbook", sector: int = SECTOR) -> bytes:
+    """An OLE2 compound file holding one stream: version 3 with 512-byte sectors, or version 4
+    with 4,096-byte ones.
 
     Sectors: the FAT from sector 0, then the directory, then (for a small stream) the mini FAT
     and the mini stream, then the stream's own sectors.
@@ -158,7 +159,7 @@ def cfb(stream: bytes, name: str = "Workbook") -> bytes:
     small = len(stream) < 4096
 
     def sectors(size: int) -> int:
-        return -(-size // SECTOR)
+        return -(-size // sector)
 
     mini = stream.ljust(-(-len(stream) // 64) * 64, b"\x00") if small else b""
     mini_fat = b"".join(
@@ -166,7 +167,7 @@ def cfb(stream: bytes, name: str = "Workbook") -> bytes:
     )
     chains = [1, sectors(len(mini_fat)), sectors(len(mini)), 0 if small else sectors(len(stream))]
     fat_sectors = 1
-    while fat_sectors * (SECTOR // 4) < fat_sectors + sum(chains):
+    while fat_sectors * (sector // 4) < fat_sectors + sum(chains):
         fat_sectors += 1
     assert fat_sectors <= 109, "the writer keeps the FAT in the header's list"
     fat = [FAT_SECTOR] * fat_sectors
@@ -174,27 +175,39 @@ def cfb(stream: bytes, name: str = "Workbook") -> bytes:
     for count in chains:
         starts.append(len(fat) if count else END)
         fat += [len(fat) + i + 1 for i in range(count - 1)] + ([END] if count else [])
-    fat += [FREE] * (fat_sectors * (SECTOR // 4) - len(fat))
+    fat += [FREE] * (fat_sectors * (sector // 4) - len(fat))
     directory, mini_fat_start, mini_start, stream_start = starts
     root = _entry("Root Entry", 5, mini_start if small else END, len(mini), child=1)
     book = _entry(name, 2, 0 if small else stream_start, len(stream))
+    version, shift = (3, 9) if sector == 512 else (4, 12)
     header = (
         bytes.fromhex("d0cf11e0a1b11ae1")
         + bytes(16)
-        + struct.pack("<HHHHH", 0x3E, 3, 0xFFFE, 9, 6)
+        + struct.pack("<HHHHH", 0x3E, version, 0xFFFE, shift, 6)
         + bytes(6)
-        + struct.pack("<IIIIIIIII", 0, fat_sectors, directory, 0, 4096, mini_fat_start, chains[1], END, 0)
+        + struct.pack(
+            "<IIIIIIIII",
+            int(version == 4),
+            fat_sectors,
+            directory,
+            0,
+            4096,
+            mini_fat_start,
+            chains[1],
+            END,
+            0,
+        )
         + struct.pack(f"<{fat_sectors}I", *range(fat_sectors))
         + b"\xff" * 4 * (109 - fat_sectors)
     )
     body = (
         struct.pack(f"<{len(fat)}I", *fat)
-        + (root + book + _entry("", 0, 0, 0) * 2)
-        + mini_fat.ljust(chains[1] * SECTOR, b"\xff")
-        + mini.ljust(chains[2] * SECTOR, b"\x00")
-        + (b"" if small else stream.ljust(chains[3] * SECTOR, b"\x00"))
+        + (root + book).ljust(sector, b"\x00")
+        + mini_fat.ljust(chains[1] * sector, b"\xff")
+        + mini.ljust(chains[2] * sector, b"\x00")
+        + (b"" if small else stream.ljust(chains[3] * sector, b"\x00"))
     )
-    return header + body
+    return header.ljust(sector, b"\x00") + body
 
 
 def write_xls(path: Path, sheets: Sequence[tuple[str, Iterable[Cell]]], **options: object) -> Path:
