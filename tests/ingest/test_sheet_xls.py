@@ -139,6 +139,14 @@ def test_merged_cells_cut_short_are_a_corrupt_workbook(tmp_path: Path) -> None:
     assert error.reason == "corrupt workbook (a list of merged cells of sheet S is cut short)"
 
 
+def test_a_panic_of_the_library_is_a_corrupt_workbook(tmp_path: Path) -> None:
+    # A code page record of one byte: the library reads two and panics (a BaseException),
+    # which must still be the reader's one-line error.
+    path = write_xls(tmp_path / "panic.xls", [("S", [(0, 0, "a")])], extra_globals=record(0x0042, b"\xb0"))
+    error = _refused(path)
+    assert error.reason.startswith("corrupt workbook (PanicException: ")
+
+
 @pytest.mark.parametrize(
     ("offset", "reason"),
     [

@@ -40,7 +40,8 @@ _BOUNDSHEET, _SST, _DIMENSIONS, _MERGECELLS = 0x0085, 0x00FC, 0x0200, 0x00E5
 _FORMULA, _STRING, _BOOLERR, _LABEL, _RSTRING = 0x0006, 0x0207, 0x0205, 0x0204, 0x00D6
 _MULRK, _MULBLANK = 0x00BD, 0x00BE
 # The records the library makes a cell of (checked by trying every record type on it); blanks
-# it leaves out, so they are held to the sheet's size but do not widen the block.
+# it leaves out, so they are held to the sheet's size but do not widen the block. ROW records
+# (a row's height and the columns it spans) are not read: the library builds nothing from them.
 _VALUES = frozenset({_FORMULA, _RSTRING, 0x00FD, 0x0203, _LABEL, _BOOLERR, 0x027E})
 _BLANK = 0x0201
 _ERRORS = {
