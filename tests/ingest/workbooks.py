@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import os
+import signal
 import struct
+import subprocess
+import sys
 import zipfile
 import zlib
 from collections.abc import Sequence
@@ -122,3 +126,43 @@ def write_raw_xlsx(path: Path, sheet: Sequence[tuple[bytes, int]]) -> Path:
             ("xl/worksheets/sheet1.xml", sheet),
         ],
     )
+
+
+# A child process reads the file and reports its peak memory: the test process's own peak
+# would hide what the read costs. VmHWM starts afresh at exec; ru_maxrss would keep the
+# size of the test process the child was forked from.
+_MEASURE = """
+import sys, time
+from cadkg.errors import IngestError
+from cadkg.ingest.sheet import read_workbook
+start = time.monotonic()
+try:
+    read_workbook(sys.argv[1])
+    print("read")
+except IngestError as err:
+    print(err)
+print(time.monotonic() - start)
+with open("/proc/self/status") as status:
+    print(next(int(line.split()[1]) for line in status if line.startswith("VmHWM:")) // 1024)
+"""
+
+
+def read_in_child(path: Path, timeout: float = 120) -> tuple[str, float, int]:
+    """(the error line or ``read``, seconds, peak RSS in MB) of reading ``path`` in a child
+    process; a child past ``timeout`` is killed with its process group and the test fails."""
+    process = subprocess.Popen(
+        [sys.executable, "-c", _MEASURE, str(path)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        out, err = process.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.communicate()
+        raise AssertionError(f"reading {path.name} took over {timeout} s") from None
+    assert process.returncode == 0, err[-2000:]
+    message, seconds, megabytes = out.splitlines()[-3:]
+    return message, float(seconds), int(megabytes)

@@ -1,8 +1,9 @@
 """Workbooks (XLSX, XLSM, XLS, ODS) as sheets of rows with Excel-style cell addresses.
 
 One library reads all four formats: python-calamine (the Rust calamine reader). Before it
-builds a sheet, :mod:`cadkg.ingest.sheet_bounds` checks the XML against the limits a sheet
-must keep, so a damaged or hostile file is refused at the offending cell instead of filling
+builds a sheet, :mod:`cadkg.ingest.sheet_bounds` checks the XML (and
+:mod:`cadkg.ingest.xls_bounds` the BIFF records of an XLS) against the limits a sheet must
+keep, so a damaged or hostile file is refused at the offending cell instead of filling
 memory. Readers pick the sheets whose header says what they are; :func:`read_sheet` keeps
 the older rule (the first sheet holding a value) for formats that take one table. Errors
 name cells as a spreadsheet program shows them (``Sheet1!C7``: column letters, 1-based rows).
@@ -31,6 +32,7 @@ from cadkg.ingest.sheet_bounds import (
     column_letter,
     scan_xlsx,
 )
+from cadkg.ingest.xls_bounds import DamagedWorkbookError, scan_xls
 
 __all__ = [
     "SHEET_SUFFIXES",
@@ -154,7 +156,7 @@ def read_workbook(path: str | Path) -> Workbook:
     magic = _magic(path, expected)
     try:
         if magic.startswith(_OLE2):
-            errors: dict[str, dict[tuple[int, int], str]] = {}
+            errors = scan_xls(path)
         elif _zip_mimetype(path) == _ODS:
             check_ods_extent(path)
             errors = {}
@@ -163,9 +165,13 @@ def read_workbook(path: str | Path) -> Workbook:
         sheets = _read(path, errors)
     except IngestError:
         raise
-    except Exception as err:
-        # zipfile, lxml and the library fail on a damaged archive in many unrelated ways.
-        reason = f"corrupt workbook ({type(err).__name__}: {err})"
+    except BaseException as err:
+        # zipfile, lxml and the library fail on a damaged archive in many unrelated ways; the
+        # library's own panics (a record it indexes past its end) derive from BaseException.
+        if not isinstance(err, Exception) and type(err).__name__ != "PanicException":
+            raise
+        found = str(err) if isinstance(err, DamagedWorkbookError) else f"{type(err).__name__}: {err}"
+        reason = f"corrupt workbook ({found})"
         if magic.startswith(_OLE2) and _encrypted(path):
             reason = "an encrypted workbook (a password-protected XLSX is an OLE2 file holding it)"
         raise IngestError(path, reason[:300], expected=expected) from None
@@ -186,7 +192,7 @@ def _read(path: str | Path, errors: dict[str, dict[tuple[int, int], str]]) -> li
         for name in book.sheet_names:
             sheet = book.get_sheet_by_name(name)
             end = sheet.end
-            # The bounds scan checked XLSX; ODS repeats were checked; XLS is at most 65,536 x 256.
+            # The bounds scans checked this already (ODS: its repeats); kept as the last word.
             if end is not None and (end[0] + 1) * (end[1] + 1) > MAX_CELLS:
                 raise IngestError(
                     path,
