@@ -89,7 +89,8 @@ def completion_terms(graph: Any, max_labels: int = 20000) -> dict[str, Any]:
     prefixes = dict(STANDARD_PREFIXES)
     if base:
         prefixes[CELL_PREFIX] = base
-    labels = sorted(str(r["label"]) for r in graph.query(_LABELS.replace("{limit}", str(max_labels + 1))).rows)
+    rows = graph.query(_LABELS.replace("{limit}", str(max_labels + 1))).rows
+    labels = sorted(str(r["label"]) for r in rows)
     return {
         "prefixes": prefixes,
         "base": base,
