@@ -139,12 +139,41 @@ def test_merged_cells_cut_short_are_a_corrupt_workbook(tmp_path: Path) -> None:
     assert error.reason == "corrupt workbook (a list of merged cells of sheet S is cut short)"
 
 
-def test_a_panic_of_the_library_is_a_corrupt_workbook(tmp_path: Path) -> None:
-    # A code page record of one byte: the library reads two and panics (a BaseException),
-    # which must still be the reader's one-line error.
-    path = write_xls(tmp_path / "panic.xls", [("S", [(0, 0, "a")])], extra_globals=record(0x0042, b"\xb0"))
-    error = _refused(path)
-    assert error.reason.startswith("corrupt workbook (PanicException: ")
+@pytest.mark.parametrize(
+    ("kind", "data", "reason"),
+    [
+        (0x0042, b"\xb0", "a CODEPAGE record of 1 bytes at 26 is cut short"),
+        (0x0018, b"\x00\x00", "a NAME record of 2 bytes at 26 is cut short"),
+        (0x0017, b"\x01\x00\x00\x00", "an EXTERNSHEET record of 4 bytes is cut short"),
+    ],
+    ids=["codepage", "name", "externsheet"],
+)
+def test_records_the_library_would_index_past_are_a_corrupt_workbook(
+    tmp_path: Path, capfd: pytest.CaptureFixture[str], kind: int, data: bytes, reason: str
+) -> None:
+    # Each makes the library panic, which prints its own message (and a backtrace) to standard
+    # error: refused before it reads them, with nothing else said.
+    path = write_xls(tmp_path / "short.xls", [("S", [(0, 0, "a")])], extra_globals=record(kind, data))
+    assert _refused(path).reason == f"corrupt workbook ({reason})"
+    assert capfd.readouterr().err == ""
+
+
+def test_a_panic_of_the_library_is_a_corrupt_workbook(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Any other panic of the library (a BaseException, not an Exception) is still the reader's
+    # one-line error; the panic is raised here in its place, since no known file makes one.
+    class PanicException(BaseException):
+        pass
+
+    def panic(*args: object, **kwargs: object) -> None:
+        raise PanicException("index out of bounds")
+
+    import python_calamine
+
+    monkeypatch.setattr(python_calamine.CalamineWorkbook, "from_filelike", panic)
+    path = write_xls(tmp_path / "panic.xls", [("S", [(0, 0, "a")])])
+    assert _refused(path).reason == "corrupt workbook (PanicException: index out of bounds)"
 
 
 @pytest.mark.parametrize(

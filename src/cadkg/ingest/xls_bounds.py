@@ -56,6 +56,41 @@ _ERRORS = {
 }
 
 
+# The fixed part of the records the library reads, in bytes (the shorter of BIFF5's and
+# BIFF8's): it indexes into them without checking their length and panics on a shorter one.
+_FIXED = {
+    _BOF: 4,
+    0x0042: 2,  # CODEPAGE
+    0x0022: 2,  # DATEMODE
+    0x0018: 14,  # NAME
+    0x0017: 2,  # EXTERNSHEET
+    0x00E0: 16,  # XF
+    0x041E: 3,  # FORMAT
+    _BOUNDSHEET: 7,
+    _SST: 8,
+    _DIMENSIONS: 10,
+    0x0208: 16,  # ROW
+    0x0203: 14,  # NUMBER
+    0x027E: 10,  # RK
+    0x00FD: 10,  # LABELSST
+    _BLANK: 6,
+    _BOOLERR: 8,
+    _LABEL: 8,
+    _FORMULA: 20,
+    _MULRK: 6,
+    _MULBLANK: 6,
+}
+_NAMES = {
+    0x0042: "CODEPAGE",
+    0x0022: "DATEMODE",
+    0x0018: "NAME",
+    0x0017: "EXTERNSHEET",
+    0x00E0: "XF",
+    0x041E: "FORMAT",
+    0x0208: "ROW",
+}
+
+
 def _records(stream: Stream, offset: int, position: list[int]) -> Iterator[tuple[int, bytes]]:
     """(type, data) of each record from ``offset`` to the stream's end or a record cut short;
     ``position[0]`` follows the offset of the next record."""
@@ -71,6 +106,11 @@ def _records(stream: Stream, offset: int, position: list[int]) -> Iterator[tuple
             if len(buffer) < 4 + int.from_bytes(buffer[2:4], "little"):
                 return
         kind, size = struct.unpack_from("<HH", buffer, pos)
+        if size < _FIXED.get(kind, 0):
+            name = _NAMES.get(kind, f"0x{kind:04X}")
+            raise DamagedWorkbookError(
+                f"a {name} record of {size} bytes at {at - len(buffer) + pos} is cut short"
+            )
         data = buffer[pos + 4 : pos + 4 + size]
         pos += 4 + size
         position[0] = at - len(buffer) + pos
@@ -280,6 +320,9 @@ def _scan_stream(stream: Stream, path: str | Path) -> dict[str, dict[tuple[int, 
         item = None
         if kind == _BOF and len(data) >= 2:
             biff8 = struct.unpack_from("<H", data)[0] == 0x0600
+        elif kind == 0x0017 and biff8 and len(data) < 2 + 6 * struct.unpack_from("<H", data)[0]:
+            # The library slices every reference the count announces out of this one record.
+            raise DamagedWorkbookError(f"an EXTERNSHEET record of {len(data)} bytes is cut short")
         elif kind == _BOUNDSHEET and len(data) >= 7:
             sheets.append((_sheet_name(data, biff8), struct.unpack_from("<I", data)[0]))
         elif kind == _SST:
