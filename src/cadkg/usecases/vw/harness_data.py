@@ -25,6 +25,7 @@ import pyoxigraph as ox
 from cadkg.errors import NotFound, QueryError
 from cadkg.usecases.vw.harness_queries import (
     AT_NODES,
+    AT_NODES_ONLY,
     BASE,
     CAVITIES,
     CONFIGURATIONS,
@@ -279,7 +280,7 @@ def _ask_topology(fetch: _Fetch, *, labels: bool) -> None:
     fetch.ask(segments=SEGMENTS, routings=ROUTINGS if labels else ROUTINGS_ONLY)
     if labels:
         fetch.ask(nodes=NODES)
-    fetch.ask(at_nodes=AT_NODES)
+    fetch.ask(at_nodes=AT_NODES if labels else AT_NODES_ONLY)
     if labels:
         fetch.ask(placed=PLACED)
     fetch.ask(in_module=IN_MODULE, modules=MODULES, configurations=CONFIGURATIONS)
@@ -310,7 +311,8 @@ def _topology(fetch: _Fetch, ref: HarnessRef, base: str, *, labels: bool) -> Top
         # The order is percent-encoded ids and spaces: a plain literal, no escapes.
         routings.append((wire_id, [by_part.get(p, p) for p in order[1:-1].split()], rid))
         if labels:
-            labelled[wire_id] = value(label) or value(number_)
+            text = label[1:-1] if label[-1:] == '"' and "\\" not in label else value(label)
+            labelled[wire_id] = text or value(number_)
     ends = {info.start for info in data.segments.values()} | {info.end for info in data.segments.values()}
     for node, label, x, y, z, inside in fetch.rows("nodes") if labels else ():
         rid = ident(node)

@@ -16,6 +16,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "AT_NODES",
+    "AT_NODES_ONLY",
     "BASE",
     "CAVITIES",
     "CONFIGURATIONS",
@@ -69,6 +70,14 @@ AT_NODES = """
 SELECT ?c ?n ?label ?in WHERE {
   ?c ck:atNode ?n .
   OPTIONAL { ?c ck:label ?label }
+  BIND (EXISTS { ?n ck:partOf ?h } AS ?in)
+}
+"""
+# The wires view does without the connectors' labels here: a lookup per connector, among its
+# pins and cavities, that the connectors' query makes again.
+AT_NODES_ONLY = """
+SELECT ?c ?n ?label ?in WHERE {
+  ?c ck:atNode ?n .
   BIND (EXISTS { ?n ck:partOf ?h } AS ?in)
 }
 """

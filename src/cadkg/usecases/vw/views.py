@@ -238,20 +238,24 @@ def wire_view(data: WireData, variant: Variant | None = None) -> View:
     keep = _in(topology, variant)
     at_node = {c: n for c, n, _ in topology.at_node}
     connectors = data.connectors
-    shown = {c: label or c for c, label in connectors.items() if keep(c)}
+    # Each connector shown: its label and harness node.
+    shown = {c: (label or c, at_node.get(c, "")) for c, label in connectors.items() if keep(c)}
     cavities: dict[str, Attributes] = {}
+    # The connector of a cavity not shown, for a wire that ends there (see _end).
     holder: dict[str, str] = {}
     for connector, cavity, name in data.cavities:
-        holder[cavity] = connector
-        if connector in shown:
-            label = shown[connector]
-            number = name or cavity
-            cavities[cavity] = {
-                "label": f"{label}:{number}",
-                "connector": label,
-                "cavity": number,
-                "harness_node": at_node.get(connector, ""),
-            }
+        here = shown.get(connector)
+        if here is None:
+            holder[cavity] = connector
+            continue
+        label, node = here
+        number = name or cavity
+        cavities[cavity] = {
+            "label": f"{label}:{number}",
+            "connector": label,
+            "cavity": number,
+            "harness_node": node,
+        }
     routes: dict[str, list[tuple[str, list[str]]]] = {}
     unordered: set[str] = set()
     for wire, path, routing in topology.routings:
@@ -280,12 +284,25 @@ def wire_view(data: WireData, variant: Variant | None = None) -> View:
             "from_cavity": start,
             "to_cavity": end,
         }
-        for name, term in (("section_mm2", row[7]), ("length_m", row[9]), ("diameter_m", row[10])):
-            if term:
-                attributes[name] = float(term) if term[0] != '"' else float(value(term))
-        for name, term in (("colour", row[8]), ("cable", row[11]), ("signal", row[12])):
-            if term:
-                attributes[name] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
+        # In the order of the keys, as the attributes are written.
+        term = row[7]
+        if term:
+            attributes["section_mm2"] = float(term) if term[0] != '"' else float(value(term))
+        term = row[9]
+        if term:
+            attributes["length_m"] = float(term) if term[0] != '"' else float(value(term))
+        term = row[10]
+        if term:
+            attributes["diameter_m"] = float(term) if term[0] != '"' else float(value(term))
+        term = row[8]
+        if term:
+            attributes["colour"] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
+        term = row[11]
+        if term:
+            attributes["cable"] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
+        term = row[12]
+        if term:
+            attributes["signal"] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
         routings = routes.get(wire, [])
         if wire in unordered:
             paths = [_ordered(routings[0][1], topology, cavities[start]["harness_node"])]
