@@ -18,6 +18,7 @@ from collections import defaultdict
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
+from itertools import repeat
 from typing import TYPE_CHECKING
 
 import pyoxigraph as ox
@@ -181,7 +182,11 @@ def _serialized(kg: GraphStore, sparql: str, harness: str | None) -> bytes:
 
 
 def _split(data: bytes) -> list[Row]:
-    return [line.split("\t") for line in data.decode("utf-8").split("\n")[1:] if line]
+    lines = data.decode("utf-8").split("\n")
+    del lines[0]  # the variables
+    if lines and not lines[-1]:
+        lines.pop()
+    return list(map(str.split, lines, repeat("\t")))
 
 
 def _rows(kg: GraphStore, sparql: str, harness: str | None = None) -> list[Row]:
@@ -379,12 +384,18 @@ def wire_data(kg: GraphStore, ref: HarnessRef, *, whole: bool = False) -> WireDa
         for row in fetch.rows("wires"):
             term = row[0]
             row[0] = term[start:-1] if term.startswith(prefix) else term[1:-1]
-            for pin_at, cavity_at in ((1, 3), (2, 4)):
-                term = row[cavity_at]
-                row[cavity_at] = term[start:-1] if term.startswith(prefix) else term[1:-1]
-                if not term:
-                    row[pin_at] = ident(row[pin_at])
-                    loose.add(row[pin_at])
+            term = row[3]
+            if term:
+                row[3] = term[start:-1] if term.startswith(prefix) else term[1:-1]
+            else:
+                row[1] = ident(row[1])
+                loose.add(row[1])
+            term = row[4]
+            if term:
+                row[4] = term[start:-1] if term.startswith(prefix) else term[1:-1]
+            else:
+                row[2] = ident(row[2])
+                loose.add(row[2])
             wires.append(row)
     if loose:
         for pin, connector, name, index in _rows(kg, LOOSE_PINS):

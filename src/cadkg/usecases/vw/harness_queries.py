@@ -128,11 +128,16 @@ SELECT ?c ?label ?m WHERE {
   FILTER EXISTS { ?c ck:partOf ?h }
 }
 """
-# The harness's connectors: those it has (directly or by a branch), and those part of it.
+# The harness's connectors: those it has (directly or by a branch), and those part of it; each
+# once before its label is looked up (a connector is a subject of some fifty statements).
 CONNECTORS = """
-SELECT DISTINCT ?c ?label WHERE {
-  { ?h ck:hasConnector ?c } UNION { ?h ck:hasBranch/ck:hasConnector ?c }
-  UNION { ?c a ck:Connector ; ck:partOf ?h }
+SELECT ?c ?label WHERE {
+  {
+    SELECT DISTINCT ?c ?h WHERE {
+      { ?h ck:hasConnector ?c } UNION { ?h ck:hasBranch/ck:hasConnector ?c }
+      UNION { ?c a ck:Connector ; ck:partOf ?h }
+    }
+  }
   OPTIONAL { ?c ck:label ?label }
 }
 """
