@@ -128,9 +128,9 @@ class WireData:
     cavities: list[tuple[str, str, str]] = field(default_factory=list)
     # a pin in no cavity → (connector, pin name)
     pins: dict[str, tuple[str, str]] = field(default_factory=dict)
-    # [wire, from pin, to pin, from cavity, to cavity, label, number, section, colour, length,
-    # diameter, cable, signal]: ids of the wire and its cavities (of a pin only where it is in no
-    # cavity), then the terms of the query ("" where unknown; see value())
+    # [wire, from, to, label, number, section, colour, length, diameter, cable, signal]: ids of
+    # the wire and of the cavities its ends are in (of an end's pin where it is in none), then
+    # the terms of the query ("" where unknown; see value())
     wires: list[Row] = field(default_factory=list)
 
 
@@ -380,22 +380,21 @@ def wire_data(kg: GraphStore, ref: HarnessRef, *, whole: bool = False) -> WireDa
                 )
                 cavities.append((rid, cavity_id, name))
         wires = data.wires
+        # An end in none of these cavities is a pin in no cavity, or a cavity of another
+        # connector: the pins are looked for among those in no cavity.
+        known = {cavity for _, cavity, _ in cavities}
         loose: set[str] = set()
         for row in fetch.rows("wires"):
             term = row[0]
             row[0] = term[start:-1] if term.startswith(prefix) else term[1:-1]
-            term = row[3]
-            if term:
-                row[3] = term[start:-1] if term.startswith(prefix) else term[1:-1]
-            else:
-                row[1] = ident(row[1])
-                loose.add(row[1])
-            term = row[4]
-            if term:
-                row[4] = term[start:-1] if term.startswith(prefix) else term[1:-1]
-            else:
-                row[2] = ident(row[2])
-                loose.add(row[2])
+            term = row[1]
+            row[1] = end = term[start:-1] if term.startswith(prefix) else term[1:-1]
+            if end not in known:
+                loose.add(end)
+            term = row[2]
+            row[2] = end = term[start:-1] if term.startswith(prefix) else term[1:-1]
+            if end not in known:
+                loose.add(end)
             wires.append(row)
     if loose:
         for pin, connector, name, index in _rows(kg, LOOSE_PINS):

@@ -148,7 +148,8 @@ SELECT ?c ?cavity ?label ?index WHERE {
   OPTIONAL { ?cavity ck:pinIndex ?index }
 }
 """
-# A wire's ends are the cavities its pins are in; a pin in no cavity is told by its own name.
+# A wire's ends are the cavities its pins are in; a pin in no cavity is told by its own name
+# (the query gives the pin where there is no cavity: one term per end).
 WIRE_VALUES = (
     ("label", "label"),
     ("number", "wireNumber"),
@@ -170,7 +171,8 @@ def wires_query(kg: GraphStore) -> str:
     )
     names = " ".join(f"?{name}" for name, _ in WIRE_VALUES)
     return (
-        f"SELECT ?w ?from ?to ?fromCavity ?toCavity {names} WHERE {{\n"
+        f"SELECT ?w (COALESCE(?fromCavity, ?from) AS ?fromEnd) (COALESCE(?toCavity, ?to) AS ?toEnd)"
+        f" {names} WHERE {{\n"
         "  ?w ck:fromPin ?from ; ck:toPin ?to .\n"
         "  OPTIONAL { ?from ck:inCavity ?fromCavity }\n"
         "  OPTIONAL { ?to ck:inCavity ?toCavity }\n"

@@ -269,14 +269,14 @@ def wire_view(data: WireData, variant: Variant | None = None) -> View:
         if not keep(wire):
             continue
         # Hot loop (a row per wire): plain literals and numbers are read without a call.
-        start, end = row[3], row[4]
+        start, end = row[1], row[2]
         if start not in cavities:
-            start = _end(data, cavities, holder, at_node, row[1], start)
+            _end(data, cavities, holder, at_node, start)
         if end not in cavities:
-            end = _end(data, cavities, holder, at_node, row[2], end)
-        term = row[5]
+            _end(data, cavities, holder, at_node, end)
+        term = row[3]
         label = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
-        term = row[6]
+        term = row[4]
         number = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
         attributes: Attributes = {
             "label": label or number or wire,
@@ -285,22 +285,22 @@ def wire_view(data: WireData, variant: Variant | None = None) -> View:
             "to_cavity": end,
         }
         # In the order of the keys, as the attributes are written.
-        term = row[7]
+        term = row[5]
         if term:
             attributes["section_mm2"] = float(term) if term[0] != '"' else float(value(term))
-        term = row[9]
+        term = row[7]
         if term:
             attributes["length_m"] = float(term) if term[0] != '"' else float(value(term))
-        term = row[10]
-        if term:
-            attributes["diameter_m"] = float(term) if term[0] != '"' else float(value(term))
         term = row[8]
         if term:
+            attributes["diameter_m"] = float(term) if term[0] != '"' else float(value(term))
+        term = row[6]
+        if term:
             attributes["colour"] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
-        term = row[11]
+        term = row[9]
         if term:
             attributes["cable"] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
-        term = row[12]
+        term = row[10]
         if term:
             attributes["signal"] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
         routings = routes.get(wire, [])
@@ -323,25 +323,21 @@ def _end(
     cavities: dict[str, Attributes],
     holder: dict[str, str],
     at_node: dict[str, str],
-    pin: str,
-    cavity: str,
-) -> str:
-    """The node of a wire end: its cavity, or its pin when it is in none (a node of its own)."""
-    if cavity in cavities:
-        return cavity
-    if cavity:
-        connector, name = holder.get(cavity, ""), cavity
+    end: str,
+) -> None:
+    """The node of a wire end not in a shown cavity: a cavity of a connector not shown, or a pin
+    in no cavity (a node of its own)."""
+    if end in holder:
+        connector, name = holder[end], end
     else:
-        cavity = pin
-        connector, name = data.pins.get(pin, ("", pin))
+        connector, name = data.pins.get(end, ("", end))
     label = data.connectors.get(connector) or connector
-    cavities[cavity] = {
+    cavities[end] = {
         "label": f"{label}:{name}",
         "connector": label,
         "cavity": name,
         "harness_node": at_node.get(connector, ""),
     }
-    return cavity
 
 
 def _ordered(path: list[str], topology: TopologyData, start: str) -> list[str]:
