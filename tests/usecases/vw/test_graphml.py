@@ -114,6 +114,28 @@ def test_lists_are_refused() -> None:
         graphml_text(view)
 
 
+def test_markup_and_forbidden_characters() -> None:
+    """Markup characters are escaped; tab, newline and carriage return come back as they were;
+    what XML 1.0 forbids (other control characters, U+FFFE) is written as U+FFFD."""
+    label = "a<b & \"c\" 'd'>\te\nf\rg\x01h\x1fi\ufffej"
+    view = View(
+        {"harness": "H<&>", "harness_id": "harness/H", "view": "wires"},
+        [("n&1", {"label": label, "connector": "X&1"}), ("n2", {"label": "plain"})],
+        [("n2", "n&1", "w<1>", {"label": label, "colour": "RD\x00"})],
+    )
+    text = graphml_text(view)
+    root = etree.fromstring(text.encode())  # well-formed, read by a validating parser
+    assert root.tag == f"{GRAPHML}graphml"
+    read = nx.read_graphml(io.StringIO(text), force_multigraph=True)
+    written = "a<b & \"c\" 'd'>\te\nf\rg\ufffdh\ufffdi\ufffdj"
+    assert read.graph["harness"] == "H<&>"
+    assert read.nodes["n&1"] == {"label": written, "connector": "X&1"}
+    assert read.nodes["n2"] == {"label": "plain"}
+    [(u, v, key, data)] = read.edges(keys=True, data=True)
+    assert {u, v} == {"n&1", "n2"} and key == "w<1>"
+    assert data == {"label": written, "colour": "RD\ufffd"}
+
+
 def test_unknown_view(vw: KnowledgeGraph) -> None:  # noqa: F811
     with pytest.raises(QueryError, match="unknown harness view '3d'; one of topology, wires"):
         harness_graphml(vw, "3d", "DOOR-L")

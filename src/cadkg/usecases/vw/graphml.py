@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import io
 import math
+import re
 from collections import defaultdict, deque
 from collections.abc import Callable, Sequence
 from operator import itemgetter
@@ -116,60 +117,64 @@ _COLOURS = {
 _CHUNK = 20_000
 
 
+# Characters XML 1.0 does not allow, even as references: replaced by U+FFFD, so the file stays
+# well-formed. Tab, line feed and carriage return are written as references, which a parser
+# keeps as they are (it would turn them into spaces in an attribute, \r into \n in text).
+_FORBIDDEN = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+_REFERENCES = str.maketrans(
+    {"&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", "\t": "&#9;", "\n": "&#10;", "\r": "&#13;"}
+)
+
+
 def _escape(text: str) -> str:
-    if "&" in text or "<" in text or ">" in text or '"' in text:
-        return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
-    return text
+    if text.isprintable() and "&" not in text and "<" not in text and ">" not in text and '"' not in text:
+        return text
+    return _FORBIDDEN.sub("\ufffd", text).translate(_REFERENCES)
+
+
+Row = tuple[Any, ...]
 
 
 class _Lines:
-    """The line of a node or edge, from one template per set of attributes it carries: the
-    values are formatted in one call, their texts checked (and escaped where needed) at once."""
+    """The lines of the nodes or edges of a view, from one ``%`` template per set of attributes
+    a row carries: a row's values are formatted in one call, its texts checked at once (one
+    join, then a scan for what XML needs escaped) and escaped only where needed."""
 
     def __init__(
-        self, element: str, keys: Sequence[tuple[str, str]], ids: dict[tuple[str, str], str]
+        self, element: str, head: str, keys: Sequence[tuple[str, str]], ids: dict[tuple[str, str], str]
     ) -> None:
-        self.element = element
+        self.element, self.head = element, head
+        self.fixed = head.count("%s")
         self.types = dict(keys)
         self.ids = {name: ids[(element, name)] for name, _ in keys}
-        self.templates: dict[
-            tuple[str, ...], tuple[str, Callable[[list[Any]], tuple[Any, ...]], set[int]]
-        ] = {}
+        self.templates: dict[tuple[str, ...], tuple[str, Callable[[Row], tuple[Any, ...]]]] = {}
 
-    def _template(
-        self, names: tuple[str, ...], head: str, count: int
-    ) -> tuple[str, Callable[[list[Any]], tuple[Any, ...]], set[int]]:
-        parts = [head]
-        texts = list(range(count))
-        for index, name in enumerate(names, start=count):
+    def template(self, names: tuple[str, ...]) -> tuple[str, Callable[[Row], tuple[Any, ...]]]:
+        parts = [self.head]
+        texts = list(range(self.fixed))
+        for index, name in enumerate(names, start=self.fixed):
             kind = self.types.get(name)
             if kind is None:
                 raise TypeError(f"a {self.element} attribute GraphML does not declare: {name!r}")
-            parts.append(f'<data key="{self.ids[name]}">{{{index}{"!r" if kind == "double" else ""}}}</data>')
+            parts.append(f'<data key="{self.ids[name]}">{"%r" if kind == "double" else "%s"}</data>')
             if kind == "string":
                 texts.append(index)
         pick = itemgetter(*texts)
-        picker: Callable[[list[Any]], tuple[Any, ...]] = pick if len(texts) > 1 else lambda v: (pick(v),)
-        return "".join(parts) + f"</{self.element}>\n", picker, set(texts)
+        picker: Callable[[Row], tuple[Any, ...]] = pick if len(texts) > 1 else lambda v: (pick(v),)
+        entry = self.templates[names] = ("".join(parts) + f"</{self.element}>\n", picker)
+        return entry
 
-    def line(
-        self, head: str, count: int, fixed: Sequence[str], attributes: dict[str, Any], where: str
-    ) -> str:
-        names = tuple(attributes)
-        entry = self.templates.get(names)
-        if entry is None:
-            entry = self.templates[names] = self._template(names, head, count)
-        template, pick, texts = entry
-        values = [*fixed, *attributes.values()]
-        try:
-            joined = "".join(pick(values))
-        except TypeError:
-            # GraphML has no list type; a list would be written as its Python repr.
-            wrong = next(names[i - count] for i in sorted(texts) if not isinstance(values[i], str))
-            raise TypeError(f"{where}: attribute {wrong!r} is not a text") from None
-        if "&" in joined or "<" in joined or ">" in joined or '"' in joined:
-            values = [_escape(v) if i in texts else v for i, v in enumerate(values)]
-        return template.format(*values)
+    def checked(self, names: tuple[str, ...], values: Row, where: str) -> Row:
+        """``values`` with their texts escaped; raises TypeError when one is not a text."""
+        texts = set(range(self.fixed)) | {
+            i for i, name in enumerate(names, start=self.fixed) if self.types[name] == "string"
+        }
+        for i in sorted(texts):
+            if not isinstance(values[i], str):
+                # GraphML has no list type; a list would be written as its Python repr.
+                wrong = names[i - self.fixed] if i >= self.fixed else "id"
+                raise TypeError(f"{where}: attribute {wrong!r} is not a text")
+        return tuple(_escape(v) if i in texts else v for i, v in enumerate(values))
 
 
 def write_graphml(view: View, out: TextIO, *, yed: bool = False) -> None:
@@ -196,34 +201,65 @@ def write_graphml(view: View, out: TextIO, *, yed: bool = False) -> None:
             value = view.graph[name]
             shown = repr(float(value)) if kind == "double" else _escape(str(value))
             lines.append(f'    <data key="{ids[("graph", name)]}">{shown}</data>\n')
-    nodes, edges = _Lines("node", node_keys, ids), _Lines("edge", edge_keys, ids)
+    write = out.write
+    write("".join(lines))
+    nodes = _Lines("node", '    <node id="%s">', node_keys, ids)
     places = _places(view) if yed else {}
     kind = view.graph["view"]
-    write = out.write
-    for node, attributes in view.nodes:
-        line = nodes.line('    <node id="{0}">', 1, (node,), attributes, f"node {node}")
-        if yed:
-            line = line[: -len("</node>\n")] + _shape(graphics, places[node], attributes, kind) + "</node>\n"
-        lines.append(line)
-        if len(lines) >= _CHUNK:
-            write("".join(lines))
-            lines.clear()
-    for u, v, key, attributes in view.edges:
-        source, target = (u, v) if u <= v else (v, u)
-        lines.append(
-            edges.line(
-                '    <edge source="{0}" target="{1}" id="{2}">',
-                3,
-                (source, target, key),
-                attributes,
-                f"edge {key}",
-            )
-        )
-        if len(lines) >= _CHUNK:
-            write("".join(lines))
-            lines.clear()
-    lines.append("  </graph>\n</graphml>\n")
-    write("".join(lines))
+    templates, template = nodes.templates, nodes.template
+    # Hot loops (a row per node and per edge): no call per row but the formatting's.
+    for start in range(0, len(view.nodes), _CHUNK):
+        lines = []
+        append = lines.append
+        for node, attributes in view.nodes[start : start + _CHUNK]:
+            names = tuple(attributes)
+            text, pick = templates.get(names) or template(names)
+            values = (node, *attributes.values())
+            try:
+                joined = "".join(pick(values))
+            except TypeError:
+                values = nodes.checked(names, values, f"node {node}")
+            else:
+                if (
+                    not joined.isprintable()
+                    or "&" in joined
+                    or "<" in joined
+                    or ">" in joined
+                    or '"' in joined
+                ):
+                    values = nodes.checked(names, values, f"node {node}")
+            line = text % values
+            if yed:
+                line = (
+                    line[: -len("</node>\n")] + _shape(graphics, places[node], attributes, kind) + "</node>\n"
+                )
+            append(line)
+        write("".join(lines))
+    edges = _Lines("edge", '    <edge source="%s" target="%s" id="%s">', edge_keys, ids)
+    templates, template = edges.templates, edges.template
+    for start in range(0, len(view.edges), _CHUNK):
+        lines = []
+        append = lines.append
+        for u, v, key, attributes in view.edges[start : start + _CHUNK]:
+            names = tuple(attributes)
+            text, pick = templates.get(names) or template(names)
+            values = (u, v, key, *attributes.values()) if u <= v else (v, u, key, *attributes.values())
+            try:
+                joined = "".join(pick(values))
+            except TypeError:
+                values = edges.checked(names, values, f"edge {key}")
+            else:
+                if (
+                    not joined.isprintable()
+                    or "&" in joined
+                    or "<" in joined
+                    or ">" in joined
+                    or '"' in joined
+                ):
+                    values = edges.checked(names, values, f"edge {key}")
+            append(text % values)
+        write("".join(lines))
+    write("  </graph>\n</graphml>\n")
 
 
 # -- yEd -----------------------------------------------------------------------------------------------

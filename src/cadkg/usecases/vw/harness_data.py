@@ -18,6 +18,7 @@ from collections import defaultdict
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
+from itertools import repeat
 from typing import TYPE_CHECKING
 
 import pyoxigraph as ox
@@ -25,15 +26,14 @@ import pyoxigraph as ox
 from cadkg.errors import NotFound, QueryError
 from cadkg.usecases.vw.harness_queries import (
     AT_NODES,
+    AT_NODES_ONLY,
     BASE,
     CAVITIES,
     CONFIGURATIONS,
-    CONNECTOR_MEMBERS,
     CONNECTORS,
     HARNESSES,
     IN_MODULE,
     LOOSE_PINS,
-    MEMBERS,
     MODULES,
     NODES,
     PLACED,
@@ -128,9 +128,9 @@ class WireData:
     cavities: list[tuple[str, str, str]] = field(default_factory=list)
     # a pin in no cavity → (connector, pin name)
     pins: dict[str, tuple[str, str]] = field(default_factory=dict)
-    # [wire, from pin, to pin, from cavity, to cavity, label, number, section, colour, length,
-    # diameter, cable, signal]: ids of the wire and its cavities (of a pin only where it is in no
-    # cavity), then the terms of the query ("" where unknown; see value())
+    # [wire, from, to, label, number, section, colour, length, diameter, cable, signal]: ids of
+    # the wire and of the cavities its ends are in (of an end's pin where it is in none), then
+    # the terms of the query ("" where unknown; see value())
     wires: list[Row] = field(default_factory=list)
 
 
@@ -182,7 +182,11 @@ def _serialized(kg: GraphStore, sparql: str, harness: str | None) -> bytes:
 
 
 def _split(data: bytes) -> list[Row]:
-    return [line.split("\t") for line in data.decode("utf-8").split("\n")[1:] if line]
+    lines = data.decode("utf-8").split("\n")
+    del lines[0]  # the variables
+    if lines and not lines[-1]:
+        lines.pop()
+    return list(map(str.split, lines, repeat("\t")))
 
 
 def _rows(kg: GraphStore, sparql: str, harness: str | None = None) -> list[Row]:
@@ -191,7 +195,8 @@ def _rows(kg: GraphStore, sparql: str, harness: str | None = None) -> list[Row]:
 
 class _Fetch:
     """Queries run by the store in two threads (it lets go of the interpreter while it works),
-    so one result is split and read here while the next ones are evaluated."""
+    so one result is split and read here while the next ones are evaluated: they are asked in
+    the order they are read."""
 
     def __init__(self, kg: GraphStore, pool: ThreadPoolExecutor, harness: str) -> None:
         self.kg, self.pool, self.harness = kg, pool, harness
@@ -271,41 +276,35 @@ def topology_data(kg: GraphStore, ref: HarnessRef) -> TopologyData:
     base = base_of(kg)
     with ThreadPoolExecutor(2) as pool:
         fetch = _Fetch(kg, pool, ref.iri)
-        fetch.ask(members=MEMBERS)
         _ask_topology(fetch, labels=True)
-        inside = _members(fetch, base)
-        return _topology(fetch, ref, base, inside, labels=True)
+        return _topology(fetch, ref, base, labels=True)
 
 
 def _ask_topology(fetch: _Fetch, *, labels: bool) -> None:
     """The queries of the topology; without ``labels`` only what the wires view needs of it."""
-    fetch.ask(segments=SEGMENTS, routings=ROUTINGS if labels else ROUTINGS_ONLY, at_nodes=AT_NODES)
+    fetch.ask(segments=SEGMENTS, routings=ROUTINGS if labels else ROUTINGS_ONLY)
     if labels:
-        fetch.ask(nodes=NODES, placed=PLACED)
+        fetch.ask(nodes=NODES)
+    fetch.ask(at_nodes=AT_NODES if labels else AT_NODES_ONLY)
+    if labels:
+        fetch.ask(placed=PLACED)
     fetch.ask(in_module=IN_MODULE, modules=MODULES, configurations=CONFIGURATIONS)
 
 
-def _members(fetch: _Fetch, base: str) -> set[str]:
-    prefix = "<" + base
-    start = len(prefix)
-    return {t[start:-1] if t.startswith(prefix) else t[1:-1] for (t,) in fetch.rows("members")}
-
-
-def _topology(fetch: _Fetch, ref: HarnessRef, base: str, inside: set[str], *, labels: bool) -> TopologyData:
+def _topology(fetch: _Fetch, ref: HarnessRef, base: str, *, labels: bool) -> TopologyData:
     ident = ids(base)
     data = TopologyData(ref, base)
     for row in fetch.rows("segments"):
         segment = ident(row[0])
-        if segment in inside:
-            data.segments[segment] = SegmentInfo(
-                value(row[3]),
-                ident(row[1]),
-                ident(row[2]),
-                number(row[4]),
-                number(row[5]),
-                number(row[6]),
-                value(row[7]) or None,
-            )
+        data.segments[segment] = SegmentInfo(
+            value(row[3]),
+            ident(row[1]),
+            ident(row[2]),
+            number(row[4]),
+            number(row[5]),
+            number(row[6]),
+            value(row[7]) or None,
+        )
     by_part = {s.rpartition("/")[2]: s for s in data.segments}
     routings = data.routings
     labelled = data.wire_labels
@@ -313,49 +312,45 @@ def _topology(fetch: _Fetch, ref: HarnessRef, base: str, inside: set[str], *, la
     start = len(prefix)
     for routing, wire, order, label, number_ in fetch.rows("routings"):
         rid = routing[start:-1] if routing.startswith(prefix) else routing[1:-1]
-        if rid in inside:
-            wire_id = wire[start:-1] if wire.startswith(prefix) else wire[1:-1]
-            # The order is percent-encoded ids and spaces: a plain literal, no escapes.
-            routings.append((wire_id, [by_part.get(p, p) for p in order[1:-1].split()], rid))
-            if labels:
-                labelled[wire_id] = value(label) or value(number_)
+        wire_id = wire[start:-1] if wire.startswith(prefix) else wire[1:-1]
+        # The order is percent-encoded ids and spaces: a plain literal, no escapes.
+        routings.append((wire_id, [by_part.get(p, p) for p in order[1:-1].split()], rid))
+        if labels:
+            text = label[1:-1] if label[-1:] == '"' and "\\" not in label else value(label)
+            labelled[wire_id] = text or value(number_)
     ends = {info.start for info in data.segments.values()} | {info.end for info in data.segments.values()}
-    for node, label, x, y, z in fetch.rows("nodes") if labels else ():
+    for node, label, x, y, z, inside in fetch.rows("nodes") if labels else ():
         rid = ident(node)
-        if rid in inside or rid in ends:
+        if inside == "true" or rid in ends:
             data.nodes[rid] = value(label)
             if x and y and z:
                 data.positions[rid] = (float(value(x)), float(value(y)), float(value(z)))
     data.at_node = [
         (ident(c), ident(n), value(label))
-        for c, n, label in fetch.rows("at_nodes")
-        if ident(n) in inside or ident(n) in ends
+        for c, n, label, inside in fetch.rows("at_nodes")
+        if inside == "true" or ident(n) in ends
     ]
     data.placed = [
         (ident(x), ident(on), value(t), value(label))
         for x, on, t, label in (fetch.rows("placed") if labels else ())
-        if ident(x) in inside
     ]
     if not routings:
         # A harness of another source: its wires' routedThrough, a set of segments without order.
         routed: dict[str, list[str]] = defaultdict(list)
-        for wire, segment, label, number_ in _rows(fetch.kg, ROUTED):
+        for wire, segment, label, number_ in _rows(fetch.kg, ROUTED, fetch.harness):
             rid = ident(wire)
-            if rid in inside:
-                routed[rid].append(ident(segment))
-                labelled[rid] = value(label) or value(number_)
+            routed[rid].append(ident(segment))
+            labelled[rid] = value(label) or value(number_)
         routings.extend((wire, segments, "") for wire, segments in routed.items())
     for thing, module in fetch.rows("in_module"):
         data.in_module.setdefault(ident(thing), set()).add(ident(module))
     for module, label, kind, family, family_label in fetch.rows("modules"):
         rid = ident(module)
-        if rid in inside:
-            data.modules[rid] = ModuleInfo(
-                rid, value(label) or rid, value(kind), value(family_label) or value(family)
-            )
+        data.modules[rid] = ModuleInfo(
+            rid, value(label) or rid, value(kind), value(family_label) or value(family)
+        )
     for configuration, label, module in fetch.rows("configurations"):
-        if ident(configuration) in inside:
-            data.configurations.setdefault(value(label) or ident(configuration), []).append(ident(module))
+        data.configurations.setdefault(value(label) or ident(configuration), []).append(ident(module))
     return data
 
 
@@ -366,16 +361,13 @@ def wire_data(kg: GraphStore, ref: HarnessRef, *, whole: bool = False) -> WireDa
     ident = ids(base)
     with ThreadPoolExecutor(2) as pool:
         fetch = _Fetch(kg, pool, ref.iri)
-        fetch.ask(members=MEMBERS, wires=wires_query(kg), cavities=CAVITIES, connectors=CONNECTORS)
-        fetch.ask(connector_members=CONNECTOR_MEMBERS)
+        # The longest query first, in a thread of its own while the other one reads the rest.
+        fetch.ask(wires=wires_query(kg))
         _ask_topology(fetch, labels=whole)
-        inside = _members(fetch, base)
-        data = WireData(_topology(fetch, ref, base, inside, labels=whole))
+        fetch.ask(connectors=CONNECTORS, cavities=CAVITIES)
+        data = WireData(_topology(fetch, ref, base, labels=whole))
         connectors = data.connectors
         connectors.update((ident(c), value(label)) for c, label in fetch.rows("connectors"))
-        for connector, label in fetch.rows("connector_members"):
-            if ident(connector) in inside:
-                connectors.setdefault(ident(connector), value(label))
         prefix = "<" + base
         start = len(prefix)
         cavities = data.cavities
@@ -388,18 +380,22 @@ def wire_data(kg: GraphStore, ref: HarnessRef, *, whole: bool = False) -> WireDa
                 )
                 cavities.append((rid, cavity_id, name))
         wires = data.wires
+        # An end in none of these cavities is a pin in no cavity, or a cavity of another
+        # connector: the pins are looked for among those in no cavity.
+        known = {cavity for _, cavity, _ in cavities}
         loose: set[str] = set()
         for row in fetch.rows("wires"):
-            wire = row[0][start:-1] if row[0].startswith(prefix) else row[0][1:-1]
-            if wire in inside:
-                row[0] = wire
-                for pin_at, cavity_at in ((1, 3), (2, 4)):
-                    term = row[cavity_at]
-                    row[cavity_at] = term[start:-1] if term.startswith(prefix) else term[1:-1]
-                    if not term:
-                        row[pin_at] = ident(row[pin_at])
-                        loose.add(row[pin_at])
-                wires.append(row)
+            term = row[0]
+            row[0] = term[start:-1] if term.startswith(prefix) else term[1:-1]
+            term = row[1]
+            row[1] = end = term[start:-1] if term.startswith(prefix) else term[1:-1]
+            if end not in known:
+                loose.add(end)
+            term = row[2]
+            row[2] = end = term[start:-1] if term.startswith(prefix) else term[1:-1]
+            if end not in known:
+                loose.add(end)
+            wires.append(row)
     if loose:
         for pin, connector, name, index in _rows(kg, LOOSE_PINS):
             if ident(pin) in loose:

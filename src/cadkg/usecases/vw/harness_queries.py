@@ -1,8 +1,10 @@
 """The SPARQL of the harness views (:mod:`cadkg.usecases.vw.harness_data` runs them).
 
-Each query asks for few patterns: the store evaluates joins one lookup per row, and starts a
-join with a bound harness from every thing of the harness, so the things are read as they are
-indexed and kept when they are the harness's (a set lookup in Python).
+Each query asks for few patterns: the store evaluates joins one lookup per row. Whether a
+thing is the harness's (bound ``?h``) is a ``FILTER EXISTS`` closing the group, one lookup per
+row the rest of the group found: a ``ck:partOf ?h`` pattern in the group would start the join
+from every thing of the harness instead, and reading those things (250k at 100k wires) to keep
+rows in Python costs more than the lookups.
 """
 
 from __future__ import annotations
@@ -14,15 +16,14 @@ if TYPE_CHECKING:
 
 __all__ = [
     "AT_NODES",
+    "AT_NODES_ONLY",
     "BASE",
     "CAVITIES",
     "CONFIGURATIONS",
     "CONNECTORS",
-    "CONNECTOR_MEMBERS",
     "HARNESSES",
     "IN_MODULE",
     "LOOSE_PINS",
-    "MEMBERS",
     "MODULES",
     "NODES",
     "PLACED",
@@ -45,7 +46,6 @@ SELECT ?h ?label ?number ?description ?format WHERE {
 }
 """
 BASE = "SELECT ?cell WHERE { ?cell a ck:Cell } LIMIT 1"
-MEMBERS = "SELECT ?x WHERE { ?x ck:partOf ?h }"
 SEGMENTS = """
 SELECT ?s ?from ?to ?label ?length ?diameter ?section ?source WHERE {
   ?s a ck:Segment ; ck:segmentFrom ?from ; ck:segmentTo ?to .
@@ -54,21 +54,39 @@ SELECT ?s ?from ?to ?label ?length ?diameter ?section ?source WHERE {
   OPTIONAL { ?s ck:diameterM ?diameter }
   OPTIONAL { ?s ck:bundleSectionMm2 ?section }
   OPTIONAL { ?s ck:lengthSource ?source }
+  FILTER EXISTS { ?s ck:partOf ?h }
 }
 """
+# A node not of the harness is still shown where a segment of the harness ends at it: ?in.
 NODES = """
-SELECT ?n ?label ?x ?y ?z WHERE {
+SELECT ?n ?label ?x ?y ?z ?in WHERE {
   ?n a ck:HarnessNode .
   OPTIONAL { ?n ck:label ?label }
   OPTIONAL { ?n ck:nodeX ?x ; ck:nodeY ?y ; ck:nodeZ ?z }
+  BIND (EXISTS { ?n ck:partOf ?h } AS ?in)
 }
 """
-AT_NODES = "SELECT ?c ?n ?label WHERE { ?c ck:atNode ?n . OPTIONAL { ?c ck:label ?label } }"
+AT_NODES = """
+SELECT ?c ?n ?label ?in WHERE {
+  ?c ck:atNode ?n .
+  OPTIONAL { ?c ck:label ?label }
+  BIND (EXISTS { ?n ck:partOf ?h } AS ?in)
+}
+"""
+# The wires view does without the connectors' labels here: a lookup per connector, among its
+# pins and cavities, that the connectors' query makes again.
+AT_NODES_ONLY = """
+SELECT ?c ?n ?label ?in WHERE {
+  ?c ck:atNode ?n .
+  BIND (EXISTS { ?n ck:partOf ?h } AS ?in)
+}
+"""
 PLACED = """
 SELECT ?x ?on ?type ?label WHERE {
   ?x ck:placedOn ?on ; a ?type .
   VALUES ?type { ck:Fixing ck:Protection }
   OPTIONAL { ?x ck:label ?label }
+  FILTER EXISTS { ?x ck:partOf ?h }
 }
 """
 ROUTINGS = """
@@ -76,14 +94,21 @@ SELECT ?r ?w ?order ?label ?number WHERE {
   ?r ck:routingOf ?w ; ck:segmentOrder ?order .
   OPTIONAL { ?w ck:label ?label }
   OPTIONAL { ?w ck:wireNumber ?number }
+  FILTER EXISTS { ?r ck:partOf ?h }
 }
 """
-ROUTINGS_ONLY = "SELECT ?r ?w ?order ?label ?number WHERE { ?r ck:routingOf ?w ; ck:segmentOrder ?order }"
+ROUTINGS_ONLY = """
+SELECT ?r ?w ?order ?label ?number WHERE {
+  ?r ck:routingOf ?w ; ck:segmentOrder ?order .
+  FILTER EXISTS { ?r ck:partOf ?h }
+}
+"""
 ROUTED = """
 SELECT ?w ?s ?label ?number WHERE {
   ?w ck:routedThrough ?s .
   OPTIONAL { ?w ck:label ?label }
   OPTIONAL { ?w ck:wireNumber ?number }
+  FILTER EXISTS { ?w ck:partOf ?h }
 }
 """
 IN_MODULE = "SELECT ?x ?m WHERE { ?x ck:inModule ?m }"
@@ -93,21 +118,29 @@ SELECT ?m ?label ?kind ?family ?familyLabel WHERE {
   OPTIONAL { ?m ck:label ?label }
   OPTIONAL { ?m ck:moduleKind ?kind }
   OPTIONAL { ?m ck:moduleFamily ?family . OPTIONAL { ?family ck:label ?familyLabel } }
+  FILTER EXISTS { ?m ck:partOf ?h }
 }
 """
 CONFIGURATIONS = """
 SELECT ?c ?label ?m WHERE {
   ?c a ck:HarnessConfiguration ; ck:configurationModule ?m .
   OPTIONAL { ?c ck:label ?label }
+  FILTER EXISTS { ?c ck:partOf ?h }
 }
 """
+# The harness's connectors: those it has (directly or by a branch), and those part of it; each
+# once before its label is looked up (a connector is a subject of some fifty statements).
 CONNECTORS = """
-SELECT DISTINCT ?c ?label WHERE {
-  { ?h ck:hasConnector ?c } UNION { ?h ck:hasBranch/ck:hasConnector ?c }
+SELECT ?c ?label WHERE {
+  {
+    SELECT DISTINCT ?c ?h WHERE {
+      { ?h ck:hasConnector ?c } UNION { ?h ck:hasBranch/ck:hasConnector ?c }
+      UNION { ?c a ck:Connector ; ck:partOf ?h }
+    }
+  }
   OPTIONAL { ?c ck:label ?label }
 }
 """
-CONNECTOR_MEMBERS = "SELECT ?c ?label WHERE { ?c a ck:Connector . OPTIONAL { ?c ck:label ?label } }"
 CAVITIES = """
 SELECT ?c ?cavity ?label ?index WHERE {
   ?c ck:hasCavity ?cavity .
@@ -115,7 +148,8 @@ SELECT ?c ?cavity ?label ?index WHERE {
   OPTIONAL { ?cavity ck:pinIndex ?index }
 }
 """
-# A wire's ends are the cavities its pins are in; a pin in no cavity is told by its own name.
+# A wire's ends are the cavities its pins are in; a pin in no cavity is told by its own name
+# (the query gives the pin where there is no cavity: one term per end).
 WIRE_VALUES = (
     ("label", "label"),
     ("number", "wireNumber"),
@@ -137,11 +171,12 @@ def wires_query(kg: GraphStore) -> str:
     )
     names = " ".join(f"?{name}" for name, _ in WIRE_VALUES)
     return (
-        f"SELECT ?w ?from ?to ?fromCavity ?toCavity {names} WHERE {{\n"
+        f"SELECT ?w (COALESCE(?fromCavity, ?from) AS ?fromEnd) (COALESCE(?toCavity, ?to) AS ?toEnd)"
+        f" {names} WHERE {{\n"
         "  ?w ck:fromPin ?from ; ck:toPin ?to .\n"
         "  OPTIONAL { ?from ck:inCavity ?fromCavity }\n"
         "  OPTIONAL { ?to ck:inCavity ?toCavity }\n"
-        f"{optional}\n}}"
+        f"{optional}\n  FILTER EXISTS {{ ?w ck:partOf ?h }}\n}}"
     )
 
 

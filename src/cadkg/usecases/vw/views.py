@@ -238,20 +238,24 @@ def wire_view(data: WireData, variant: Variant | None = None) -> View:
     keep = _in(topology, variant)
     at_node = {c: n for c, n, _ in topology.at_node}
     connectors = data.connectors
-    shown = {c: label or c for c, label in connectors.items() if keep(c)}
+    # Each connector shown: its label and harness node.
+    shown = {c: (label or c, at_node.get(c, "")) for c, label in connectors.items() if keep(c)}
     cavities: dict[str, Attributes] = {}
+    # The connector of a cavity not shown, for a wire that ends there (see _end).
     holder: dict[str, str] = {}
     for connector, cavity, name in data.cavities:
-        holder[cavity] = connector
-        if connector in shown:
-            label = shown[connector]
-            number = name or cavity
-            cavities[cavity] = {
-                "label": f"{label}:{number}",
-                "connector": label,
-                "cavity": number,
-                "harness_node": at_node.get(connector, ""),
-            }
+        here = shown.get(connector)
+        if here is None:
+            holder[cavity] = connector
+            continue
+        label, node = here
+        number = name or cavity
+        cavities[cavity] = {
+            "label": f"{label}:{number}",
+            "connector": label,
+            "cavity": number,
+            "harness_node": node,
+        }
     routes: dict[str, list[tuple[str, list[str]]]] = {}
     unordered: set[str] = set()
     for wire, path, routing in topology.routings:
@@ -265,14 +269,14 @@ def wire_view(data: WireData, variant: Variant | None = None) -> View:
         if not keep(wire):
             continue
         # Hot loop (a row per wire): plain literals and numbers are read without a call.
-        start, end = row[3], row[4]
+        start, end = row[1], row[2]
         if start not in cavities:
-            start = _end(data, cavities, holder, at_node, row[1], start)
+            _end(data, cavities, holder, at_node, start)
         if end not in cavities:
-            end = _end(data, cavities, holder, at_node, row[2], end)
-        term = row[5]
+            _end(data, cavities, holder, at_node, end)
+        term = row[3]
         label = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
-        term = row[6]
+        term = row[4]
         number = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
         attributes: Attributes = {
             "label": label or number or wire,
@@ -280,12 +284,25 @@ def wire_view(data: WireData, variant: Variant | None = None) -> View:
             "from_cavity": start,
             "to_cavity": end,
         }
-        for name, term in (("section_mm2", row[7]), ("length_m", row[9]), ("diameter_m", row[10])):
-            if term:
-                attributes[name] = float(term) if term[0] != '"' else float(value(term))
-        for name, term in (("colour", row[8]), ("cable", row[11]), ("signal", row[12])):
-            if term:
-                attributes[name] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
+        # In the order of the keys, as the attributes are written.
+        term = row[5]
+        if term:
+            attributes["section_mm2"] = float(term) if term[0] != '"' else float(value(term))
+        term = row[7]
+        if term:
+            attributes["length_m"] = float(term) if term[0] != '"' else float(value(term))
+        term = row[8]
+        if term:
+            attributes["diameter_m"] = float(term) if term[0] != '"' else float(value(term))
+        term = row[6]
+        if term:
+            attributes["colour"] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
+        term = row[9]
+        if term:
+            attributes["cable"] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
+        term = row[10]
+        if term:
+            attributes["signal"] = term[1:-1] if term[-1:] == '"' and "\\" not in term else value(term)
         routings = routes.get(wire, [])
         if wire in unordered:
             paths = [_ordered(routings[0][1], topology, cavities[start]["harness_node"])]
@@ -306,25 +323,21 @@ def _end(
     cavities: dict[str, Attributes],
     holder: dict[str, str],
     at_node: dict[str, str],
-    pin: str,
-    cavity: str,
-) -> str:
-    """The node of a wire end: its cavity, or its pin when it is in none (a node of its own)."""
-    if cavity in cavities:
-        return cavity
-    if cavity:
-        connector, name = holder.get(cavity, ""), cavity
+    end: str,
+) -> None:
+    """The node of a wire end not in a shown cavity: a cavity of a connector not shown, or a pin
+    in no cavity (a node of its own)."""
+    if end in holder:
+        connector, name = holder[end], end
     else:
-        cavity = pin
-        connector, name = data.pins.get(pin, ("", pin))
+        connector, name = data.pins.get(end, ("", end))
     label = data.connectors.get(connector) or connector
-    cavities[cavity] = {
+    cavities[end] = {
         "label": f"{label}:{name}",
         "connector": label,
         "cavity": name,
         "harness_node": at_node.get(connector, ""),
     }
-    return cavity
 
 
 def _ordered(path: list[str], topology: TopologyData, start: str) -> list[str]:
