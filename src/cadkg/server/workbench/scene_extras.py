@@ -70,7 +70,9 @@ def _guides(
 ) -> tuple[str, _Points, _Points]:
     """The key points of every guide of every jig and comb, in the reference frame; returns
     that frame and where a cable passes each guide or is taped at each spot (``J3.1``)."""
-    reference, keys, spots = "", {}, {}  # type: tuple[str, _Points, _Points]
+    reference = ""
+    keys: _Points = {}
+    spots: _Points = {}
     for row in graph.query(_ELEMENTS).rows:
         label = str(row["label"])
         jig = to_jsonable(call(session, f"{REFERENCE_NAMESPACE}.jig_info", {"jig": label}))
