@@ -164,8 +164,22 @@ class _Lines:
         entry = self.templates[names] = ("".join(parts) + f"</{self.element}>\n", picker)
         return entry
 
-    def checked(self, names: tuple[str, ...], values: Row, where: str) -> Row:
+    def line(self, names: tuple[str, ...], values: Row) -> str:
+        """The row's line: its texts joined once and scanned for what XML needs escaped, and
+        escaped (one by one) only when something is."""
+        text, pick = self.templates.get(names) or self.template(names)
+        try:
+            joined = "".join(pick(values))
+        except TypeError:
+            values = self.checked(names, values)
+        else:
+            if not joined.isprintable() or "&" in joined or "<" in joined or ">" in joined or '"' in joined:
+                values = self.checked(names, values)
+        return text % values
+
+    def checked(self, names: tuple[str, ...], values: Row) -> Row:
         """``values`` with their texts escaped; raises TypeError when one is not a text."""
+        where = f"{self.element} {values[self.fixed - 1]}"  # the node's id, the edge's key
         texts = set(range(self.fixed)) | {
             i for i, name in enumerate(names, start=self.fixed) if self.types[name] == "string"
         }
@@ -206,29 +220,12 @@ def write_graphml(view: View, out: TextIO, *, yed: bool = False) -> None:
     nodes = _Lines("node", '    <node id="%s">', node_keys, ids)
     places = _places(view) if yed else {}
     kind = view.graph["view"]
-    templates, template = nodes.templates, nodes.template
-    # Hot loops (a row per node and per edge): no call per row but the formatting's.
+    # Hot loops (a row per node and per edge): a line a row, written a chunk at a time.
     for start in range(0, len(view.nodes), _CHUNK):
         lines = []
         append = lines.append
         for node, attributes in view.nodes[start : start + _CHUNK]:
-            names = tuple(attributes)
-            text, pick = templates.get(names) or template(names)
-            values = (node, *attributes.values())
-            try:
-                joined = "".join(pick(values))
-            except TypeError:
-                values = nodes.checked(names, values, f"node {node}")
-            else:
-                if (
-                    not joined.isprintable()
-                    or "&" in joined
-                    or "<" in joined
-                    or ">" in joined
-                    or '"' in joined
-                ):
-                    values = nodes.checked(names, values, f"node {node}")
-            line = text % values
+            line = nodes.line(tuple(attributes), (node, *attributes.values()))
             if yed:
                 line = (
                     line[: -len("</node>\n")] + _shape(graphics, places[node], attributes, kind) + "</node>\n"
@@ -236,28 +233,12 @@ def write_graphml(view: View, out: TextIO, *, yed: bool = False) -> None:
             append(line)
         write("".join(lines))
     edges = _Lines("edge", '    <edge source="%s" target="%s" id="%s">', edge_keys, ids)
-    templates, template = edges.templates, edges.template
     for start in range(0, len(view.edges), _CHUNK):
         lines = []
         append = lines.append
         for u, v, key, attributes in view.edges[start : start + _CHUNK]:
-            names = tuple(attributes)
-            text, pick = templates.get(names) or template(names)
             values = (u, v, key, *attributes.values()) if u <= v else (v, u, key, *attributes.values())
-            try:
-                joined = "".join(pick(values))
-            except TypeError:
-                values = edges.checked(names, values, f"edge {key}")
-            else:
-                if (
-                    not joined.isprintable()
-                    or "&" in joined
-                    or "<" in joined
-                    or ">" in joined
-                    or '"' in joined
-                ):
-                    values = edges.checked(names, values, f"edge {key}")
-            append(text % values)
+            append(edges.line(tuple(attributes), values))
         write("".join(lines))
     write("  </graph>\n</graphml>\n")
 
