@@ -58,6 +58,7 @@ _ERRORS = {
 
 # The fixed part of the records the library reads, in bytes (the shorter of BIFF5's and
 # BIFF8's): it indexes into them without checking their length and panics on a shorter one.
+# The scan below reads these records' fixed fields without checking their length either.
 _FIXED = {
     _BOF: 4,
     0x0042: 2,  # CODEPAGE
@@ -182,7 +183,7 @@ def _check_strings(
             expected=f"at most {_MAX_STRINGS:,} shared strings of at most {MAX_TEXT:,} characters",
         )
 
-    if len(data) >= 8 and struct.unpack_from("<I", data, 4)[0] > _MAX_STRINGS:
+    if struct.unpack_from("<I", data, 4)[0] > _MAX_STRINGS:
         raise refuse("the workbook declares more shared strings than cadkg reads")
     cursor = _Continued(data, records)
     cursor.pos = 8
@@ -251,7 +252,7 @@ def _scan_sheet(records: Iterator[tuple[int, bytes]], sheet: _Sheet) -> dict[tup
     text = f"at most {MAX_TEXT:,} characters a cell"
     for kind, data in records:
         if kind in _VALUES or kind == _MULRK:
-            if len(data) < 6:
+            if len(data) < 6:  # an RSTRING, whose fixed part _records does not check
                 continue
             row, column = struct.unpack_from("<HH", data)
             row += 1
@@ -269,9 +270,9 @@ def _scan_sheet(records: Iterator[tuple[int, bytes]], sheet: _Sheet) -> dict[tup
                 raise sheet.refuse(
                     "the sheet's cells span more than cadkg reads of a sheet", row, column + count - 1
                 )
-            if kind == _BOOLERR and len(data) >= 8 and data[7]:
+            if kind == _BOOLERR and data[7]:
                 errors[(row, column)] = _ERRORS.get(data[6], "#VALUE!")
-            elif kind == _FORMULA and len(data) >= 14 and data[6] == 2 and data[12:14] == b"\xff\xff":
+            elif kind == _FORMULA and data[6] == 2 and data[12:14] == b"\xff\xff":
                 errors[(row, column)] = _ERRORS.get(data[8], "#VALUE!")
             elif kind in (_LABEL, _RSTRING) and int.from_bytes(data[6:8], "little") > MAX_TEXT:
                 raise sheet.refuse("a cell's text is longer than a cell can hold", row, column, text)
@@ -280,11 +281,10 @@ def _scan_sheet(records: Iterator[tuple[int, bytes]], sheet: _Sheet) -> dict[tup
             if len(data) >= 2 and struct.unpack_from("<H", data)[0] > MAX_TEXT:
                 raise sheet.refuse("a cell's text is longer than a cell can hold", row, column, text)
         elif kind in (_BLANK, _MULBLANK):
-            if len(data) >= 4:
-                blank_row, first = struct.unpack_from("<HH", data)
-                last = first + (len(data) - 6) // 2 - 1 if kind == _MULBLANK else first
-                if max(first, last) >= MAX_COLUMNS:
-                    raise sheet.beyond(blank_row + 1, max(first, last))
+            blank_row, first = struct.unpack_from("<HH", data)
+            last = first + (len(data) - 6) // 2 - 1 if kind == _MULBLANK else first
+            if max(first, last) >= MAX_COLUMNS:
+                raise sheet.beyond(blank_row + 1, max(first, last))
         elif kind == _DIMENSIONS:
             sheet.check_range(data)
         elif kind == _MERGECELLS:
@@ -318,12 +318,12 @@ def _scan_stream(stream: Stream, path: str | Path) -> dict[str, dict[tuple[int, 
     while item is not None:
         kind, data = item
         item = None
-        if kind == _BOF and len(data) >= 2:
+        if kind == _BOF:
             biff8 = struct.unpack_from("<H", data)[0] == 0x0600
         elif kind == 0x0017 and biff8 and len(data) < 2 + 6 * struct.unpack_from("<H", data)[0]:
             # The library slices every reference the count announces out of this one record.
             raise DamagedWorkbookError(f"an EXTERNSHEET record of {len(data)} bytes is cut short")
-        elif kind == _BOUNDSHEET and len(data) >= 7:
+        elif kind == _BOUNDSHEET:
             sheets.append((_sheet_name(data, biff8), struct.unpack_from("<I", data)[0]))
         elif kind == _SST:
             item = _check_strings(data, records, path)
