@@ -1,6 +1,9 @@
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+import os
+import signal
+import subprocess
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -13,6 +16,29 @@ EXAMPLES = ROOT / "examples"
 IEMA = EXAMPLES / "iema-switchgear" / "manifest.toml"
 IEMA_FIG3 = EXAMPLES / "iema-switchgear" / "manifest-fig3.toml"
 BAD = EXAMPLES / "bad-cell" / "manifest.toml"
+
+
+def run_capped(
+    command: list[str], *, cwd: Path, cap: float, env: Mapping[str, str] | None = None
+) -> subprocess.CompletedProcess[str]:
+    """``command`` in its own process group, the whole group killed when it runs past ``cap``
+    seconds (the test then fails with what it printed so far)."""
+    process = subprocess.Popen(
+        command,
+        cwd=cwd,
+        env=None if env is None else dict(env),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        stdout, stderr = process.communicate(timeout=cap)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        stdout, stderr = process.communicate()
+        pytest.fail(f"{' '.join(command)} ran over {cap} s:\n{stdout[-6000:]}\n{stderr[-2000:]}")
+    return subprocess.CompletedProcess(process.args, process.returncode, stdout, stderr)
 
 
 def synthetic_manifest(directory: Path, wires: int, *, cabinet: bool) -> Path:

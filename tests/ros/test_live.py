@@ -11,12 +11,10 @@ its whole process group (nodes, colcon, cmake) when it runs over.
 from __future__ import annotations
 
 import os
-import signal
-import subprocess
 
 import pytest
 
-from tests.conftest import ROOT
+from tests.conftest import ROOT, run_capped
 
 PYTHON = ROOT / ".venv-ros" / "bin" / "python"
 FAILED = ROOT / "build" / "ros" / "setup-failed"
@@ -44,19 +42,11 @@ def test_live_ros_node() -> None:
         ROS_DOMAIN_ID=str(1 + os.getpid() % 100),
         ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
     )
-    live = subprocess.Popen(
+    live = run_capped(
         [str(PYTHON), "-m", "pytest", "-q", "-p", "no:cacheprovider", "tests/ros/live"],
         cwd=ROOT,
         env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
+        cap=CAP_SECONDS,
     )
-    try:
-        stdout, stderr = live.communicate(timeout=CAP_SECONDS)
-    except subprocess.TimeoutExpired:
-        os.killpg(live.pid, signal.SIGKILL)
-        stdout, stderr = live.communicate()
-        pytest.fail(f"live ROS tests ran over {CAP_SECONDS} s:\n{stdout[-6000:]}\n{stderr[-2000:]}")
+    stdout, stderr = live.stdout, live.stderr
     assert live.returncode == 0, f"live ROS tests failed:\n{stdout[-6000:]}\n{stderr[-2000:]}"
