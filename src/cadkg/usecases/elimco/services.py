@@ -10,6 +10,7 @@ positions are metres; an unknown cable gives ``success=False`` and a message.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -18,7 +19,7 @@ from cadkg.errors import CadkgError
 from cadkg.geometry.poses import Pose
 from cadkg.registry import reader_for, sniff_kind
 from cadkg.services.display import Frame
-from cadkg.services.service import Service, model_services
+from cadkg.services.service import Effect, Paths, Service, model_services
 from cadkg.services.session import Session
 from cadkg.usecases.elimco.bench import (
     CENTROID_FRAME,
@@ -240,8 +241,9 @@ def get_path_positions(model: ElimcoModel, cable: str) -> PathPositionsResult:
     )
 
 
-def load_files(session: Session, paths: str) -> LoadFilesResult:
-    """Replace the ELIMCO sources of the served graph with the files in ``paths`` (comma separated).
+def load_files(session: Session, paths: Sequence[str] | str) -> LoadFilesResult:
+    """Replace the ELIMCO sources of the served graph with the files in ``paths`` (a list, or
+    text with the files comma separated).
 
     Each file replaces the loaded source of its kind (cable list, pin_info, cable_info,
     path_info), keeping that source's graph name, or joins the graph when no source of
@@ -257,7 +259,8 @@ def load_files(session: Session, paths: str) -> LoadFilesResult:
             "serve the manifest, or a store opened for writing",
         )
     try:
-        files = [_expanded(p.strip()) for p in paths.split(",") if p.strip()]
+        names = paths.split(",") if isinstance(paths, str) else paths
+        files = [_expanded(p.strip()) for p in names if p.strip()]
     except CadkgError as err:
         return LoadFilesResult(False, f"nothing loaded: {err}")
     if not files:
@@ -352,8 +355,9 @@ SERVICES: tuple[Service, ...] = (
     Service(
         "load_files",
         "replace the ELIMCO files (pin_info, cable_info, path_info, cable list) online, atomically",
-        {"paths": str},
+        {"paths": Paths},
         lambda s, paths, client="default": load_files(s, paths),
+        effect=Effect.LOADS,
         profile="elimco",
     ),
     _service(
