@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, Self
 
 import pyoxigraph as ox
 
+from cadkg.confined import write_files
 from cadkg.errors import QueryError, StoreError
 from cadkg.generations import (
     Snapshot,
@@ -200,13 +201,9 @@ class GraphStore:
             # here) are written when something asks where they are, not during the build.
             self._unwritten.update(files)
             return
-        made: set[Path] = set()  # a scene's tens of thousands of meshes share one folder
-        for rel, content in files.items():
-            target = self._files_dir / rel
-            if target.parent not in made:
-                target.parent.mkdir(parents=True, exist_ok=True)
-                made.add(target.parent)
-            target.write_bytes(content)
+        # Names come from the files read (an X3D DEF): each is opened inside the files folder,
+        # never followed out of it (cadkg.confined).
+        write_files(self._files_dir, dict(files))
 
     def snapshot(self) -> Snapshot:
         """The graph as it is now in a store directory other processes open read-only (the query
