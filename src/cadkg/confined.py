@@ -154,6 +154,7 @@ def write_files(root: Path, files: dict[str, bytes] | Iterator[tuple[str, bytes]
         On the first name that does not lead inside the root (the files before it are written).
     """
     items = files.items() if isinstance(files, dict) else files
+    root.mkdir(parents=True, exist_ok=True)
     folders: dict[tuple[str, ...], int] = {}
     try:
         for name, content in items:
@@ -163,7 +164,11 @@ def write_files(root: Path, files: dict[str, bytes] | Iterator[tuple[str, bytes]
                 if folder is None:
                     with _directory(root, parts[:-1], make=True) as opened:
                         folder = folders[parts[:-1]] = os.dup(opened)
-                fd = os.open(parts[-1], _WRITE, 0o644, dir_fd=folder)
+                # A new file, never the old one emptied: a file may be a hard link another
+                # generation of the store shares.
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(parts[-1], dir_fd=folder)
+                fd = os.open(parts[-1], _WRITE | os.O_EXCL, 0o644, dir_fd=folder)
             except OSError:
                 raise OutsideRootError(f"{name!r} is not a file inside its root") from None
             with os.fdopen(fd, "wb") as file:

@@ -18,9 +18,11 @@ import contextlib
 import fcntl
 import os
 import shutil
+import signal
 import tempfile
 import time
 import uuid
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,18 +34,22 @@ __all__ = [
     "Claim",
     "Snapshot",
     "claim",
+    "crash_point",
     "current_generation",
     "new_generation",
     "publish_generation",
     "read_pointer",
     "remove_stale",
     "take_snapshot",
+    "writing",
 ]
 
 CURRENT = "CURRENT"
 GENERATION = "gen-"  # the name of each generation directory starts so
 SNAPSHOT = ".snapshot-"  # and of each snapshot the query workers read
 _LOCK = ".lock"
+WRITER = "WRITER"  # the lock (``.WRITER.lock``) every change of a store directory holds
+KILL_AT = "CADKG_KILL_AT"
 _SCRATCH = "cadkg-snapshot-"  # a snapshot of an in-memory graph, in the temporary directory
 
 
@@ -76,7 +82,7 @@ def _left_by_a_build(entry: Path) -> bool:
     or a pointer."""
     if entry.is_dir():
         return entry.name.startswith(GENERATION)
-    return entry.name.startswith((f".{CURRENT}.{GENERATION}", f".{GENERATION}"))
+    return entry.name.startswith((f".{CURRENT}.{GENERATION}", f".{GENERATION}", f".{WRITER}"))
 
 
 def new_generation(directory: Path) -> Path:
@@ -139,6 +145,27 @@ def claim(entry: Path, *, wait: bool = True) -> Claim | None:
         os.close(fd)
 
 
+def crash_point(step: str) -> None:
+    """Where a change of a store directory may be cut short. The tests name one step in the
+    environment variable ``CADKG_KILL_AT`` to kill the process there with SIGKILL, and check
+    the store is as before the change or as after it."""
+    if os.environ.get(KILL_AT) == step:
+        os.kill(os.getpid(), signal.SIGKILL)
+
+
+@contextlib.contextmanager
+def writing(directory: Path) -> Iterator[None]:
+    """Hold the writer lock of a store directory: one build or change at a time, so a change
+    made meanwhile is never written into a generation a build is about to replace. Waits for
+    the holder; the kernel lets it go when its process dies."""
+    held = claim(directory / WRITER)
+    assert held is not None  # claim() waits for the lock
+    try:
+        yield
+    finally:
+        held.release()
+
+
 def remove_stale(directory: Path, keep: str | None = None) -> list[str]:
     """Remove the generations and snapshots of ``directory`` that are neither live, nor
     ``keep``, nor held by a running process; returns their names."""
@@ -180,8 +207,10 @@ def publish_generation(directory: Path, generation: Path) -> None:
     name = generation.name
     pointer = directory / f".{CURRENT}.{name}"
     pointer.write_text(name + "\n", encoding="utf-8")
+    crash_point("publish:pointer-written")
     previous = read_pointer(directory)
     pointer.replace(directory / CURRENT)
+    crash_point("publish:renamed")
     if previous is not None and previous != name:
         shutil.rmtree(directory / previous, ignore_errors=True)
     remove_stale(directory, keep=name)

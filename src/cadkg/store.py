@@ -224,11 +224,16 @@ class GraphStore:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def _changing(self) -> None:
-        """Called before an update changes the graph (see :meth:`execute`)."""
+    @contextlib.contextmanager
+    def _change(self) -> Iterator[None]:
+        """Around every change of the graph (an update, see :meth:`execute`): where a subclass
+        makes the change whole or not at all, and keeps what it derives in step."""
+        yield
 
-    def _changed(self) -> None:
-        """Called after an update changed the graph (see :meth:`execute`)."""
+    @property
+    def open_generation(self) -> str | None:
+        """The generation this graph has open (None in memory); :attr:`generation` is the live one."""
+        return self._generation.name if self._generation is not None else None
 
     # -- reading ---------------------------------------------------------------
     def __len__(self) -> int:
@@ -361,8 +366,8 @@ class GraphStore:
 
         With ``default_graphs`` the default graph is the merge of those graphs (not the union of
         all), and the named graphs are ``named_graphs`` (none when not given); with neither the
-        dataset is as in :meth:`raw_query`. An update is surrounded by :meth:`_changing` and
-        :meth:`_changed`, where a subclass keeps what it derives from the graph in step.
+        dataset is as in :meth:`raw_query`. An update runs inside :meth:`_change`, where a
+        subclass keeps what it derives from the graph in step.
 
         Raises
         ------
@@ -390,9 +395,8 @@ class GraphStore:
         if update:
             if self.read_only:
                 raise StoreError("the store is open read-only")
-            self._changing()
-            self._store.update(sparql, prefixes=PREFIXES)
-            self._changed()
+            with self._change():
+                self._store.update(sparql, prefixes=PREFIXES)
             return None
         if default_graphs is None and named_graphs is None:
             return self._store.query(sparql, prefixes=PREFIXES, use_default_graph_as_union=True)

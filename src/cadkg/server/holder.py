@@ -88,6 +88,8 @@ class Served:
         """After an update: new cache keys, and a session and workers made afresh from the
         changed graph. Call under :attr:`lock`."""
         self.edits += 1
+        # A change to a store directory is a new generation, which this graph now has open.
+        self.generation = getattr(self.graph, "open_generation", None) or self.generation
         self._session = None
         self._triples = None
         self._retire_workers()
@@ -136,7 +138,10 @@ class GraphHolder:
         if getattr(graph, "directory", None) is None:
             return False
         try:
-            return bool(graph.generation) and graph.generation != self._current.generation
+            live = graph.generation
+            # The graph's own changes move it to the generation they make; only another's are news.
+            held = getattr(graph, "open_generation", None) or self._current.generation
+            return bool(live) and live != held
         except OSError:
             return False
 
