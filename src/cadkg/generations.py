@@ -20,11 +20,13 @@ import os
 import shutil
 import signal
 import tempfile
+import threading
 import time
 import uuid
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import pyoxigraph as ox
 
@@ -153,17 +155,30 @@ def crash_point(step: str) -> None:
         os.kill(os.getpid(), signal.SIGKILL)
 
 
+_HELD: dict[str, tuple[threading.RLock, list[Any]]] = {}
+_HELD_LOCK = threading.Lock()
+
+
 @contextlib.contextmanager
 def writing(directory: Path) -> Iterator[None]:
     """Hold the writer lock of a store directory: one build or change at a time, so a change
     made meanwhile is never written into a generation a build is about to replace. Waits for
-    the holder; the kernel lets it go when its process dies."""
-    held = claim(directory / WRITER)
-    assert held is not None  # claim() waits for the lock
-    try:
-        yield
-    finally:
-        held.release()
+    the holder; the kernel lets it go when its process dies. A thread holding it may take it
+    again (a change inside a larger one); other threads of the process wait as others do."""
+    key = os.path.realpath(directory)
+    with _HELD_LOCK:
+        thread_lock, state = _HELD.setdefault(key, (threading.RLock(), [None, 0]))
+    with thread_lock:
+        if state[1] == 0:
+            state[0] = claim(directory / WRITER)
+        state[1] += 1
+        try:
+            yield
+        finally:
+            state[1] -= 1
+            if state[1] == 0:
+                state[0].release()
+                state[0] = None
 
 
 def remove_stale(directory: Path, keep: str | None = None) -> list[str]:

@@ -12,6 +12,7 @@ import contextlib
 import gc
 import os
 import shutil
+import time
 import traceback
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
@@ -56,6 +57,23 @@ def _derivation() -> Derivation:
     if found is None:
         raise StoreError("no registered use case derives a cell model")
     return found
+
+
+# How long a change waits for the process that built a generation to let its database go.
+_OPEN_WAIT = 60.0
+
+
+def _open_writable(generation: Path) -> ox.Store:
+    """The database of ``generation`` opened for writing, once the build that made it (which
+    holds it open until its command ends) lets it go."""
+    deadline = time.monotonic() + _OPEN_WAIT
+    while True:
+        try:
+            return ox.Store(str(generation))
+        except OSError as err:
+            if "lock" not in str(err).lower() or time.monotonic() > deadline:
+                raise StoreError(f"{generation.parent}: cannot open the store for writing: {err}") from None
+        time.sleep(0.1)
 
 
 class KnowledgeGraph(GraphStore):
@@ -330,21 +348,25 @@ class KnowledgeGraph(GraphStore):
             yield
             self.derive()
             return
-        with writing(self.directory):
-            self._follow_live()
-            with self._next_generation():
-                yield
-                crash_point("change:applied")
-                self.derive()
-                self._store.flush()
-                crash_point("change:derived")
+        with self._writing(), self._next_generation():
+            yield
+            crash_point("change:applied")
+            self.derive()
+            self._store.flush()
+            crash_point("change:derived")
 
-    def _follow_live(self) -> None:
-        """Open the live generation when a build replaced the one this graph has open."""
-        assert self.directory is not None and self._generation is not None
-        live = current_generation(self.directory)
-        if live != self._generation:
-            self._swap_store(ox.Store(str(live)), live)
+    @contextlib.contextmanager
+    def _writing(self) -> Iterator[None]:
+        """Hold the store directory's writer lock, on its live generation: a build that
+        replaced the one this graph had open is followed (nothing in memory)."""
+        if self.directory is None or self._generation is None:
+            yield
+            return
+        with writing(self.directory):
+            live = current_generation(self.directory)
+            if live != self._generation:
+                self._swap_store(_open_writable(live), live)
+            yield
 
     def _swap_store(self, store: ox.Store, generation: Path) -> None:
         self._store, self._generation, self._files_dir = store, generation, generation / FILES
@@ -405,6 +427,10 @@ class KnowledgeGraph(GraphStore):
                 f"cannot assign {kind!r} to {performer!r}: kind is one of {', '.join(ASSIGNABLE)}, "
                 f"performer one of {', '.join(PERFORMERS)}"
             )
+        with self._writing():  # after a build in progress, on what it made
+            return self._assign(kind, ident, performer)
+
+    def _assign(self, kind: str, ident: str, performer: str) -> str:
         model = self.cell_model()
         if not model.base:
             raise StoreError("the store has no cell; build it from a manifest first")
