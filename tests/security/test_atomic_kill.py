@@ -163,30 +163,23 @@ def test_an_assign_during_a_build_waits_and_lands_in_the_new_generation(
         assert _state(copy) == after  # and the assignment is in what it published
 
 
+def _validate(store: Path) -> subprocess.CompletedProcess[str]:
+    command = [sys.executable, "-m", "cadkg.cli", "validate", str(store)]
+    return subprocess.run(command, capture_output=True, text=True, cwd=ROOT, timeout=CAP, check=False)
+
+
 def test_validate_calls_a_missing_derived_graph_an_error(
     stores: tuple[Path, Any, Any], tmp_path: Path
 ) -> None:
     store, _, _ = stores
     copy = tmp_path / "store"
     shutil.copytree(store, copy)
-    clean = subprocess.run(
-        [sys.executable, "-m", "cadkg.cli", "validate", copy],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        timeout=CAP,
-    )
+    clean = _validate(copy)
     assert "derived-graph" not in clean.stdout + clean.stderr
     # What a derivation cut between its removal and its load left before it was one transaction.
     with KnowledgeGraph.open(copy, read_only=False) as kg:
         kg._store.remove_graph(ox.NamedNode(BASE + "derived"))
-    broken = subprocess.run(
-        [sys.executable, "-m", "cadkg.cli", "validate", copy],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        timeout=CAP,
-    )
+    broken = _validate(copy)
     assert broken.returncode == 1, broken.stdout + broken.stderr
     assert "derived graph" in broken.stdout and "[derived-graph]" in broken.stdout
     assert (copy / CURRENT).is_file()
