@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
+import gc
 import os
 import shutil
 import signal
@@ -35,10 +36,12 @@ from cadkg.errors import StoreError
 __all__ = [
     "Claim",
     "Snapshot",
+    "checkpoint",
     "claim",
     "crash_point",
     "current_generation",
     "new_generation",
+    "open_writable",
     "publish_generation",
     "read_pointer",
     "remove_stale",
@@ -179,6 +182,58 @@ def writing(directory: Path) -> Iterator[None]:
             if state[1] == 0:
                 state[0].release()
                 state[0] = None
+
+
+# How long a change waits for the process that built a generation to let its database go.
+_OPEN_WAIT = 60.0
+
+
+def open_writable(generation: Path) -> ox.Store:
+    """The database of ``generation`` opened for writing, once the build that made it (which
+    holds it open until its command ends) lets it go.
+
+    Raises
+    ------
+    StoreError
+        When it cannot be opened, or is still held by another process after a minute.
+    """
+    deadline = time.monotonic() + _OPEN_WAIT
+    while True:
+        try:
+            return ox.Store(str(generation))
+        except OSError as err:
+            if "lock" not in str(err).lower() or time.monotonic() > deadline:
+                raise StoreError(f"{generation.parent}: cannot open the store for writing: {err}") from None
+        time.sleep(0.1)
+
+
+@contextlib.contextmanager
+def checkpoint(store: ox.Store, live: Path, directory: Path, files: str) -> Iterator[Path]:
+    """A new generation of ``directory`` copied from ``store`` (the live generation ``live``'s
+    database; its folder ``files`` as hard links). The block changes it; when the block ends it
+    is published (:func:`publish_generation`), when it raises it is removed. The caller drops
+    every handle on the live database before the block ends (its files go then)."""
+    fresh = new_generation(directory)
+    held = claim(fresh)
+    assert held is not None  # claim() waits for the lock
+    published = False
+    try:
+        store.flush()
+        store.backup(str(fresh))
+        del store  # no handle kept here on the live database
+        if (live / files).is_dir():
+            shutil.copytree(live / files, fresh / files, copy_function=os.link)
+        crash_point("change:copied")
+        yield fresh
+        gc.collect()  # the live database closes before its files are removed
+        publish_generation(directory, fresh)
+        published = True
+        crash_point("change:published")
+    finally:
+        if not published and read_pointer(directory) != fresh.name:
+            gc.collect()
+            shutil.rmtree(fresh, ignore_errors=True)
+        held.release()
 
 
 def remove_stale(directory: Path, keep: str | None = None) -> list[str]:

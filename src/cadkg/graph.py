@@ -10,9 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import gc
-import os
 import shutil
-import time
 import traceback
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
@@ -24,10 +22,12 @@ import cadkg.registry as registry
 from cadkg.building import StageClock, write_graphs
 from cadkg.errors import NotFound, StoreError
 from cadkg.generations import (
+    checkpoint,
     claim,
     crash_point,
     current_generation,
     new_generation,
+    open_writable,
     publish_generation,
     read_pointer,
     writing,
@@ -57,23 +57,6 @@ def _derivation() -> Derivation:
     if found is None:
         raise StoreError("no registered use case derives a cell model")
     return found
-
-
-# How long a change waits for the process that built a generation to let its database go.
-_OPEN_WAIT = 60.0
-
-
-def _open_writable(generation: Path) -> ox.Store:
-    """The database of ``generation`` opened for writing, once the build that made it (which
-    holds it open until its command ends) lets it go."""
-    deadline = time.monotonic() + _OPEN_WAIT
-    while True:
-        try:
-            return ox.Store(str(generation))
-        except OSError as err:
-            if "lock" not in str(err).lower() or time.monotonic() > deadline:
-                raise StoreError(f"{generation.parent}: cannot open the store for writing: {err}") from None
-        time.sleep(0.1)
 
 
 class KnowledgeGraph(GraphStore):
@@ -365,7 +348,7 @@ class KnowledgeGraph(GraphStore):
         with writing(self.directory):
             live = current_generation(self.directory)
             if live != self._generation:
-                self._swap_store(_open_writable(live), live)
+                self._swap_store(open_writable(live), live)
             yield
 
     def _swap_store(self, store: ox.Store, generation: Path) -> None:
@@ -375,17 +358,10 @@ class KnowledgeGraph(GraphStore):
     @contextlib.contextmanager
     def _next_generation(self) -> Iterator[None]:
         """Work on a copy of the live generation; publish it when the block ends, drop it when
-        it raises."""
+        it raises (:func:`cadkg.generations.checkpoint`)."""
         assert self.directory is not None and self._generation is not None
-        live, fresh = self._generation, new_generation(self.directory)
-        held = claim(fresh)
-        assert held is not None  # claim() waits for the lock
-        try:
-            self._store.flush()
-            self._store.backup(str(fresh))
-            if (live / FILES).is_dir():
-                shutil.copytree(live / FILES, fresh / FILES, copy_function=os.link)
-            crash_point("change:copied")
+        live = self._generation
+        with checkpoint(self._store, live, self.directory, FILES) as fresh:
             old = self._store
             self._swap_store(ox.Store(str(fresh)), fresh)
             self._unpublished = True
@@ -397,18 +373,8 @@ class KnowledgeGraph(GraphStore):
                 raise
             finally:
                 self._unpublished = False
-            del old
+            del old  # closed before checkpoint() removes its files
             self._keep_model(self.cell_model())
-            gc.collect()  # the old store closes before its files are removed
-            publish_generation(self.directory, fresh)
-            crash_point("change:published")
-        except BaseException:
-            if self._generation != fresh:
-                gc.collect()
-                shutil.rmtree(fresh, ignore_errors=True)
-            raise
-        finally:
-            held.release()
 
     def assign(self, kind: str, ident: str, performer: str) -> str:
         """Decide who makes a wire, handles a component or performs an operation; kept across rebuilds.

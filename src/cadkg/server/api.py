@@ -18,8 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import json
-from collections.abc import Callable, Iterator, Sequence
-from pathlib import Path
+from collections.abc import Callable
 from typing import Any
 from urllib.parse import parse_qsl
 
@@ -27,10 +26,10 @@ import pyoxigraph as ox
 from starlette.requests import Request
 from starlette.responses import Response
 
-from cadkg.confined import OutsideRootError, copies_inside
 from cadkg.errors import CadkgError, NotFound, QueryError
 from cadkg.query.named import coerce_params, named_queries
 from cadkg.server.context import Answer, Endpoint, ProtocolError, json_response, status_of
+from cadkg.server.files_root import confine, files_root
 from cadkg.server.holder import Served
 from cadkg.server.isolation import QuerySpec, embedded, query_job
 from cadkg.server.limits import Deadline
@@ -44,7 +43,6 @@ from cadkg.store import PREFIXES
 __all__ = [
     "CLIENT_HEADER",
     "component_graph",
-    "confine",
     "graph_view",
     "index",
     "info",
@@ -92,7 +90,14 @@ def _error(err: Exception) -> Response:
     return json_response({"error": str(err)}, status, headers)
 
 
-async def _params(request: Request, limit: int) -> dict[str, str]:
+def _json_value(value: Any) -> Any:
+    """A parameter of a JSON body as text; a list of texts (files to load) stays a list."""
+    if isinstance(value, list) and all(isinstance(v, str) for v in value):
+        return Paths(value)
+    return value if isinstance(value, str) else str(value).lower()
+
+
+async def _params(request: Request, limit: int) -> dict[str, Any]:
     pairs = parse_qsl(request.url.query, keep_blank_values=True)
     if request.method == "POST":
         body = await read_body(request, limit)
@@ -104,7 +109,7 @@ async def _params(request: Request, limit: int) -> dict[str, str]:
                 raise ProtocolError(400, f"the body is not JSON: {err}") from None
             if not isinstance(data, dict):
                 raise ProtocolError(400, "the body is a JSON object of parameters")
-            pairs += [(str(k), v if isinstance(v, str) else str(v).lower()) for k, v in data.items()]
+            pairs += [(str(k), _json_value(v)) for k, v in data.items()]
         elif media == _FORM:
             pairs += parse_qsl(body.decode("utf-8", "replace"), keep_blank_values=True)
         elif body:
@@ -143,35 +148,6 @@ async def index(request: Request) -> Response:
     )
 
 
-def _files_root(root: Path | None) -> Path:
-    if root is None:
-        raise ProtocolError(
-            403, "load_files over HTTP reads files only under a directory named at start: --files-root DIR"
-        )
-    return root
-
-
-@contextlib.contextmanager
-def confine(paths: Sequence[str], root: Path | None) -> Iterator[tuple[Path, list[Path]]]:
-    """Private copies of ``paths`` (each relative to ``root``, or absolute inside it), each
-    opened inside the root by :func:`cadkg.confined.copies_inside`; the folder holding them.
-
-    Raises
-    ------
-    ProtocolError
-        403 without a root, or for a path outside it: the same words whether or not it exists,
-        so the answers tell nothing about the rest of the disk.
-    """
-    base = _files_root(root)
-    names = list(paths)
-    try:
-        with copies_inside(base, names) as copied:
-            yield copied
-    except OutsideRootError as err:
-        refused = next((n for n in names if repr(n) in str(err)), "")
-        raise ProtocolError(403, f"{refused!r} is not under the files root of this endpoint") from None
-
-
 def _check_change(endpoint: Endpoint, request: Request, name: str, effect: Effect) -> None:
     """Refuse a change unless it comes by POST with the token: derived from the declared effect
     alone, so a service cannot be left off a list of those that need it."""
@@ -200,6 +176,11 @@ async def service(request: Request) -> Response:
         if effect.changes:
             _check_change(endpoint, request, name, effect)
         params = await _params(request, endpoint.limits.max_body)
+        lists = [
+            k for k, v in params.items() if isinstance(v, Paths) and SERVICES[name].params.get(k) is not Paths
+        ]
+        if lists:
+            raise QueryError(f"{name}: {', '.join(lists)} takes one value, not a list")
         client = params.pop("client", "") or request.headers.get(CLIENT_HEADER, "")
         if effect is Effect.CURSOR and not client:
             raise ProtocolError(400, f"{name}: name the cursor's owner with client=NAME or {CLIENT_HEADER}")
@@ -207,8 +188,8 @@ async def service(request: Request) -> Response:
         # first, and handed on as the list of those copies.
         files = {k for k, t in SERVICES[name].params.items() if t is Paths and k in params}
         if effect is Effect.LOADS:
-            _files_root(endpoint.settings.files_root)
-        checked: dict[str, Any] = {k: CONVERT[Paths](params[k]) for k in files}
+            files_root(endpoint.settings.files_root)
+        checked = {k: params[k] if isinstance(params[k], Paths) else CONVERT[Paths](params[k]) for k in files}
 
         def make_job(served: Served) -> Callable[[Deadline], Answer]:
             def job(_: Deadline) -> Answer:
