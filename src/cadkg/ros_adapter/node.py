@@ -286,6 +286,9 @@ class CadkgNode:
         except CadkgError as err:
             response.success, response.message = False, str(err)
             return response
+        if loaded.kg.directory is not None:
+            # Kept in a new generation of the store: the markers name its mesh files from now on.
+            self.publish()
         kept = " (kept in the store)" if loaded.kg.directory is not None else " (in memory: not kept)"
         response.success = True
         response.message = f"{request.kind} {request.id} → {request.performer}{kept}"

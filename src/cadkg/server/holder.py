@@ -134,16 +134,22 @@ class GraphHolder:
 
     def stale(self) -> bool:
         """Whether the store directory now names another generation than the one served."""
-        graph = self._current.graph
+        current = self._current
+        graph = current.graph
         if getattr(graph, "directory", None) is None:
+            return False
+        # The graph's own changes (made under its lock) move it to the generation they make:
+        # while one is made, and after, the store has not moved on; only another's change has.
+        if not current.lock.acquire(blocking=False):
             return False
         try:
             live = graph.generation
-            # The graph's own changes move it to the generation they make; only another's are news.
-            held = getattr(graph, "open_generation", None) or self._current.generation
+            held = getattr(graph, "open_generation", None) or current.generation
             return bool(live) and live != held
         except OSError:
             return False
+        finally:
+            current.lock.release()
 
     @property
     def reopenable(self) -> bool:
