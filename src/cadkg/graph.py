@@ -70,6 +70,7 @@ class KnowledgeGraph(GraphStore):
         self._model: Any = None
         # Whether the store is a generation being made, which no other reader sees yet.
         self._unpublished = False
+        self._changing = False  # inside _change: a change within it is part of it
         # The stages of the build that made this graph and their seconds (see build).
         self.stages: list[tuple[str, float]] = []
 
@@ -316,6 +317,10 @@ class KnowledgeGraph(GraphStore):
                 self._store.update(f"MOVE SILENT GRAPH {staged} TO GRAPH {graph}")
         return model
 
+    def change(self) -> contextlib.AbstractContextManager[None]:
+        """The changes of the block as one: whole or not at all, derived once (:meth:`_change`)."""
+        return self._change()
+
     @contextlib.contextmanager
     def _change(self) -> Iterator[None]:
         """One change of the graph, then the derived graph made anew; whole or not at all.
@@ -324,27 +329,34 @@ class KnowledgeGraph(GraphStore):
         is changed in a new generation (a checkpoint of the live one: hard links), made live
         by one rename of ``CURRENT`` when complete, so a process killed at any moment leaves
         the store as it was or as changed. It is made under the directory's writer lock, so a
-        change during a build waits for it and goes into the generation the build made.
+        change during a build waits for it and goes into the generation the build made. A
+        change inside another is part of it.
         """
-        if self.directory is None or self._generation is None:
-            self._forget_model()
+        if self._changing:
             yield
-            self.derive()
             return
-        with self._writing(), self._next_generation():
-            yield
-            crash_point("change:applied")
-            self.derive()
-            self._store.flush()
-            crash_point("change:derived")
+        self._changing = True
+        try:
+            if self.directory is None or self._generation is None:
+                self._forget_model()
+                yield
+                self.derive()
+            else:
+                with self._writing(), self._next_generation():
+                    yield
+                    crash_point("change:applied")
+                    self.derive()
+                    self._store.flush()
+                    crash_point("change:derived")
+        finally:
+            self._changing = False
 
     @contextlib.contextmanager
     def _writing(self) -> Iterator[None]:
-        """Hold the store directory's writer lock, on its live generation: a build that
-        replaced the one this graph had open is followed (nothing in memory)."""
+        """Hold the store directory's writer lock, on its live generation (a build's)."""
         if self.directory is None or self._generation is None:
             yield
-            return
+            return  # in memory: nothing to wait for
         with writing(self.directory):
             live = current_generation(self.directory)
             if live != self._generation:

@@ -37,7 +37,8 @@ def test_assign_needs_post_and_the_token_and_is_kept_in_the_store(tmp_path: Path
         assert httpx.post(f"{base}/api/assign", data={"kind": "wire"}, headers=AUTH).status_code == 400
         unknown = httpx.post(f"{base}/api/assign", data={**form, "id": "NO-SUCH-WIRE"}, headers=AUTH)
         assert unknown.status_code == 404 and "NO-SUCH-WIRE" in unknown.text
-        done = httpx.post(f"{base}/api/assign", data=form, headers=AUTH)
+        # A change of a store directory writes a new generation: seconds on a busy machine.
+        done = httpx.post(f"{base}/api/assign", data=form, headers=AUTH, timeout=120)
         assert done.status_code == 200, done.text
         assert done.json()["target"].endswith(f"wire/{wire}")
         # Client a goes on where it was; a new client never gets the person's wire.

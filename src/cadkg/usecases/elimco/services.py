@@ -10,6 +10,7 @@ positions are metres; an unknown cable gives ``success=False`` and a message.
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -270,9 +271,11 @@ def load_files(session: Session, paths: Sequence[str] | str) -> LoadFilesResult:
         _check(session, plan)
         base = _base_iri(kg)
         # replace_source reads each file again: every one has just been read without error,
-        # so only a file changed in between can fail now, after the files before it went in.
-        for path, kind, rel, _ in plan:
-            kg.replace_source(path, rel, base, kind)
+        # so only a file changed in between can fail now. The files go in as one change: all
+        # of them or none, even when the process is killed meanwhile.
+        with kg.change() if hasattr(kg, "change") else contextlib.nullcontext():
+            for path, kind, rel, _ in plan:
+                kg.replace_source(path, rel, base, kind)
     except CadkgError as err:
         return LoadFilesResult(False, f"nothing loaded: {err}")
     finally:
