@@ -16,13 +16,18 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
+import gc
 import os
 import shutil
+import signal
 import tempfile
+import threading
 import time
 import uuid
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import pyoxigraph as ox
 
@@ -31,19 +36,25 @@ from cadkg.errors import StoreError
 __all__ = [
     "Claim",
     "Snapshot",
+    "checkpoint",
     "claim",
+    "crash_point",
     "current_generation",
     "new_generation",
+    "open_writable",
     "publish_generation",
     "read_pointer",
     "remove_stale",
     "take_snapshot",
+    "writing",
 ]
 
 CURRENT = "CURRENT"
 GENERATION = "gen-"  # the name of each generation directory starts so
 SNAPSHOT = ".snapshot-"  # and of each snapshot the query workers read
 _LOCK = ".lock"
+WRITER = "WRITER"  # the lock (``.WRITER.lock``) every change of a store directory holds
+KILL_AT = "CADKG_KILL_AT"
 _SCRATCH = "cadkg-snapshot-"  # a snapshot of an in-memory graph, in the temporary directory
 
 
@@ -76,7 +87,7 @@ def _left_by_a_build(entry: Path) -> bool:
     or a pointer."""
     if entry.is_dir():
         return entry.name.startswith(GENERATION)
-    return entry.name.startswith((f".{CURRENT}.{GENERATION}", f".{GENERATION}"))
+    return entry.name.startswith((f".{CURRENT}.{GENERATION}", f".{GENERATION}", f".{WRITER}"))
 
 
 def new_generation(directory: Path) -> Path:
@@ -139,6 +150,92 @@ def claim(entry: Path, *, wait: bool = True) -> Claim | None:
         os.close(fd)
 
 
+def crash_point(step: str) -> None:
+    """Where a change of a store directory may be cut short. The tests name one step in the
+    environment variable ``CADKG_KILL_AT`` to kill the process there with SIGKILL, and check
+    the store is as before the change or as after it."""
+    if os.environ.get(KILL_AT) == step:
+        os.kill(os.getpid(), signal.SIGKILL)
+
+
+_HELD: dict[str, tuple[threading.RLock, list[Any]]] = {}
+_HELD_LOCK = threading.Lock()
+
+
+@contextlib.contextmanager
+def writing(directory: Path) -> Iterator[None]:
+    """Hold the writer lock of a store directory: one build or change at a time, so a change
+    made meanwhile is never written into a generation a build is about to replace. Waits for
+    the holder; the kernel lets it go when its process dies. A thread holding it may take it
+    again (a change inside a larger one); other threads of the process wait as others do."""
+    key = os.path.realpath(directory)
+    with _HELD_LOCK:
+        thread_lock, state = _HELD.setdefault(key, (threading.RLock(), [None, 0]))
+    with thread_lock:
+        if state[1] == 0:
+            state[0] = claim(directory / WRITER)
+        state[1] += 1
+        try:
+            yield
+        finally:
+            state[1] -= 1
+            if state[1] == 0:
+                state[0].release()
+                state[0] = None
+
+
+# How long a change waits for the process that built a generation to let its database go.
+_OPEN_WAIT = 60.0
+
+
+def open_writable(generation: Path) -> ox.Store:
+    """The database of ``generation`` opened for writing, once the build that made it (which
+    holds it open until its command ends) lets it go.
+
+    Raises
+    ------
+    StoreError
+        When it cannot be opened, or is still held by another process after a minute.
+    """
+    deadline = time.monotonic() + _OPEN_WAIT
+    while True:
+        try:
+            return ox.Store(str(generation))
+        except OSError as err:
+            if "lock" not in str(err).lower() or time.monotonic() > deadline:
+                raise StoreError(f"{generation.parent}: cannot open the store for writing: {err}") from None
+        time.sleep(0.1)
+
+
+@contextlib.contextmanager
+def checkpoint(store: ox.Store, live: Path, directory: Path, files: str) -> Iterator[Path]:
+    """A new generation of ``directory`` copied from ``store`` (the live generation ``live``'s
+    database; its folder ``files`` as hard links). The block changes it; when the block ends it
+    is published (:func:`publish_generation`), when it raises it is removed. The caller drops
+    every handle on the live database before the block ends (its files go then)."""
+    fresh = new_generation(directory)
+    held = claim(fresh)
+    assert held is not None  # claim() waits for the lock
+    published = False
+    try:
+        store.flush()
+        store.backup(str(fresh))
+        del store  # no handle kept here on the live database
+        if (live / files).is_dir():
+            shutil.copytree(live / files, fresh / files, copy_function=os.link)
+        crash_point("change:copied")
+        yield fresh
+        gc.collect()  # the live database closes before its files are removed
+        publish_generation(directory, fresh)
+        published = True
+        crash_point("change:published")
+    finally:
+        if not published and read_pointer(directory) != fresh.name:
+            gc.collect()
+            shutil.rmtree(fresh, ignore_errors=True)
+        held.release()
+
+
 def remove_stale(directory: Path, keep: str | None = None) -> list[str]:
     """Remove the generations and snapshots of ``directory`` that are neither live, nor
     ``keep``, nor held by a running process; returns their names."""
@@ -180,8 +277,10 @@ def publish_generation(directory: Path, generation: Path) -> None:
     name = generation.name
     pointer = directory / f".{CURRENT}.{name}"
     pointer.write_text(name + "\n", encoding="utf-8")
+    crash_point("publish:pointer-written")
     previous = read_pointer(directory)
     pointer.replace(directory / CURRENT)
+    crash_point("publish:renamed")
     if previous is not None and previous != name:
         shutil.rmtree(directory / previous, ignore_errors=True)
     remove_stale(directory, keep=name)

@@ -12,7 +12,7 @@ import contextlib
 import gc
 import shutil
 import traceback
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -21,7 +21,17 @@ import pyoxigraph as ox
 import cadkg.registry as registry
 from cadkg.building import StageClock, write_graphs
 from cadkg.errors import NotFound, StoreError
-from cadkg.generations import claim, new_generation, publish_generation, read_pointer
+from cadkg.generations import (
+    checkpoint,
+    claim,
+    crash_point,
+    current_generation,
+    new_generation,
+    open_writable,
+    publish_generation,
+    read_pointer,
+    writing,
+)
 from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
 from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
 from cadkg.loading import BackgroundLoader, paused_gc
@@ -58,6 +68,9 @@ class KnowledgeGraph(GraphStore):
     def __init__(self, store: ox.Store, directory: Path | None = None, read_only: bool = False) -> None:
         super().__init__(store, directory, read_only)
         self._model: Any = None
+        # Whether the store is a generation being made, which no other reader sees yet.
+        self._unpublished = False
+        self._changing = False  # inside _change: a change within it is part of it
         # The stages of the build that made this graph and their seconds (see build).
         self.stages: list[tuple[str, float]] = []
 
@@ -126,6 +139,20 @@ class KnowledgeGraph(GraphStore):
         clock: StageClock,
     ) -> KnowledgeGraph:
         generation = new_generation(directory)
+        # No change is made to the live generation while this one is built from it: a change
+        # waits, then goes into what this build publishes (see _change).
+        with writing(directory):
+            return cls._build_locked(manifest, directory, generation, on_source, clock)
+
+    @classmethod
+    def _build_locked(
+        cls,
+        manifest: Manifest,
+        directory: Path,
+        generation: Path,
+        on_source: Callable[[SourceSpec], None],
+        clock: StageClock,
+    ) -> KnowledgeGraph:
         # Held until the generation is live or removed: a later build removes it only when the
         # kernel has dropped this lock, i.e. when this process is gone (killed mid-build).
         held = claim(generation)
@@ -136,6 +163,7 @@ class KnowledgeGraph(GraphStore):
         try:
             store = ox.Store(str(generation))
             kg = cls(store, directory)
+            kg._unpublished = True
             kg._files_dir = generation / FILES
             kg._generation = generation
             kg._load_ontology()
@@ -266,19 +294,99 @@ class KnowledgeGraph(GraphStore):
             self._model_file.unlink(missing_ok=True)
 
     def derive(self) -> Any:
-        """Recompute the cell model and replace its named graph (``{base}derived``) with it."""
+        """Recompute the cell model and replace its named graph (``{base}derived``) with it, in
+        one transaction: a reader sees the old graph or the new one, never none."""
         self._forget_model()
         model = self.cell_model()
         derivation = _derivation()
         base = derivation.base(model)
         if base and not self.read_only:
             graph = ox.NamedNode(derivation.graph(model))
-            if graph in set(self._store.named_graphs()):
-                self._store.remove_graph(graph)
             with paused_gc():
                 data = derivation.ntriples(model, base, None)
-            self._store.load(data, ox.RdfFormat.N_TRIPLES, to_graph=graph, lenient=True)
+            if self._unpublished:
+                # Nobody sees this generation before it is complete: two steps are as good as one.
+                self._store.remove_graph(graph)
+                self._store.load(data, ox.RdfFormat.N_TRIPLES, to_graph=graph, lenient=True)
+            else:
+                # Loaded beside it, then moved over it by one update (one transaction): twice as
+                # fast as the same triples parsed as SPARQL in an INSERT DATA.
+                staged = ox.NamedNode(graph.value + "-next")
+                self._store.update(f"DROP SILENT GRAPH {staged}")
+                self._store.load(data, ox.RdfFormat.N_TRIPLES, to_graph=staged, lenient=True)
+                self._store.update(f"MOVE SILENT GRAPH {staged} TO GRAPH {graph}")
         return model
+
+    def change(self) -> contextlib.AbstractContextManager[None]:
+        """The changes of the block as one: whole or not at all, derived once (:meth:`_change`)."""
+        return self._change()
+
+    @contextlib.contextmanager
+    def _change(self) -> Iterator[None]:
+        """One change of the graph, then the derived graph made anew; whole or not at all.
+
+        In memory, the change and the derivation are each one transaction. A store directory
+        is changed in a new generation (a checkpoint of the live one: hard links), made live
+        by one rename of ``CURRENT`` when complete, so a process killed at any moment leaves
+        the store as it was or as changed. It is made under the directory's writer lock, so a
+        change during a build waits for it and goes into the generation the build made. A
+        change inside another is part of it.
+        """
+        if self._changing:
+            yield
+            return
+        self._changing = True
+        try:
+            if self.directory is None or self._generation is None:
+                self._forget_model()
+                yield
+                self.derive()
+            else:
+                with self._writing(), self._next_generation():
+                    yield
+                    crash_point("change:applied")
+                    self.derive()
+                    self._store.flush()
+                    crash_point("change:derived")
+        finally:
+            self._changing = False
+
+    @contextlib.contextmanager
+    def _writing(self) -> Iterator[None]:
+        """Hold the store directory's writer lock, on its live generation (a build's)."""
+        if self.directory is None or self._generation is None:
+            yield
+            return  # in memory: nothing to wait for
+        with writing(self.directory):
+            live = current_generation(self.directory)
+            if live != self._generation:
+                self._swap_store(open_writable(live), live)
+            yield
+
+    def _swap_store(self, store: ox.Store, generation: Path) -> None:
+        self._store, self._generation, self._files_dir = store, generation, generation / FILES
+        self._model = None
+
+    @contextlib.contextmanager
+    def _next_generation(self) -> Iterator[None]:
+        """Work on a copy of the live generation; publish it when the block ends, drop it when
+        it raises (:func:`cadkg.generations.checkpoint`)."""
+        assert self.directory is not None and self._generation is not None
+        live = self._generation
+        with checkpoint(self._store, live, self.directory, FILES) as fresh:
+            old = self._store
+            self._swap_store(ox.Store(str(fresh)), fresh)
+            self._unpublished = True
+            try:
+                yield
+            except BaseException as err:
+                traceback.clear_frames(err.__traceback__)
+                self._swap_store(old, live)
+                raise
+            finally:
+                self._unpublished = False
+            del old  # closed before checkpoint() removes its files
+            self._keep_model(self.cell_model())
 
     def assign(self, kind: str, ident: str, performer: str) -> str:
         """Decide who makes a wire, handles a component or performs an operation; kept across rebuilds.
@@ -297,6 +405,10 @@ class KnowledgeGraph(GraphStore):
                 f"cannot assign {kind!r} to {performer!r}: kind is one of {', '.join(ASSIGNABLE)}, "
                 f"performer one of {', '.join(PERFORMERS)}"
             )
+        with self._writing():  # after a build in progress, on what it made
+            return self._assign(kind, ident, performer)
+
+    def _assign(self, kind: str, ident: str, performer: str) -> str:
         model = self.cell_model()
         if not model.base:
             raise StoreError("the store has no cell; build it from a manifest first")
@@ -310,15 +422,14 @@ class KnowledgeGraph(GraphStore):
         target = node_iri(model.base, kind, ident)
         node = node_iri(model.base, "assignment", kind, ident)
         graph = f"{model.base}assignments"
-        self._forget_model()
-        # One update request: the old decision goes only if the new one lands.
-        self._store.update(
-            f"""DELETE WHERE {{ GRAPH <{graph}> {{ <{node}> ?p ?o }} }} ;
-                INSERT DATA {{ GRAPH <{graph}> {{
-                  <{node}> a <{CK_NS}Assignment> ; <{CK_NS}assignmentOf> <{target}> ;
-                    <{CK_NS}assignedTo> <{CK_NS}{performer}> }} }}"""
-        )
-        self.derive()
+        with self._change():
+            # One update request: the old decision goes only if the new one lands.
+            self._store.update(
+                f"""DELETE WHERE {{ GRAPH <{graph}> {{ <{node}> ?p ?o }} }} ;
+                    INSERT DATA {{ GRAPH <{graph}> {{
+                      <{node}> a <{CK_NS}Assignment> ; <{CK_NS}assignmentOf> <{target}> ;
+                        <{CK_NS}assignedTo> <{CK_NS}{performer}> }} }}"""
+            )
         return target
 
     def replace_source(
@@ -343,28 +454,20 @@ class KnowledgeGraph(GraphStore):
             raise StoreError("the store is open read-only")
         with paused_gc():
             data = read_source(Path(path), rel_path, kind, base_iri, frame, profile=self._profile())
-        self._write_files(data.files)
         # One update request is one transaction: the old graph goes only if the new one lands.
         # The graph IRI is minted by us and every term of the data is escaped by the mapping.
         inserts = data.ntriples.decode("utf-8")
-        self._forget_model()
-        self._store.update(
-            f"DROP SILENT GRAPH <{data.graph}> ; INSERT DATA {{ GRAPH <{data.graph}> {{ {inserts} }} }}"
-        )
-        self.derive()
+        with self._change():
+            self._write_files(data.files)
+            self._store.update(
+                f"DROP SILENT GRAPH <{data.graph}> ; INSERT DATA {{ GRAPH <{data.graph}> {{ {inserts} }} }}"
+            )
         self.reports.append(data.report)
         return data.report
 
     def _profile(self) -> str:
         rows = self.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
         return str(rows[0]["p"]) if rows else ""
-
-    def _changing(self) -> None:
-        self._forget_model()
-
-    def _changed(self) -> None:
-        # The derived graph follows what it is derived from, as after a rebuild.
-        self.derive()
 
     # -- views and exports ----------------------------------------------------------
     def export(self, path: str | Path, fmt: str | None = None) -> Path:

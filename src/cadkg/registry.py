@@ -20,7 +20,7 @@ from cadkg.ingest.formats import READERS
 from cadkg.ingest.reader import Reader
 from cadkg.ingest.sheet import sniff_head
 from cadkg.ingest.text import sniffable_head
-from cadkg.services.service import Service
+from cadkg.services.service import Effect, Service
 from cadkg.usecase import Derivation, UseCase
 
 __all__ = [
@@ -88,6 +88,10 @@ def _add(table: _Table, case: UseCase) -> None:
     for reader in case.readers:
         _add_reader(table, reader)
     for service in case.services:
+        if not isinstance(service.effect, Effect):
+            raise RegistryError(
+                f"service {service.name!r} of {case.name} declares no Effect (what a call changes)"
+            )
         if service.name in table.services:
             owner = table.services[service.name].profile
             raise RegistryError(f"service {service.name!r} of {case.name} is already one of {owner}'s")

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, Self
 
 import pyoxigraph as ox
 
+from cadkg.confined import write_files
 from cadkg.errors import QueryError, StoreError
 from cadkg.generations import (
     Snapshot,
@@ -200,13 +201,9 @@ class GraphStore:
             # here) are written when something asks where they are, not during the build.
             self._unwritten.update(files)
             return
-        made: set[Path] = set()  # a scene's tens of thousands of meshes share one folder
-        for rel, content in files.items():
-            target = self._files_dir / rel
-            if target.parent not in made:
-                target.parent.mkdir(parents=True, exist_ok=True)
-                made.add(target.parent)
-            target.write_bytes(content)
+        # Names come from the files read (an X3D DEF): each is opened inside the files folder,
+        # never followed out of it (cadkg.confined).
+        write_files(self._files_dir, dict(files))
 
     def snapshot(self) -> Snapshot:
         """The graph as it is now in a store directory other processes open read-only (the query
@@ -227,11 +224,16 @@ class GraphStore:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def _changing(self) -> None:
-        """Called before an update changes the graph (see :meth:`execute`)."""
+    @contextlib.contextmanager
+    def _change(self) -> Iterator[None]:
+        """Around every change of the graph (an update, see :meth:`execute`): where a subclass
+        makes the change whole or not at all, and keeps what it derives in step."""
+        yield
 
-    def _changed(self) -> None:
-        """Called after an update changed the graph (see :meth:`execute`)."""
+    @property
+    def open_generation(self) -> str | None:
+        """The generation this graph has open (None in memory); :attr:`generation` is the live one."""
+        return self._generation.name if self._generation is not None else None
 
     # -- reading ---------------------------------------------------------------
     def __len__(self) -> int:
@@ -364,8 +366,8 @@ class GraphStore:
 
         With ``default_graphs`` the default graph is the merge of those graphs (not the union of
         all), and the named graphs are ``named_graphs`` (none when not given); with neither the
-        dataset is as in :meth:`raw_query`. An update is surrounded by :meth:`_changing` and
-        :meth:`_changed`, where a subclass keeps what it derives from the graph in step.
+        dataset is as in :meth:`raw_query`. An update runs inside :meth:`_change`, where a
+        subclass keeps what it derives from the graph in step.
 
         Raises
         ------
@@ -393,9 +395,8 @@ class GraphStore:
         if update:
             if self.read_only:
                 raise StoreError("the store is open read-only")
-            self._changing()
-            self._store.update(sparql, prefixes=PREFIXES)
-            self._changed()
+            with self._change():
+                self._store.update(sparql, prefixes=PREFIXES)
             return None
         if default_graphs is None and named_graphs is None:
             return self._store.query(sparql, prefixes=PREFIXES, use_default_graph_as_union=True)

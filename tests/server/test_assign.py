@@ -3,10 +3,12 @@ as ``cadkg assign`` keeps them, and seen by the cursor services from their next 
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 import httpx
 
+from cadkg.generations import read_pointer
 from cadkg.graph import KnowledgeGraph
 from cadkg.server import Settings, create_app
 from tests.conftest import IEMA
@@ -35,7 +37,8 @@ def test_assign_needs_post_and_the_token_and_is_kept_in_the_store(tmp_path: Path
         assert httpx.post(f"{base}/api/assign", data={"kind": "wire"}, headers=AUTH).status_code == 400
         unknown = httpx.post(f"{base}/api/assign", data={**form, "id": "NO-SUCH-WIRE"}, headers=AUTH)
         assert unknown.status_code == 404 and "NO-SUCH-WIRE" in unknown.text
-        done = httpx.post(f"{base}/api/assign", data=form, headers=AUTH)
+        # A change of a store directory writes a new generation: seconds on a busy machine.
+        done = httpx.post(f"{base}/api/assign", data=form, headers=AUTH, timeout=120)
         assert done.status_code == 200, done.text
         assert done.json()["target"].endswith(f"wire/{wire}")
         # Client a goes on where it was; a new client never gets the person's wire.
@@ -61,3 +64,29 @@ def test_assign_on_a_read_only_endpoint_is_refused(tmp_path: Path) -> None:
             f"{base}/api/assign", data={"kind": "wire", "id": "1500.51", "performer": "human"}, headers=AUTH
         )
         assert refused.status_code == 403 and "read-only" in refused.json()["error"]
+
+
+def test_an_assign_over_http_moves_the_served_store_to_its_new_generation(tmp_path: Path) -> None:
+    """A change of a store directory is a new generation: the endpoint serves it from then on,
+    and its watch (which reloads when another process rebuilds the store) does not reload."""
+    store = tmp_path / "store"
+    KnowledgeGraph.build(IEMA, store).close()
+    first = read_pointer(store)
+
+    def load() -> KnowledgeGraph:
+        return KnowledgeGraph.open(store, read_only=False)
+
+    settings = Settings(allow_update=True, token=TOKEN, watch_seconds=0.2)
+    with serving_app(create_app(load, settings)) as base:
+        form = {"kind": "wire", "id": "1500.51", "performer": "human"}
+        done = httpx.post(f"{base}/api/assign", data=form, headers=AUTH, timeout=120)
+        assert done.status_code == 200, done.text
+        assert read_pointer(store) != first
+        assert done.headers["x-cadkg-generation"] == read_pointer(store)
+        time.sleep(1.5)  # several watch periods
+        info = httpx.get(f"{base}/api/info").json()
+        assert (info["reloads"], info["generation"]) == (0, read_pointer(store))
+        query = "ASK { ?a ck:assignmentOf ?w ; ck:assignedTo ck:human . ?w ck:wireNumber '1500.51' }"
+        asked = httpx.get(f"{base}/sparql", params={"query": query}, headers={"Accept": "application/json"})
+        assert asked.json()["boolean"] is True
+    assert sorted(p.name for p in store.iterdir() if p.name.startswith("gen-")) == [read_pointer(store)]

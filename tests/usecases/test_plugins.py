@@ -33,7 +33,7 @@ from cadkg.errors import IngestError
 from cadkg.ingest.reader import Reader
 from cadkg.mapping.dispatch import map_record
 from cadkg.mapping.writer import TripleWriter, term
-from cadkg.services.service import Service
+from cadkg.services.service import Effect, Service
 from cadkg.usecase import UseCase
 
 
@@ -70,7 +70,7 @@ USE_CASE = UseCase(
     name="toy",
     title="a toy cell of widgets",
     readers=(Reader("toy-widgets", (".toy",), read_toy, "Toy widgets: one 'widget NAME' per line"),),
-    services=(Service(SERVICE_NAME, "how many widgets the cell has", {}, widget_count),),
+    services=(Service(SERVICE_NAME, "how many widgets the cell has", {}, widget_count, effect=Effect.READS),),
     queries=Path(__file__).parent / "queries",
     ros_namespace="/toy",
 )

@@ -35,9 +35,9 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
     Cursors (connection providers, rail scanner) are kept per client in STORE/cursors.json,
     so successive calls walk the list; a rebuilt store starts them afresh.
     """
-    from cadkg.services.service import to_jsonable
+    from cadkg.services.service import Effect, to_jsonable
     from cadkg.services.session import Session
-    from cadkg.services.table import call
+    from cadkg.services.table import SERVICES, call
 
     kg = open_target(target)
     session = Session(kg.cell_model(), kg=kg)
@@ -51,7 +51,8 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
         if isinstance(saved, dict) and saved.get("generation") == generation:
             session.load(saved.get("cursors", {}))
     result = call(session, service, parse_params(params), client=client)
-    if state_file is not None:
+    # Only a service declared to move a cursor writes the cursor file.
+    if state_file is not None and SERVICES[service].effect is Effect.CURSOR:
         state = {"generation": generation, "cursors": session.dump()}
         temporary = state_file.with_suffix(".tmp")
         temporary.write_text(json.dumps(state, indent=1), encoding="utf-8")
@@ -68,13 +69,14 @@ def list_services() -> None:
     """List the services 'cadkg call' and the ROS adapter serve."""
     from cadkg.services.table import SERVICES
 
-    table = Table("profile", "service", "parameters", "answers")
+    table = Table("profile", "service", "parameters", "changes", "answers")
     for service in sorted(SERVICES.values(), key=lambda s: s.profile):
         params = ", ".join(
             f"{k} ({t.__name__.lower()}{', optional' if k in service.optional else ''})"
             for k, t in service.params.items()
         )
-        table.add_row(service.profile, service.name, params, service.description)
+        changes = service.effect.value if service.effect.changes else "-"
+        table.add_row(service.profile, service.name, params, changes, service.description)
     out.print(table)
 
 

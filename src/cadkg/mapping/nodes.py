@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from decimal import Decimal
 
+from cadkg.confined import file_name
 from cadkg.ingest.eplan.labels import PinRef
 from cadkg.ingest.placement import Placement
 from cadkg.mapping.writer import TYPE, XSD, TripleWriter, literal, node_iri, term, write_pose
@@ -66,7 +67,8 @@ def wire_iri(base_iri: str, number: str, taken: set[str]) -> str:
 
 def item_mesh_file(item_id: str) -> str:
     """Where the STL mesh of scene item ``item_id`` is kept, relative to the store's files."""
-    return f"meshes/{item_id}.stl"
+    # The ID comes from the file (an X3D DEF): one component, whatever it holds.
+    return f"meshes/{file_name(item_id)}.stl"
 
 
 _PIN, _PIN_NAME, _LEVEL, _PIN_OF, _HAS_PIN = (term(n) for n in ("Pin", "pinName", "level", "pinOf", "hasPin"))

@@ -12,7 +12,7 @@ from functools import partial
 from typing import TYPE_CHECKING, Literal
 
 from cadkg.errors import format_location
-from cadkg.registry import use_case
+from cadkg.registry import derivation, use_case
 
 if TYPE_CHECKING:
     from cadkg.store import GraphStore
@@ -125,6 +125,32 @@ def _use_case_checks(kg: GraphStore) -> list[Finding]:
     return list(checks(kg)) if checks is not None else []
 
 
+def _derived_graph(kg: GraphStore) -> list[Finding]:
+    """An error when the derived graph is missing or empty while the cell model gives triples
+    for it (a change cut short would leave it so): the robot's poses would be gone."""
+    derive = derivation()
+    cell_model = getattr(kg, "cell_model", None)
+    if derive is None or cell_model is None:
+        return []
+    model = cell_model()
+    base = derive.base(model)
+    if not base or not derive.ntriples(model, base, None).strip():
+        return []
+    graph = derive.graph(model)
+    if kg.ask(f"ASK {{ GRAPH <{graph}> {{ ?s ?p ?o }} }}"):
+        return []
+    where = str(getattr(kg, "directory", None) or graph)
+    return [
+        Finding(
+            where,
+            "error",
+            "derived-graph",
+            f"the derived graph <{graph}> is missing or empty, yet the cell model gives it triples "
+            "(poses, keypoints); build the store again",
+        )
+    ]
+
+
 def _duplicate_wire_numbers(kg: GraphStore) -> list[Finding]:
     """Wires sharing a number are fine when they form one chain through shared pins
     (EPLAN numbers potential jumpers that way); each further chain is an error."""
@@ -182,8 +208,9 @@ def validate(
     kg: GraphStore, *, shacl: bool = True, progress: Callable[[str, int, int], None] | None = None
 ) -> list[Finding]:
     """All findings, sorted by location: SHACL shapes (on every graph but the derived
-    one), unknown labels, duplicate wire numbers (wires of one number that do not form one
-    chain through shared pins), pins whose component model has no data for them, and the
+    one), a derived graph missing or empty while the cell model gives it triples, unknown
+    labels, duplicate wire numbers (wires of one number that do not form one chain through
+    shared pins), pins whose component model has no data for them, and the
     checks of the cell's use case (:attr:`cadkg.usecase.UseCase.checks`; IEMA's: terminal
     diagram destinations that no connection list wires).
 
@@ -191,6 +218,7 @@ def validate(
     checks), then ``"shapes"`` (the queries the SHACL shapes compile to).
     """
     findings = _semantic(kg, progress)
+    findings.extend(_derived_graph(kg))
     findings.extend(_use_case_checks(kg))
     if shacl:
         findings.extend(_shacl(kg, None if progress is None else partial(progress, "shapes")))

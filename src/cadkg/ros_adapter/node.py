@@ -212,6 +212,9 @@ class CadkgNode:
 
         def handle(request: Any, response: Any) -> Any:
             try:
+                refusal = self.refusal(name)
+                if refusal:
+                    raise CadkgError(refusal)
                 params = convert.request_params(service.params, request)
                 with self._lock:
                     result = services.call(
@@ -256,10 +259,20 @@ class CadkgNode:
         response.message = f"reloaded {self.source}; cursors rewound"
         return response
 
+    def refusal(self, name: str) -> str:
+        """Why a service is refused here ("" when it is served): a change to the graph, as its
+        declared effect says (``assign`` is one), needs ``allow_assign``; a cursor is the
+        calling client's own, as every answer is."""
+        service = services.SERVICES.get(name)
+        changes_graph = service.effect.changes_graph if service is not None else name == "assign"
+        if changes_graph and not self.allow_assign:
+            return f"{name} changes the graph; this node does not: start it with allow_assign:=true"
+        return ""
+
     def _assign(self, request: Any, response: Any) -> Any:
-        if not self.allow_assign:
-            response.success = False
-            response.message = "assignments are not edited here; start the node with allow_assign:=true"
+        refusal = self.refusal("assign")
+        if refusal:
+            response.success, response.message = False, refusal
             return response
         try:
             with self._lock:
@@ -273,6 +286,9 @@ class CadkgNode:
         except CadkgError as err:
             response.success, response.message = False, str(err)
             return response
+        if loaded.kg.directory is not None:
+            # Kept in a new generation of the store: the markers name its mesh files from now on.
+            self.publish()
         kept = " (kept in the store)" if loaded.kg.directory is not None else " (in memory: not kept)"
         response.success = True
         response.message = f"{request.kind} {request.id} → {request.performer}{kept}"

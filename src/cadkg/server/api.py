@@ -2,9 +2,10 @@
 
 - ``GET /api``: the services (with their parameters) and the named queries.
 - ``GET|POST /api/<service>?key=value``: one service call, answered as ``cadkg call`` prints
-  it. A service that changes something (:data:`CHANGES`: the graph, or a caller's cursor) is
-  taken only by POST with the token; a cursor belongs to the client the call names
-  (``client=NAME`` or ``X-Cadkg-Client``), kept apart from those of other transports.
+  it. A service whose declared :class:`~cadkg.services.service.Effect` changes something (the
+  graph, or a caller's cursor) is taken only by POST with the token; a cursor belongs to the
+  client the call names (``client=NAME`` or ``X-Cadkg-Client``), kept apart from those of
+  other transports.
 - ``GET /api/queries``: the named queries with their text; ``GET /api/queries/<name>?param=value``
   runs one, answered like ``/sparql`` (SPARQL JSON by default).
 - ``GET /api/graph?component=LABEL`` or ``?node=IRI``: nodes and edges around a component
@@ -15,10 +16,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
-import os
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 from urllib.parse import parse_qsl
 
@@ -29,21 +29,20 @@ from starlette.responses import Response
 from cadkg.errors import CadkgError, NotFound, QueryError
 from cadkg.query.named import coerce_params, named_queries
 from cadkg.server.context import Answer, Endpoint, ProtocolError, json_response, status_of
+from cadkg.server.files_root import confine, files_root
 from cadkg.server.holder import Served
 from cadkg.server.isolation import QuerySpec, embedded, query_job
 from cadkg.server.limits import Deadline
 from cadkg.server.protocol import _FORM, fail, read_body
 from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, NotAcceptableError, negotiate
 from cadkg.server.workbench.routes import find_named
-from cadkg.services.service import to_jsonable
+from cadkg.services.service import CONVERT, Effect, Paths, to_jsonable
 from cadkg.services.table import SERVICES, call
 from cadkg.store import PREFIXES
 
 __all__ = [
-    "CHANGES",
     "CLIENT_HEADER",
     "component_graph",
-    "confine",
     "graph_view",
     "index",
     "info",
@@ -56,24 +55,6 @@ __all__ = [
 
 _NEIGHBOURS = 150
 CLIENT_HEADER = "X-Cadkg-Client"
-_CURSOR = "cursor"
-_GRAPH = "graph"
-CHANGES = {
-    "load_files": _GRAPH,
-    "full_connection_provider": _CURSOR,
-    "group_connection_provider": _CURSOR,
-    "reset_connection_list": _CURSOR,
-    "reset_to_connection_list": _CURSOR,
-    "rail_scanner": _CURSOR,
-    "reset_rail_scanner": _CURSOR,
-    "CAD_platform.next_operation": _CURSOR,
-    "CAD_platform.reset_sequence_list": _CURSOR,
-    "CAD_platform.reset_sequence_list_to": _CURSOR,
-}
-"""The services that change something over HTTP: the served graph, or the caller's cursor (a
-provider hands out the next wire and moves on). Every other service only reads. The table of
-docs/server.md follows this one (tests/server/test_security.py holds them together)."""
-
 _PINS = """
 SELECT ?label ?component ?pin ?pinName ?level WHERE {
   ?component ck:label ?label ; a ck:Component .
@@ -109,7 +90,14 @@ def _error(err: Exception) -> Response:
     return json_response({"error": str(err)}, status, headers)
 
 
-async def _params(request: Request, limit: int) -> dict[str, str]:
+def _json_value(value: Any) -> Any:
+    """A parameter of a JSON body as text; a list of texts (files to load) stays a list."""
+    if isinstance(value, list) and all(isinstance(v, str) for v in value):
+        return Paths(value)
+    return value if isinstance(value, str) else str(value).lower()
+
+
+async def _params(request: Request, limit: int) -> dict[str, Any]:
     pairs = parse_qsl(request.url.query, keep_blank_values=True)
     if request.method == "POST":
         body = await read_body(request, limit)
@@ -121,7 +109,7 @@ async def _params(request: Request, limit: int) -> dict[str, str]:
                 raise ProtocolError(400, f"the body is not JSON: {err}") from None
             if not isinstance(data, dict):
                 raise ProtocolError(400, "the body is a JSON object of parameters")
-            pairs += [(str(k), v if isinstance(v, str) else str(v).lower()) for k, v in data.items()]
+            pairs += [(str(k), _json_value(v)) for k, v in data.items()]
         elif media == _FORM:
             pairs += parse_qsl(body.decode("utf-8", "replace"), keep_blank_values=True)
         elif body:
@@ -160,43 +148,17 @@ async def index(request: Request) -> Response:
     )
 
 
-def confine(paths: str, root: Path | None) -> str:
-    """``paths`` (comma separated, relative to ``root`` or absolute) as absolute paths, each
-    checked to lie under ``root`` once links and ``..`` are resolved.
-
-    Raises
-    ------
-    ProtocolError
-        403 without a root, or for a path outside it: the same words whether or not it exists,
-        so the answers tell nothing about the rest of the disk.
-    """
-    if root is None:
+def _check_change(endpoint: Endpoint, request: Request, name: str, effect: Effect) -> None:
+    """Refuse a change unless it comes by POST with the token: derived from the declared effect
+    alone, so a service cannot be left off a list of those that need it."""
+    if request.method != "POST":
         raise ProtocolError(
-            403, "load_files over HTTP reads files only under a directory named at start: --files-root DIR"
-        )
-    base = Path(os.path.realpath(root))
-    confined = []
-    for given in (part.strip() for part in paths.split(",")):
-        if not given:
-            continue
-        refused = ProtocolError(403, f"{given!r} is not under the files root of this endpoint")
-        try:
-            resolved = Path(os.path.realpath(base / given))
-        except (ValueError, OSError):  # a NUL byte, a loop of links: no file of the root either
-            raise refused from None
-        if not resolved.is_relative_to(base):
-            raise refused
-        confined.append(str(resolved))
-    return ",".join(confined)
-
-
-def _check_change(endpoint: Endpoint, request: Request, name: str, changes: str) -> None:
-    if request.method == "GET":
-        raise ProtocolError(
-            405, f"{name} changes the {changes}: send it by POST with the token", {"Allow": "POST"}
+            405,
+            f"{name} changes state ({effect.value}): send it by POST with the token",
+            {"Allow": "POST"},
         )
     authorization = request.headers.get("authorization")
-    if changes == _GRAPH:
+    if effect.changes_graph:
         endpoint.check_token(authorization)
     else:
         endpoint.check_holder(authorization, f"{name} (it moves a cursor)")
@@ -210,26 +172,44 @@ async def service(request: Request) -> Response:
     try:
         if name not in SERVICES:
             raise NotFound(f"unknown service {name!r}; known: {', '.join(sorted(SERVICES))}")
-        changes = CHANGES.get(name, "")
-        if changes:
-            _check_change(endpoint, request, name, changes)
+        effect = SERVICES[name].effect
+        if effect.changes:
+            _check_change(endpoint, request, name, effect)
         params = await _params(request, endpoint.limits.max_body)
+        lists = [
+            k for k, v in params.items() if isinstance(v, Paths) and SERVICES[name].params.get(k) is not Paths
+        ]
+        if lists:
+            raise QueryError(f"{name}: {', '.join(lists)} takes one value, not a list")
         client = params.pop("client", "") or request.headers.get(CLIENT_HEADER, "")
-        if changes == _CURSOR and not client:
+        if effect is Effect.CURSOR and not client:
             raise ProtocolError(400, f"{name}: name the cursor's owner with client=NAME or {CLIENT_HEADER}")
-        if name == "load_files":
-            params["paths"] = confine(params.get("paths", ""), endpoint.settings.files_root)
+        # What a service that loads files reads over HTTP is copied from inside the files root
+        # first, and handed on as the list of those copies.
+        files = {k for k, t in SERVICES[name].params.items() if t is Paths and k in params}
+        if effect is Effect.LOADS:
+            files_root(endpoint.settings.files_root)
+        checked = {k: params[k] if isinstance(params[k], Paths) else CONVERT[Paths](params[k]) for k in files}
 
         def make_job(served: Served) -> Callable[[Deadline], Answer]:
             def job(_: Deadline) -> Answer:
-                with served.lock:  # cursors move one call at a time
+                with served.lock, contextlib.ExitStack() as stack:  # cursors move one call at a time
+                    scratch = []
+                    given: dict[str, Any] = dict(params)
+                    for key, names in checked.items():
+                        folder, copies = stack.enter_context(confine(names, endpoint.settings.files_root))
+                        given[key] = Paths(str(c) for c in copies)
+                        scratch.append(f"{folder}/")
                     # Over HTTP a client's cursor is its own, never another transport's (a
                     # robot's "default").
-                    result = call(served.session(), name, params, client=f"http:{client}")
+                    result = call(served.session(), name, given, client=f"http:{client}")
                     data = to_jsonable(result)
-                    if changes == _GRAPH:
+                    if effect.changes_graph:
                         served.edited()
-                return Answer(json.dumps(data, default=str).encode(), "application/json")
+                text = json.dumps(data, default=str)
+                for prefix in scratch:  # messages name the files as the caller did
+                    text = text.replace(json.dumps(prefix)[1:-1], "")
+                return Answer(text.encode(), "application/json")
 
             return job
 
@@ -247,7 +227,7 @@ async def assign(request: Request) -> Response:
     endpoint: Endpoint = request.app.state.endpoint
     deadline = Deadline(endpoint.limits.timeout)
     try:
-        _check_change(endpoint, request, "assign", _GRAPH)
+        _check_change(endpoint, request, "assign", Effect.WRITES)
         params = await _params(request, endpoint.limits.max_body)
         missing = [key for key in ("kind", "id", "performer") if not params.get(key)]
         if missing:

@@ -88,6 +88,8 @@ class Served:
         """After an update: new cache keys, and a session and workers made afresh from the
         changed graph. Call under :attr:`lock`."""
         self.edits += 1
+        # A change to a store directory is a new generation, which this graph now has open.
+        self.generation = getattr(self.graph, "open_generation", None) or self.generation
         self._session = None
         self._triples = None
         self._retire_workers()
@@ -132,13 +134,22 @@ class GraphHolder:
 
     def stale(self) -> bool:
         """Whether the store directory now names another generation than the one served."""
-        graph = self._current.graph
+        current = self._current
+        graph = current.graph
         if getattr(graph, "directory", None) is None:
             return False
+        # The graph's own changes (made under its lock) move it to the generation they make:
+        # while one is made, and after, the store has not moved on; only another's change has.
+        if not current.lock.acquire(blocking=False):
+            return False
         try:
-            return bool(graph.generation) and graph.generation != self._current.generation
+            live = graph.generation
+            held = getattr(graph, "open_generation", None) or current.generation
+            return bool(live) and live != held
         except OSError:
             return False
+        finally:
+            current.lock.release()
 
     @property
     def reopenable(self) -> bool:

@@ -8,9 +8,10 @@ every transport gets the same checks and messages; answers leave as JSON-ready d
 from __future__ import annotations
 
 import dataclasses
+import enum
 import math
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from cadkg.errors import QueryError
@@ -20,17 +21,61 @@ from cadkg.geometry.poses import Pose
 if TYPE_CHECKING:
     from cadkg.services.session import Session
 
-__all__ = ["CONVERT", "DIGITS", "Service", "model_services", "on_model", "parse_pose", "to_jsonable"]
+__all__ = [
+    "CONVERT",
+    "DIGITS",
+    "Effect",
+    "Paths",
+    "Service",
+    "model_services",
+    "on_model",
+    "parse_pose",
+    "to_jsonable",
+]
+
+
+class Effect(enum.Enum):
+    """What calling a service changes: the one declaration every transport derives its checks from.
+
+    HTTP takes a changing service only by POST with the token (a graph change also needs
+    ``--allow-update``); the ROS node serves a graph change only when started with
+    ``allow_assign``; ``cadkg call`` keeps cursors only for a cursor service. A reading service
+    runs where it cannot reach a cursor (:meth:`cadkg.services.session.Session.reading`).
+    """
+
+    READS = "reads"
+    """Answers from the graph and the models derived from it; changes nothing."""
+    CURSOR = "cursor"
+    """Moves or rewinds the calling client's own cursor."""
+    LOADS = "loads files"
+    """Reads files named by the caller into the served graph."""
+    WRITES = "writes"
+    """Changes the served graph or the store."""
+
+    @property
+    def changes(self) -> bool:
+        """Whether a call changes anything at all."""
+        return self is not Effect.READS
+
+    @property
+    def changes_graph(self) -> bool:
+        """Whether a call changes the served graph (not only a caller's cursor)."""
+        return self in (Effect.LOADS, Effect.WRITES)
 
 
 @dataclass(frozen=True)
 class Service:
-    """``run(session, client=..., **params)``; ``optional`` parameters may be left out."""
+    """``run(session, client=..., **params)``; ``optional`` parameters may be left out.
+
+    ``effect`` has no default: a service that forgets to say what it changes is an error where
+    it is declared, not a reading service by accident.
+    """
 
     name: str
     description: str
     params: Mapping[str, type]
     run: Callable[..., Any]
+    effect: Effect = field(kw_only=True)
     profile: str = ""
     optional: frozenset[str] = frozenset()
     # Over ROS: the service's own namespace (else the use case's), its name there (else
@@ -86,7 +131,17 @@ def _int(text: str) -> int:
         raise QueryError(f"not an integer: {text!r}") from None
 
 
+class Paths(tuple[str, ...]):
+    """Files a caller names: comma separated as text (``a.xml,b.xml``), a list from then on, so
+    a transport that checks them hands on the checked list and never joins it again."""
+
+
+def _paths(text: str) -> Paths:
+    return Paths(p.strip() for p in text.split(",") if p.strip())
+
+
 CONVERT: dict[type, Callable[[str], Any]] = {
+    Paths: _paths,
     str: str,
     bool: _bool,
     float: _float,
@@ -108,7 +163,8 @@ def on_model(fn: Callable[..., Any], model_of: Callable[[Session], Any]) -> Call
 def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable[..., Service]:
     """The maker of ``profile``'s services answered from its model:
     ``make(name, description, params, answer, optional=(), **ros)`` (see :func:`on_model`;
-    ``ros``: ``ros_namespace``, ``ros_name``, ``ros_type`` of :class:`Service`)."""
+    ``ros``: ``ros_namespace``, ``ros_name``, ``ros_type`` of :class:`Service`). They only
+    read: ``answer`` is given the model and the parameters, never the session or a cursor."""
 
     def make(
         name: str,
@@ -123,6 +179,7 @@ def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable
             description,
             params,
             on_model(answer, model_of),
+            effect=Effect.READS,
             profile=profile,
             optional=frozenset(optional),
             **ros,

@@ -8,8 +8,9 @@ between processes (``cadkg call`` keeps them beside the store).
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any, TypeVar, cast
 
 from cadkg.errors import QueryError
@@ -30,6 +31,8 @@ class Session:
         self._cursors: dict[str, dict[str, Any]] = {}
         # Cursors read by load() and not asked for yet: their type is known only on first use.
         self._saved: dict[str, dict[str, dict[str, Any]]] = {}
+        # The service running now when it is declared as only reading (see reading()).
+        self._reading = ""
 
     def memo(self, key: str, build: Callable[[], T]) -> T:
         """``build()``, computed once per session (so once per reload of the graph)."""
@@ -53,9 +56,30 @@ class Session:
         """Drop what :meth:`memo` keeps under ``key``, so the next call rebuilds it from the graph."""
         self._memo.pop(key, None)
 
+    @contextlib.contextmanager
+    def reading(self, service: str) -> Iterator[None]:
+        """Run a service declared as only reading: asking for a cursor inside is an error, so a
+        reading service cannot move one, whatever its code does."""
+        outer, self._reading = self._reading, service
+        try:
+            yield
+        finally:
+            self._reading = outer
+
     def cursor(self, key: str, client: str, new: Callable[..., S]) -> S:
         """The cursor of ``client`` for the use case ``key``: ``new()`` when it has none, or
-        ``new(**fields)`` with what :meth:`load` read for it."""
+        ``new(**fields)`` with what :meth:`load` read for it.
+
+        Raises
+        ------
+        QueryError
+            Inside :meth:`reading`: the service is declared as changing nothing.
+        """
+        if self._reading:
+            raise QueryError(
+                f"{self._reading} is declared as only reading, yet asks for a {key} cursor; "
+                "declare it Effect.CURSOR"
+            )
         cursors = self._cursors.setdefault(key, {})
         if client not in cursors:
             saved = self._saved.get(key, {}).pop(client, None) or {}

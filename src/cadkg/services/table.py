@@ -66,4 +66,7 @@ def call(session: Session, name: str, params: Mapping[str, str | Any], client: s
         key: CONVERT[service.params[key]](value) if isinstance(value, str) else value
         for key, value in params.items()
     }
-    return service.run(session, client=client, **values)
+    if service.effect.changes:
+        return service.run(session, client=client, **values)
+    with session.reading(name):
+        return service.run(session, client=client, **values)

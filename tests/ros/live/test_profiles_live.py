@@ -162,8 +162,11 @@ def test_every_service_of_the_profile_answers(ros: Any, profile: tuple[str, Serv
         }
         path = call(srv.GetPathPositions, "get_path_positions", cable="A4351-1677")
         assert path.success and close((path.total_length,), (1.168,))
-        refused = call(srv.LoadFiles, "load_files", paths="/nonexistent/pin_info.xml")
-        assert not refused.success and "nothing loaded" in refused.message
+        # Declared as loading files: a node started without allow_assign refuses it.
+        refused = call(
+            srv.LoadFiles, "load_files", paths=str(ROOT / "examples" / "elimco-bench" / "pin_info.xml")
+        )
+        assert not refused.success and "allow_assign:=true" in refused.message
     elif name == "vw":
         topology = call(srv.HarnessTopology, "harness_topology", harness="DOOR-L", view="")
         assert topology.success and len(topology.segments) == 5 and len(topology.wires) == 7

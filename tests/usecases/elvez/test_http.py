@@ -49,7 +49,9 @@ def test_the_sequence_cursor_per_client(url: str) -> None:
         return str(answer["type"])
 
     assert [step("left"), step("left"), step("right"), step("left")] == ["EC", "PC", "EC", "RC"]
-    missing = httpx.get(f"{url}/api/CAD_platform.index_operation")
+    # index_operation moves the client's cursor too: by POST with the token only.
+    assert httpx.get(f"{url}/api/CAD_platform.index_operation", params={"index": "1"}).status_code == 405
+    missing = httpx.post(f"{url}/api/CAD_platform.index_operation", data={"client": "left"}, headers=AUTH)
     assert (missing.status_code, missing.json()) == (
         400,
         {"error": "CAD_platform.index_operation: missing parameter index"},

@@ -22,7 +22,7 @@ from cadkg.query.named import NamedQuery, coerce_params, named_queries
 from cadkg.server.context import Answer, Endpoint, json_response, status_of
 from cadkg.server.holder import Served
 from cadkg.server.limits import Deadline
-from cadkg.server.workbench.scene import cell_scene, mesh_path
+from cadkg.server.workbench.scene import cell_scene, mesh_bytes
 from cadkg.server.workbench.terms import completion_terms
 from cadkg.sparql_text import bind_values, values_clause
 
@@ -93,12 +93,12 @@ async def mesh(request: Request) -> Response:
 
         def make_job(served: Served) -> Callable[[Deadline], Answer]:
             def job(_: Deadline) -> Answer:
-                path = mesh_path(served.graph.files_dir, rel)
-                if path is None:
+                data = mesh_bytes(served.graph.files_dir, rel)
+                if data is None:
                     raise NotFound(
                         f"no mesh file {rel!r} in the served store's files (a remote store holds none)"
                     )
-                return Answer(path.read_bytes(), "model/stl")
+                return Answer(data, "model/stl")
 
             return job
 

@@ -16,15 +16,16 @@ thousands of items share a few hundred boxes, which the page draws instanced.
 from __future__ import annotations
 
 import hashlib
-from pathlib import Path, PurePosixPath
+from pathlib import Path
 from typing import Any
 
+from cadkg.confined import OutsideRootError, read_inside
 from cadkg.errors import CadkgError
 from cadkg.server.workbench.scene_extras import profile_extras
 from cadkg.services.frames import marker_specs, static_frames
 from cadkg.usecases.iema.derive.extract import Placements, placements
 
-__all__ = ["cell_scene", "mesh_path"]
+__all__ = ["cell_scene", "mesh_bytes"]
 
 _PROFILE = "SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1"
 _ITEMS = """
@@ -46,22 +47,18 @@ def _pose(pose: Any) -> dict[str, list[float]]:
     return {"t": _round(pose.position), "q": _round(pose.orientation)}
 
 
-def mesh_path(files_dir: Path, rel: str) -> Path | None:
-    """The file of ``rel`` (a ``ck:meshUri``) inside ``files_dir``, or None when it is elsewhere or absent.
+def mesh_bytes(files_dir: Path, rel: str) -> bytes | None:
+    """The bytes of ``rel`` (a ``ck:meshUri``) inside ``files_dir``, or None when it is elsewhere or absent.
 
-    Only a relative path without ``..`` whose file ends in ``.stl`` is taken, and no link out
-    of the directory is followed.
+    Only a name ending in ``.stl`` is taken, opened inside the directory by
+    :func:`cadkg.confined.open_inside`: no ``..``, no absolute path, no link at any step.
     """
-    parts = PurePosixPath(rel).parts
-    if not parts or rel.startswith("/") or "\\" in rel or ".." in parts or not rel.lower().endswith(".stl"):
+    if not rel.lower().endswith(".stl"):
         return None
-    path = files_dir.joinpath(*parts)
     try:
-        if path.is_symlink() or not path.is_file():
-            return None
-    except (OSError, ValueError):
+        return read_inside(files_dir, rel)
+    except OutsideRootError:
         return None
-    return path
 
 
 class _Meshes:
@@ -76,10 +73,9 @@ class _Meshes:
     def index(self, rel: str) -> int | None:
         if rel in self._by_rel:
             return self._by_rel[rel]
-        path = mesh_path(self.files_dir, rel)
+        data = mesh_bytes(self.files_dir, rel)
         found: int | None = None
-        if path is not None:
-            data = path.read_bytes()
+        if data is not None:
             digest = hashlib.blake2b(data, digest_size=16).hexdigest()
             found = self._by_digest.get(digest)
             if found is None:

@@ -10,6 +10,8 @@ positions are metres; an unknown cable gives ``success=False`` and a message.
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -18,7 +20,7 @@ from cadkg.errors import CadkgError
 from cadkg.geometry.poses import Pose
 from cadkg.registry import reader_for, sniff_kind
 from cadkg.services.display import Frame
-from cadkg.services.service import Service, model_services
+from cadkg.services.service import Effect, Paths, Service, model_services
 from cadkg.services.session import Session
 from cadkg.usecases.elimco.bench import (
     CENTROID_FRAME,
@@ -240,8 +242,9 @@ def get_path_positions(model: ElimcoModel, cable: str) -> PathPositionsResult:
     )
 
 
-def load_files(session: Session, paths: str) -> LoadFilesResult:
-    """Replace the ELIMCO sources of the served graph with the files in ``paths`` (comma separated).
+def load_files(session: Session, paths: Sequence[str] | str) -> LoadFilesResult:
+    """Replace the ELIMCO sources of the served graph with the files in ``paths`` (a list, or
+    text with the files comma separated).
 
     Each file replaces the loaded source of its kind (cable list, pin_info, cable_info,
     path_info), keeping that source's graph name, or joins the graph when no source of
@@ -257,7 +260,8 @@ def load_files(session: Session, paths: str) -> LoadFilesResult:
             "serve the manifest, or a store opened for writing",
         )
     try:
-        files = [_expanded(p.strip()) for p in paths.split(",") if p.strip()]
+        names = paths.split(",") if isinstance(paths, str) else paths
+        files = [_expanded(p.strip()) for p in names if p.strip()]
     except CadkgError as err:
         return LoadFilesResult(False, f"nothing loaded: {err}")
     if not files:
@@ -267,9 +271,11 @@ def load_files(session: Session, paths: str) -> LoadFilesResult:
         _check(session, plan)
         base = _base_iri(kg)
         # replace_source reads each file again: every one has just been read without error,
-        # so only a file changed in between can fail now, after the files before it went in.
-        for path, kind, rel, _ in plan:
-            kg.replace_source(path, rel, base, kind)
+        # so only a file changed in between can fail now. The files go in as one change: all
+        # of them or none, even when the process is killed meanwhile.
+        with kg.change() if hasattr(kg, "change") else contextlib.nullcontext():
+            for path, kind, rel, _ in plan:
+                kg.replace_source(path, rel, base, kind)
     except CadkgError as err:
         return LoadFilesResult(False, f"nothing loaded: {err}")
     finally:
@@ -352,8 +358,9 @@ SERVICES: tuple[Service, ...] = (
     Service(
         "load_files",
         "replace the ELIMCO files (pin_info, cable_info, path_info, cable list) online, atomically",
-        {"paths": str},
+        {"paths": Paths},
         lambda s, paths, client="default": load_files(s, paths),
+        effect=Effect.LOADS,
         profile="elimco",
     ),
     _service(

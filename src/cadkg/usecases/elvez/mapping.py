@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from cadkg.confined import file_name
 from cadkg.geometry.poses import Pose
 from cadkg.ingest.eplan.labels import PinRef
 from cadkg.mapping.dispatch import map_record
@@ -56,7 +57,7 @@ def element_frame(cad_id: str, platform: str) -> str:
 
 def element_mesh_file(platform: str, name: str) -> str:
     """Where a platform mesh is kept in the store's files."""
-    return f"meshes/elvez/{platform}/{name}.stl"
+    return f"meshes/elvez/{file_name(platform)}/{file_name(name)}.stl"
 
 
 def pin_name(cavity: tuple[int, int]) -> str:

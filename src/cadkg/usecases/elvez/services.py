@@ -19,7 +19,7 @@ import cadkg.usecases.elvez.platform_services as platform
 import cadkg.usecases.elvez.sequence_services as sequence
 from cadkg.errors import CadkgError
 from cadkg.services.display import Frame, MarkerSpec
-from cadkg.services.service import Service, model_services
+from cadkg.services.service import Effect, Service, model_services
 from cadkg.services.session import Session
 from cadkg.usecases.elvez.model import PROFILE, model_of
 from cadkg.usecases.elvez.platform import box_centre, key_centre, tape_spot_centre
@@ -41,12 +41,13 @@ def _reference(
     params: Mapping[str, type],
     run: Callable[..., Any],
     *,
-    on_model: bool = True,
+    cursor: bool = False,
 ) -> Service:
+    # A cursor service runs on the session (the client's cursor); every other one on the model.
     service = (
-        _service(REFERENCE_PREFIX + name, description, params, run)
-        if on_model
-        else Service(REFERENCE_PREFIX + name, description, params, run, profile=PROFILE)
+        Service(REFERENCE_PREFIX + name, description, params, run, effect=Effect.CURSOR, profile=PROFILE)
+        if cursor
+        else _service(REFERENCE_PREFIX + name, description, params, run)
     )
     return dataclasses.replace(service, ros_namespace=REFERENCE_NAMESPACE, ros_name=name, ros_type=ros_type)
 
@@ -144,7 +145,7 @@ SERVICES: tuple[Service, ...] = (
         "the operation at the client's cursor; the cursor moves on",
         {},
         sequence.next_operation,
-        on_model=False,
+        cursor=True,
     ),
     _reference(
         "reset_sequence_list",
@@ -152,7 +153,7 @@ SERVICES: tuple[Service, ...] = (
         "rewind the client's sequence cursor",
         {},
         sequence.reset_sequence_list,
-        on_model=False,
+        cursor=True,
     ),
     _reference(
         "reset_sequence_list_to",
@@ -160,7 +161,7 @@ SERVICES: tuple[Service, ...] = (
         "move the client's sequence cursor to an operation (from 0)",
         {"index": int},
         sequence.reset_sequence_list_to,
-        on_model=False,
+        cursor=True,
     ),
     _reference(
         "index_operation",
@@ -168,7 +169,7 @@ SERVICES: tuple[Service, ...] = (
         "the operation at an index (from 0); the client's cursor moves past it",
         {"index": int},
         sequence.index_operation,
-        on_model=False,
+        cursor=True,
     ),
     _reference(
         "all_operations",
@@ -176,7 +177,7 @@ SERVICES: tuple[Service, ...] = (
         "every operation with its spots (element, guide, side); rewinds the client's cursor",
         {},
         sequence.all_operations,
-        on_model=False,
+        cursor=True,
     ),
     _reference(
         "all_cad_components",

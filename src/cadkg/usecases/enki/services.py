@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from cadkg.services.service import Service, on_model
+from cadkg.services.service import Effect, Service, on_model
 from cadkg.services.session import Session
 
 __all__ = ["SERVICES", "HoseInfoResult", "HoseRecord", "hose_info", "hose_model"]
@@ -99,5 +99,6 @@ SERVICES: tuple[Service, ...] = (
         "diameter, length, material and bend radius of a hose product",
         {"product": str},
         on_model(hose_info, _hoses),
+        effect=Effect.READS,
     ),
 )

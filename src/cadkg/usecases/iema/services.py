@@ -10,7 +10,7 @@ import cadkg.usecases.iema.answers as answers
 import cadkg.usecases.iema.cursors as cursors
 from cadkg.geometry.poses import Pose
 from cadkg.services.display import Frame
-from cadkg.services.service import Service, on_model
+from cadkg.services.service import Effect, Service, on_model
 from cadkg.services.session import Session
 
 __all__ = ["SERVICES", "cabinet_frames"]
@@ -30,60 +30,70 @@ SERVICES: tuple[Service, ...] = (
         "pose, corner, target, dimensions and pins of a component",
         {"label": str},
         _label(answers.cad_service),
+        effect=Effect.READS,
     ),
     Service(
         "full_cad_service",
         "as cad_service, with the component's connections",
         {"label": str},
         _label(answers.full_cad_service),
+        effect=Effect.READS,
     ),
     Service(
         "get_item_screw_service",
         "screws and holes re-expressed from a detected component pose",
         {"label": str, "detected_pose": Pose},
         on_model(answers.get_item_screw_service, _cabinet),
+        effect=Effect.READS,
     ),
     Service(
         "get_terminal_data",
         "pins, start, length and height of a terminal block",
         {"label": str},
         _label(answers.get_terminal_data),
+        effect=Effect.READS,
     ),
     Service(
         "cluster_service",
         "horizontal and vertical clusters of a component's connector points",
         {"label": str},
         _label(answers.cluster_service),
+        effect=Effect.READS,
     ),
     Service(
         "cad_reference",
         "target and corner pose of a component",
         {"label": str},
         _label(answers.cad_reference),
+        effect=Effect.READS,
     ),
     Service(
         "full_connection_provider",
         "next wire end to handle (occupancy: the gripper holds the wire's first end)",
         {"occupancy": bool},
         cursors.full_connection_provider,
+        effect=Effect.CURSOR,
     ),
     Service(
         "group_connection_provider",
         "next wire with both ends, path and keypoints",
         {},
         cursors.group_connection_provider,
+        effect=Effect.CURSOR,
     ),
     Service(
         "reset_connection_list",
         "rewind the connection cursor",
         {},
         cursors.reset_connection_list,
+        effect=Effect.CURSOR,
     ),
     Service(
         "reset_to_connection_list",
         "move the connection cursor to a wire number (or list position) of a source",
         {"data": float, "source": str},
         cursors.reset_to_connection_list,
+        effect=Effect.CURSOR,
         optional=frozenset({"source"}),
     ),
     Service(
@@ -91,12 +101,14 @@ SERVICES: tuple[Service, ...] = (
         "the components along the next rail",
         {},
         cursors.rail_scanner,
+        effect=Effect.CURSOR,
     ),
     Service(
         "reset_rail_scanner",
         "rewind the rail cursor",
         {},
         cursors.reset_rail_scanner,
+        effect=Effect.CURSOR,
     ),
 )
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from cadkg.errors import NotFound, QueryError
-from cadkg.services.service import Service, on_model
+from cadkg.services.service import Effect, Service, on_model
 from cadkg.services.session import Session
 from cadkg.usecases.vw.graphml import VIEWS, graphml_text
 from cadkg.usecases.vw.harness_data import HarnessRef, WireData, choose_harness, harnesses, wire_data
@@ -206,6 +206,7 @@ SERVICES: tuple[Service, ...] = (
         "and GraphML; of the variant of some modules",
         {"harness": str, "view": str, "modules": str},
         on_model(harness_topology, _model),
+        effect=Effect.READS,
         profile=PROFILE,
         optional=frozenset({"harness", "view", "modules"}),
     ),
