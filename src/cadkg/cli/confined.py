@@ -45,7 +45,7 @@ def run_confined(work: Work, *, seconds: float | None, memory: int, network: boo
     sys.stderr.flush()
     theirs_read, theirs_write = os.pipe()
     pid = os.fork()
-    if pid == 0:  # pragma: no cover - the child's coverage is not collected
+    if pid == 0:
         os.close(theirs_read)
         os._exit(_child(work, theirs_write, memory, network))
     os.close(theirs_write)
@@ -86,7 +86,7 @@ def _quiet_native_stderr() -> None:
     sys.stderr = os.fdopen(kept, "w", buffering=1)
 
 
-def _child(work: Work, ready_fd: int, memory: int, network: bool) -> int:  # pragma: no cover
+def _child(work: Work, ready_fd: int, memory: int, network: bool) -> int:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's, which kills this
 
     def ready() -> None:

@@ -58,12 +58,14 @@ def leave_network() -> str | None:
     caller's user and group to themselves, so files are read and written as before), which the
     kernel allows only in a process of one thread.
     """
-    libc = ctypes.CDLL(None, use_errno=True)
-    if libc.unshare(_CLONE_NEWNET) == 0:
+    unshare = getattr(ctypes.CDLL(None, use_errno=True), "unshare", None)
+    if unshare is None:
+        return "this system has no network namespaces (unshare)"
+    if unshare(_CLONE_NEWNET) == 0:
         return None
     first = ctypes.get_errno()
     uid, gid = os.geteuid(), os.getegid()
-    if libc.unshare(_CLONE_NEWUSER | _CLONE_NEWNET) != 0:
+    if unshare(_CLONE_NEWUSER | _CLONE_NEWNET) != 0:
         second = ctypes.get_errno()
         return f"unshare: {os.strerror(first)}; in a user namespace: {os.strerror(second)}"
     try:
