@@ -14,6 +14,7 @@ __all__ = [
     "IngestError",
     "IngestWarning",
     "ManifestError",
+    "MemoryLimitError",
     "NotFound",
     "QueryError",
     "RegistryError",
@@ -129,6 +130,10 @@ class QueryError(CadkgError):
 
 class TimeLimitError(CadkgError):
     """A query or request ran past its time limit (and was stopped)."""
+
+
+class MemoryLimitError(QueryError):
+    """A query needed more memory than a query may take (and was stopped)."""
 
 
 class NotFound(CadkgError):  # noqa: N818 - the name the design documents

@@ -18,6 +18,7 @@ ARGUMENTS = (
     ("approach_distance", "-1.0", "metres; below 0: the manifest's value"),
     ("marker_period", "2.0", "seconds between two publications of the markers; 0: once, latched"),
     ("allow_assign", "false", "open a store directory writable, so the assign service can keep its edits"),
+    ("max_query_memory", "1024", "MiB one sparql query may take; 0: no limit"),
 )
 
 
@@ -43,6 +44,7 @@ def generate_launch_description() -> LaunchDescription:
                 ),
                 "marker_period": ParameterValue(LaunchConfiguration("marker_period"), value_type=float),
                 "allow_assign": ParameterValue(LaunchConfiguration("allow_assign"), value_type=bool),
+                "max_query_memory": ParameterValue(LaunchConfiguration("max_query_memory"), value_type=int),
             }
         ],
     )

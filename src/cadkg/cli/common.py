@@ -24,12 +24,13 @@ from rich.table import Table
 
 from cadkg.errors import CadkgError, QueryError
 from cadkg.graph import KnowledgeGraph
+from cadkg.query.confinement import DEFAULT_QUERY_MEMORY
 from cadkg.store import QueryResult
 
 __all__ = [
-    "SPARQL_JSON_TASK",
     "err",
     "guarded",
+    "max_query_memory",
     "open_target",
     "out",
     "parse_params",
@@ -52,6 +53,17 @@ def _plain(value: Any) -> Any:
     if isinstance(value, datetime | date):
         return value.isoformat()
     return value
+
+
+max_query_memory = click.option(
+    "--max-query-memory",
+    type=click.IntRange(min=0),
+    default=DEFAULT_QUERY_MEMORY,
+    show_default=True,
+    metavar="MIB",
+    help="MiB of memory one query may take; past it the query is stopped (0: no limit).",
+)
+"""The option of the memory a query may take (``cadkg query``, ``cadkg serve``)."""
 
 
 def guarded(func: F) -> F:
@@ -139,10 +151,6 @@ def print_result(result: QueryResult, fmt: str) -> None:
             table.add_row(*("" if row[v] is None else str(_plain(row[v])) for v in result.variables))
         out.print(table)
         err.print(f"{len(result)} row(s)")
-
-
-# sparql_json run in a query worker, for ``cadkg query --format json --timeout``.
-SPARQL_JSON_TASK = "cadkg.cli.common:sparql_json"
 
 
 def sparql_json(graph: Any, sparql: str, bindings: dict[str, Any]) -> bytes:

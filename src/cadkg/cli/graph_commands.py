@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -12,9 +13,9 @@ from rich.table import Table
 
 import cadkg.registry as registry
 from cadkg.cli.common import (
-    SPARQL_JSON_TASK,
     err,
     guarded,
+    max_query_memory,
     open_target,
     out,
     parse_params,
@@ -89,8 +90,9 @@ def build(manifest: str, store_dir: str) -> None:
     type=click.FloatRange(min=0.1),
     default=None,
     metavar="SECONDS",
-    help="Stop the query after this long (it runs in a worker process that is then killed).",
+    help="Stop the query after this long (its process is then killed).",
 )
+@max_query_memory
 @click.option(
     "--allow-service",
     "allow_service",
@@ -105,14 +107,18 @@ def query(
     params: tuple[str, ...],
     fmt: str,
     timeout: float | None,
+    max_query_memory: int,
     allow_service: tuple[str, ...],
 ) -> None:
-    """Run a named query, a .rq file or SPARQL text; KEY=VALUE binds parameters."""
-    from cadkg.query.workers import WorkerPool, query_within
+    """Run a named query, a .rq file or SPARQL text; KEY=VALUE binds parameters.
+
+    A local graph is queried in a child process that has no network (unless --allow-service)
+    and may take --max-query-memory MiB; a remote store evaluates the query itself.
+    """
+    from cadkg.cli.confined import run_confined
+    from cadkg.remote import is_url
 
     bindings: dict[str, Any] = dict(parse_params(params))
-    kg = open_target(target, timeout=timeout)
-    kg.allowed_services = frozenset(allow_service)
     known = named_queries()
     if query in known:
         text = known[query].text
@@ -126,17 +132,20 @@ def query(
             raise QueryError(
                 f"{query!r} is not a named query, a .rq file or SPARQL; named: {', '.join(known)}"
             )
-    # A remote store evaluates the query itself: there the timeout is its HTTP client's.
-    if timeout is None or kg.remote:
+
+    def answer(ready: Callable[[], None]) -> None:
+        kg = open_target(target, timeout=timeout)
+        kg.allowed_services = frozenset(allow_service)
+        ready()
         if fmt == "json":
             write_bytes(sparql_json(kg, text, bindings))
         else:
             print_result(kg.query(text, **bindings), fmt)
-    elif fmt == "json":
-        with WorkerPool(kg) as workers:
-            write_bytes(workers.call(SPARQL_JSON_TASK, (text, bindings), seconds=timeout))
+
+    if is_url(target):  # a remote store evaluates the query: the timeout is its HTTP client's
+        answer(lambda: None)
     else:
-        print_result(query_within(kg, text, timeout, **bindings), fmt)
+        run_confined(answer, seconds=timeout, memory=max_query_memory, network=bool(allow_service))
 
 
 @click.command()

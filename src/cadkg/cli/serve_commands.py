@@ -9,7 +9,7 @@ from typing import Any
 
 import click
 
-from cadkg.cli.common import err, guarded, open_target, store_auth
+from cadkg.cli.common import err, guarded, max_query_memory, open_target, store_auth
 from cadkg.graph import KnowledgeGraph
 
 __all__ = ["ros", "serve"]
@@ -52,6 +52,7 @@ __all__ = ["ros", "serve"]
 @click.option(
     "--workers", type=click.IntRange(min=1), default=4, show_default=True, help="Queries evaluated at once."
 )
+@max_query_memory
 @click.option(
     "--cache-mb", type=click.IntRange(min=0), default=64, show_default=True, help="Answer cache (0: none)."
 )
@@ -94,6 +95,7 @@ def serve(
     max_rows: int,
     max_body: int,
     workers: int,
+    max_query_memory: int,
     cache_mb: int,
     watch: float,
     allow_service: tuple[str, ...],
@@ -125,7 +127,9 @@ def serve(
             return KnowledgeGraph.open(target, read_only=False)
         return open_target(target)
 
-    limits = Limits(timeout=timeout, max_rows=max_rows, max_body=max_body, workers=workers)
+    limits = Limits(
+        timeout=timeout, max_rows=max_rows, max_body=max_body, workers=workers, query_memory=max_query_memory
+    )
     settings = Settings(
         limits=limits,
         allow_update=allow_update,

@@ -14,6 +14,11 @@ new interpreter takes. A child dies with the fork server, which ends with its pa
 ``"module:function"``: ``function(graph, *args)`` with the snapshot opened as a read-only
 :class:`~cadkg.store.GraphStore` holding the parent's ``allowed_services``.
 
+A worker is confined (:mod:`cadkg.query.confinement`): it leaves the network as it starts,
+unless its pool allows a ``SERVICE`` endpoint, and once the snapshot is open its memory may grow
+by ``memory`` MiB only; a worker that dies past it is answered as
+:class:`~cadkg.errors.MemoryLimitError` and replaced when next needed.
+
 >>> with WorkerPool(graph) as workers:                      # doctest: +SKIP
 ...     workers.query("SELECT (COUNT(*) AS ?n) WHERE { ?s ?p ?o }", seconds=5)
 
@@ -26,6 +31,7 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import importlib
+import math
 import multiprocessing
 import pickle
 import signal
@@ -39,6 +45,13 @@ from typing import Any, Self
 import pyoxigraph as ox
 
 from cadkg.errors import CadkgError, QueryError, StoreError, TimeLimitError
+from cadkg.query.confinement import (
+    DEFAULT_QUERY_MEMORY,
+    exceeded,
+    leave_network,
+    limit_memory,
+    warn_unconfined,
+)
 from cadkg.store import GraphStore, QueryResult
 
 __all__ = ["WorkerPool", "query_within"]
@@ -80,11 +93,20 @@ def _task(name: str) -> Callable[..., Any]:
     return found
 
 
-def _serve(conn: Connection, directory: str, allowed: frozenset[str], modules: tuple[str, ...]) -> None:
-    """A child's life: import its tasks' modules (when the fork server has not), open the
-    snapshot, say so, then answer requests until the pipe closes."""
+def _left(until: float) -> float | None:
+    """Seconds from now to the monotonic time ``until``; ``None`` (no limit) for an infinite one."""
+    return None if math.isinf(until) else max(until - time.monotonic(), 0.0)
+
+
+def _serve(
+    conn: Connection, directory: str, allowed: frozenset[str], modules: tuple[str, ...], memory: int
+) -> None:
+    """A child's life: leave the network (unless it may reach ``allowed`` endpoints), import its
+    tasks' modules (when the fork server has not), open the snapshot, limit its memory, say so
+    (with why it could not leave the network, if so), then answer requests until the pipe closes."""
     _die_with_parent()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    unconfined = None if allowed else leave_network()
     for module in modules:
         importlib.import_module(module)
     try:
@@ -93,7 +115,8 @@ def _serve(conn: Connection, directory: str, allowed: frozenset[str], modules: t
         conn.send(("error", StoreError(f"cannot open the graph for a query worker: {err}")))
         return
     graph.allowed_services = allowed
-    conn.send(("ready", None))
+    limit_memory(memory)
+    conn.send(("ready", unconfined))
     tasks: dict[str, Callable[..., Any]] = {}
     while True:
         try:
@@ -107,6 +130,8 @@ def _serve(conn: Connection, directory: str, allowed: frozenset[str], modules: t
             reply = ("ok", tasks[name](graph, *args))
         except CadkgError as err:
             reply = ("error", _portable(err))
+        except MemoryError:
+            reply = ("error", exceeded(memory))
         except Exception as err:  # a task's bug: one line to the caller, the worker goes on
             reply = ("error", QueryError(f"{type(err).__name__}: {err}"))
         try:
@@ -124,18 +149,27 @@ class _Worker:
     """One child process and the pipe to it."""
 
     def __init__(
-        self, context: ForkServerContext, directory: str, allowed: frozenset[str], modules: tuple[str, ...]
+        self,
+        context: ForkServerContext,
+        directory: str,
+        allowed: frozenset[str],
+        modules: tuple[str, ...],
+        memory: int,
     ) -> None:
         self.conn, theirs = context.Pipe()
-        args = (theirs, directory, allowed, modules)
+        args = (theirs, directory, allowed, modules, memory)
         self.process = context.Process(target=_serve, args=args, daemon=True)
         self.process.start()
         theirs.close()
+        self.memory = memory
         self.ready = False
 
     def _died(self) -> QueryError:
         self.process.join(1)
         code = self.process.exitcode
+        if self.ready and self.memory and code is not None and code < 0:
+            # Killed by a signal while answering: an allocation past the limit aborts pyoxigraph.
+            return exceeded(self.memory)
         return QueryError(f"the query's worker process ended unexpectedly (exit code {code})")
 
     def wait_ready(self, until: float) -> bool:
@@ -149,13 +183,15 @@ class _Worker:
         if self.ready:
             return True
         try:
-            if not self.conn.poll(max(until - time.monotonic(), 0.0)):
+            if not self.conn.poll(_left(until)):
                 return False
             status, value = self.conn.recv()
         except (EOFError, OSError):
             raise self._died() from None
         if status != "ready":
             raise value
+        if value is not None:
+            warn_unconfined(value)
         self.ready = True
         return True
 
@@ -171,7 +207,7 @@ class _Worker:
         """
         try:
             self.conn.send(request)
-            if not self.conn.poll(max(until - time.monotonic(), 0.0)):
+            if not self.conn.poll(_left(until)):
                 raise TimeLimitError(f"the query ran past the time limit of {seconds:g} s and was stopped")
             reply: tuple[str, Any] = self.conn.recv()
         except (EOFError, OSError):
@@ -192,7 +228,8 @@ class WorkerPool:
     removed by :meth:`close` once the last running query has ended. Workers start when first
     needed (or at :meth:`prestart`) and are kept while they answer in time; one killed is
     replaced at once, so the next query finds it ready. Thread-safe. Queries may reach the
-    ``allowed_services`` (by default the graph's own, :attr:`GraphStore.allowed_services`).
+    ``allowed_services`` (by default the graph's own, :attr:`GraphStore.allowed_services`): only
+    then do the workers keep the network. A query may take ``memory`` MiB (0: no limit).
     ``preload`` names the modules of the tasks: the fork server imports them if it starts now,
     else each worker does before it says it is ready, so no query waits for an import.
 
@@ -209,12 +246,14 @@ class WorkerPool:
         *,
         allowed_services: Iterable[str] | None = None,
         preload: Iterable[str] = (),
+        memory: int = DEFAULT_QUERY_MEMORY,
     ) -> None:
         self.size = size
         self.snapshot = graph.snapshot()
         allowed = graph.allowed_services if allowed_services is None else allowed_services
         self._allowed = frozenset(allowed)
         self._modules = tuple(preload)
+        self._memory = memory
         self._context = _context(self._modules)
         self._slots = threading.BoundedSemaphore(size)
         self._lock = threading.Lock()
@@ -239,7 +278,7 @@ class WorkerPool:
         With ``at`` (a monotonic time) everything counts, waiting for a worker too, and the
         worker has ``grace`` more seconds for a task that stops by itself at ``at`` (keeping its
         worker); without, the clock starts when the worker is ready (starting one may take a
-        second the first time).
+        second the first time). ``seconds`` may be ``math.inf``: no time limit.
 
         Raises
         ------
@@ -250,7 +289,8 @@ class WorkerPool:
         """
         until = at if at is not None else time.monotonic() + _START + seconds
         late = TimeLimitError(f"the query ran past the time limit of {seconds:g} s waiting for a worker")
-        if not self._slots.acquire(timeout=max(until - time.monotonic(), 0.0)):
+        left = _left(until)
+        if not self._slots.acquire(timeout=-1 if left is None else left):
             raise late
         try:
             worker = self._take()
@@ -327,7 +367,7 @@ class WorkerPool:
         self._done(worker)
 
     def _start(self) -> _Worker:
-        worker = _Worker(self._context, str(self.snapshot.path), self._allowed, self._modules)
+        worker = _Worker(self._context, str(self.snapshot.path), self._allowed, self._modules, self._memory)
         with self._lock:
             self.started += 1
         return worker

@@ -31,14 +31,17 @@ import cadkg.registry as registry
 import cadkg.services.table as services
 from cadkg.errors import CadkgError
 from cadkg.graph import KnowledgeGraph
+from cadkg.query.confinement import DEFAULT_QUERY_MEMORY
 from cadkg.query.frames import label_frames
+from cadkg.query.workers import WorkerPool
 from cadkg.ros_adapter import convert
+from cadkg.ros_adapter.sparql import SPARQL_TEXT_TASK, sparql_text
 from cadkg.services.frames import marker_specs, static_frames
 from cadkg.services.session import Session
 from cadkg.usecases.iema.derive.cabinet import CellModel, derive_cell
 from cadkg.usecases.iema.derive.extract import Placements, extract, placements
 
-__all__ = ["CadkgNode", "Loaded", "default_namespace", "load", "main", "srv_type"]
+__all__ = ["CadkgNode", "Loaded", "default_namespace", "load", "main", "sparql_text", "srv_type"]
 
 DEFAULT_NAMESPACE = "/cadkg"
 # Seconds between two publications of the markers (see CadkgNode).
@@ -144,13 +147,18 @@ class CadkgNode:
         node.declare_parameter("approach_distance", -1.0)
         node.declare_parameter("marker_period", MARKER_PERIOD)
         node.declare_parameter("allow_assign", False)
+        node.declare_parameter("max_query_memory", DEFAULT_QUERY_MEMORY)
         self.source = str(node.get_parameter("source").value)
         if not self.source:
             raise CadkgError("parameter 'source' (a manifest or a store directory) is required")
         distance = float(node.get_parameter("approach_distance").value)
         self.approach_distance = distance if distance >= 0 and math.isfinite(distance) else None
         self.allow_assign = bool(node.get_parameter("allow_assign").value)
+        self.query_memory = max(int(node.get_parameter("max_query_memory").value), 0)
         self._lock = threading.Lock()
+        # The sparql service's worker, with the cell model of the graph it has a snapshot of.
+        self._workers: WorkerPool | None = None
+        self._workers_of: object = None
         self.loaded = load(self.source, self.approach_distance, writable=self.allow_assign)
         self.profile = str(node.get_parameter("profile").value) or self.loaded.profile
         # Relative names: the node's namespace (``--ros-args -r __ns:=/cell2``, a launch file's
@@ -236,12 +244,33 @@ class CadkgNode:
             bindings = json.loads(request.bindings_json) if request.bindings_json.strip() else {}
             if not isinstance(bindings, dict):
                 raise CadkgError("bindings_json: expected a JSON object of variable -> value")
+            args = (request.query, bindings, request.format)
             with self._lock:
-                response.result = sparql_text(self.loaded.kg, request.query, bindings, request.format)
+                kg, workers = self.loaded.kg, self._query_workers()
+            if workers is None:  # a remote store evaluates the query itself
+                response.result = sparql_text(kg, *args)
+            else:
+                response.result = workers.call(SPARQL_TEXT_TASK, args, seconds=math.inf)
             response.success, response.message = True, "ok"
         except (CadkgError, ValueError) as err:
             response.success, response.message = False, str(err)
         return response
+
+    def _query_workers(self) -> WorkerPool | None:
+        """The worker answering ``sparql`` (no network, bounded memory: see
+        :mod:`cadkg.query.confinement`), made again once the graph has changed (an assignment,
+        loaded files, a reload: the cell model is derived afresh after every change). Call under
+        the lock."""
+        kg = self.loaded.kg
+        if kg.remote:
+            return None
+        model = kg.cell_model()
+        if self._workers is None or self._workers_of is not model:
+            if self._workers is not None:
+                self._workers.close()  # its running query ends first
+            self._workers = WorkerPool(kg, preload=("cadkg.ros_adapter.sparql",), memory=self.query_memory)
+            self._workers_of = model
+        return self._workers
 
     def _reload(self, request: Any, response: Any) -> Any:
         try:
@@ -369,37 +398,9 @@ class CadkgNode:
 
     def destroy(self) -> None:
         self.node.destroy_node()
+        if self._workers is not None:
+            self._workers.close()
         self.loaded.kg.close()
-
-
-def sparql_text(kg: KnowledgeGraph, query: str, bindings: dict[str, Any], fmt: str) -> str:
-    """A query's result as text: SPARQL JSON or CSV results for SELECT/ASK, Turtle or JSON-LD for graphs.
-
-    Raises
-    ------
-    CadkgError
-        On a bad query, binding or format.
-    """
-    import pyoxigraph as ox
-
-    fmt = (fmt or "json").lower()
-    if fmt not in ("json", "csv", "turtle"):
-        raise CadkgError(f"unknown format {fmt!r}; one of json, csv, turtle")
-    result = kg.raw_query(query, bindings)
-    if isinstance(result, ox.QueryTriples):
-        graph_format = {"turtle": ox.RdfFormat.TURTLE, "json": ox.RdfFormat.JSON_LD}.get(fmt)
-        if graph_format is None:
-            raise CadkgError("a CONSTRUCT or DESCRIBE result is given as turtle or json (JSON-LD)")
-        data = result.serialize(format=graph_format)
-    else:
-        results_format = {"json": ox.QueryResultsFormat.JSON, "csv": ox.QueryResultsFormat.CSV}.get(fmt)
-        if results_format is None:
-            raise CadkgError("a SELECT or ASK result is given as json or csv")
-        if isinstance(result, ox.QueryBoolean) and fmt == "csv":
-            return "true" if bool(result) else "false"
-        data = result.serialize(format=results_format)
-    assert data is not None
-    return bytes(data).decode("utf-8")
 
 
 def _arguments(argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]:

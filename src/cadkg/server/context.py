@@ -15,6 +15,7 @@ from typing import Any
 from starlette.responses import Response
 
 from cadkg.errors import CadkgError, NotFound, QueryError, StoreError
+from cadkg.query.confinement import leave_network_or_warn
 from cadkg.server.holder import GraphHolder, Served
 from cadkg.server.limits import BodyTooLargeError, Deadline, Evaluator, Limits, TimeLimitError
 from cadkg.server.results import NotAcceptableError
@@ -211,6 +212,9 @@ class Endpoint:
         # (services, info, updates), so a burst of slow queries delays no service call.
         self.evaluator = Evaluator(settings.limits.workers)
         self.local = Evaluator(settings.limits.workers)
+        # SPARQL updates: on a thread that has left the network (a LOAD fails to connect),
+        # unless --allow-service names endpoints a LOAD may reach.
+        self.writer = Evaluator(1, None if settings.allowed_services else leave_network_or_warn)
         self.cache = AnswerCache(settings.cache_bytes)
         self.requests = 0
         self.retried = 0

@@ -140,6 +140,7 @@ def pool_maker(settings: Settings) -> Callable[[Any], WorkerPool | None]:
             settings.limits.workers,
             allowed_services=settings.allowed_services,
             preload=("cadkg.server.isolation",),
+            memory=settings.limits.query_memory,
         )
 
     return make

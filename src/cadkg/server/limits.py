@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from typing import TypeVar
 
 from cadkg.errors import CadkgError, TimeLimitError
+from cadkg.query.confinement import DEFAULT_QUERY_MEMORY
 
 __all__ = ["BodyTooLargeError", "Deadline", "Evaluator", "Limits", "TimeLimitError"]
 
@@ -38,10 +39,13 @@ class Limits:
     max_rows: int = 10_000
     max_body: int = 1 << 20
     workers: int = 4
+    query_memory: int = DEFAULT_QUERY_MEMORY  # MiB a query's worker may grow by (0: no limit)
 
     def __post_init__(self) -> None:
         if not self.timeout > 0 or self.max_rows < 1 or self.max_body < 1 or self.workers < 1:
             raise ValueError(f"limits must be positive: {self}")
+        if self.query_memory < 0:
+            raise ValueError(f"query_memory is MiB, 0 for no limit: {self}")
 
 
 class BodyTooLargeError(CadkgError):
@@ -83,10 +87,13 @@ class Deadline:
 
 
 class Evaluator:
-    """A bounded pool of threads running blocking jobs, each against a :class:`Deadline`."""
+    """A bounded pool of threads running blocking jobs, each against a :class:`Deadline`;
+    ``initializer`` runs first in each thread."""
 
-    def __init__(self, workers: int) -> None:
-        self._pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="cadkg-query")
+    def __init__(self, workers: int, initializer: Callable[[], None] | None = None) -> None:
+        self._pool = ThreadPoolExecutor(
+            max_workers=workers, thread_name_prefix="cadkg-query", initializer=initializer
+        )
         self._lock = threading.Lock()
         self.running = 0
 

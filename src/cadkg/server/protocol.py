@@ -129,7 +129,7 @@ async def read_operation(request: Request, limit: int) -> Operation:
                 415, f"a POST is {_FORM}, {_QUERY} or {_UPDATE}, not {media or 'without a content type'}"
             )
     queries, updates = _pick(pairs, "query"), _pick(pairs, "update")
-    if request.method == "GET" and updates:
+    if request.method != "POST" and updates:
         raise ProtocolError(400, "an update is sent by POST, never by GET")
     if body_text is None:
         if len(queries) + len(updates) != 1:
@@ -226,7 +226,7 @@ async def _update(endpoint: Endpoint, request: Request, op: Operation, deadline:
     # An update is never retried on another graph: it ran, or it failed as a whole.
     served = endpoint.holder.acquire()
     try:
-        answer = await endpoint.local.run(make_job(served), deadline)
+        answer = await endpoint.writer.run(make_job(served), deadline)
         return endpoint.respond(answer, served.generation)
     finally:
         served.release()
@@ -257,13 +257,13 @@ def _target(request: Request) -> str | None:
 
 
 async def graph_store(request: Request) -> Response:
-    """``/graph-store``: read a named graph (GET, HEAD) or, with the token, replace (PUT), add
-    to (POST) or remove (DELETE) it."""
+    """``/graph-store``: read a named graph (GET; a HEAD comes as a GET) or, with the token,
+    replace (PUT), add to (POST) or remove (DELETE) it."""
     endpoint: Endpoint = request.app.state.endpoint
     deadline = Deadline(endpoint.limits.timeout)
     try:
         graph_iri = _target(request)
-        if request.method in ("GET", "HEAD"):
+        if request.method == "GET":
             return await _read_graph(endpoint, request, graph_iri, deadline)
         endpoint.check_token(request.headers.get("authorization"))
         if graph_iri is None:
@@ -300,10 +300,7 @@ async def _read_graph(
         return job
 
     answer, generation = await endpoint.run(make_job, ("graph-store", graph_iri, fmt.name), deadline)
-    response = endpoint.respond(answer, generation)
-    if request.method == "HEAD":
-        response.body = b""
-    return response
+    return endpoint.respond(answer, generation)
 
 
 async def _write_graph(

@@ -122,6 +122,7 @@ def test_the_launch_file_passes_the_parameters_the_node_declares() -> None:
         "approach_distance",
         "marker_period",
         "allow_assign",
+        "max_query_memory",
     ]
     node = next(n for n in ast.walk(tree) if isinstance(n, ast.Call) and getattr(n.func, "id", "") == "Node")
     keywords = {k.arg: k.value for k in node.keywords}
