@@ -250,10 +250,12 @@ class CadkgNode:
             return response
         with self._lock:
             old, self.loaded = self.loaded, fresh
+            # Every cursor stays on its wire or operation, found again by what identifies it.
+            notes = fresh.session.carry_over(old.session)
             old.kg.close()
         self.publish()
         response.success = True
-        response.message = f"reloaded {self.source}; cursors rewound"
+        response.message = f"reloaded {self.source}" + "".join(f"; {note}" for note in notes)
         return response
 
     def _assign(self, request: Any, response: Any) -> Any:
@@ -268,7 +270,7 @@ class CadkgNode:
                 # The cursors go on where they were, over the work now left to the robot.
                 model = loaded.kg.cell_model()
                 session = Session(model, kg=loaded.kg)
-                session.load(loaded.session.dump())
+                session.carry_over(loaded.session)
                 loaded.model, loaded.session = model, session
         except CadkgError as err:
             response.success, response.message = False, str(err)

@@ -34,6 +34,9 @@ class Served:
         self.lock = threading.Lock()  # one writer at a time; one service call at a time
         self._refs = threading.Lock()
         self._session: Session | None = None
+        # The session of the graph this one replaced, whose cursors the next session takes over.
+        self._previous: Session | None = None
+        self.cursor_notes: list[str] = []
         self._triples: int | None = None
         self._workers: Any = None
         self._workers_lock = threading.Lock()
@@ -48,8 +51,16 @@ class Served:
     def session(self) -> Session:
         """The services' session (cell model and cursors), built on first use. Call under :attr:`lock`."""
         if self._session is None:
-            self._session = Session(self.graph.cell_model(), kg=self.graph)
+            session = Session(self.graph.cell_model(), kg=self.graph)
+            if self._previous is not None:
+                self.cursor_notes = session.carry_over(self._previous)
+                self._previous = None
+            self._session = session
         return self._session
+
+    def inherit(self, old: Served) -> None:
+        """Take over the cursors of ``old``, the graph this one replaces (on the same wire or operation)."""
+        self._previous = old._session or old._previous
 
     def triples(self) -> int:
         """How many triples the graph holds, counted once per change."""
@@ -88,6 +99,7 @@ class Served:
         """After an update: new cache keys, and a session and workers made afresh from the
         changed graph. Call under :attr:`lock`."""
         self.edits += 1
+        self._previous = self._session or self._previous
         self._session = None
         self._triples = None
         self._retire_workers()
@@ -162,6 +174,7 @@ class GraphHolder:
         """Serve ``fresh`` from now on; returns the previous and the new generation."""
         with self._swap:
             old, self._current = self._current, fresh
+            fresh.inherit(old)
             self.reloads += 1
         old.release()
         return old.generation, fresh.generation
