@@ -37,6 +37,8 @@ class Served:
         # The session of the graph this one replaced, whose cursors the next session takes over.
         self._previous: Session | None = None
         self.cursor_notes: list[str] = []
+        # Told of every change of this graph in place (an update, an assignment, load_files).
+        self.notify: Callable[[Served], None] | None = None
         self._triples: int | None = None
         self._workers: Any = None
         self._workers_lock = threading.Lock()
@@ -103,6 +105,8 @@ class Served:
         self._session = None
         self._triples = None
         self._retire_workers()
+        if self.notify is not None:
+            self.notify(self)
 
     def retain(self) -> None:
         with self._refs:
@@ -128,6 +132,9 @@ class GraphHolder:
         belongs to the caller."""
         self._current = Served(graph, owned=load is not None)
         self._load = load
+        # Told of the graph served after every change: a reload, or a change in place.
+        self.on_change: Callable[[Served], None] | None = None
+        self._current.notify = self._changed
         self._swap = threading.Lock()
         self.reloads = 0
 
@@ -168,7 +175,13 @@ class GraphHolder:
         """
         if self._load is None:
             raise RuntimeError("this endpoint serves a graph it cannot reopen")
-        return Served(self._load())
+        fresh = Served(self._load())
+        fresh.notify = self._changed
+        return fresh
+
+    def _changed(self, served: Served) -> None:
+        if self.on_change is not None:
+            self.on_change(served)
 
     def swap(self, fresh: Served) -> tuple[str, str]:
         """Serve ``fresh`` from now on; returns the previous and the new generation."""
@@ -177,6 +190,7 @@ class GraphHolder:
             fresh.inherit(old)
             self.reloads += 1
         old.release()
+        self._changed(fresh)
         return old.generation, fresh.generation
 
     def reload(self) -> tuple[str, str]:
