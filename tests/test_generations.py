@@ -30,6 +30,11 @@ def _live(store: Path) -> str:
     return (store / "CURRENT").read_text().strip()
 
 
+def _kept(store: Path) -> list[str]:
+    """What a store directory holds after a rebuild: the live generation and the one before it."""
+    return sorted(["CURRENT", "PREVIOUS", _live(store), (store / "PREVIOUS").read_text().strip()])
+
+
 def test_a_build_killed_midway_is_removed_by_the_next(tmp_path: Path) -> None:
     store = tmp_path / "store"
     manifest = synthetic_manifest(tmp_path / "cell", 20_000, cabinet=False)
@@ -56,7 +61,7 @@ def test_a_build_killed_midway_is_removed_by_the_next(tmp_path: Path) -> None:
     assert len(left) == 1 and _live(store) == first  # what kill -9 leaves, the store intact
 
     cadkg.build(IEMA, store).close()
-    assert _entries(store) == ["CURRENT", _live(store)]
+    assert _entries(store) == _kept(store)
 
 
 def test_a_generation_a_live_process_holds_is_kept(tmp_path: Path) -> None:
@@ -76,12 +81,12 @@ def test_a_generation_a_live_process_holds_is_kept(tmp_path: Path) -> None:
     try:
         assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
         cadkg.build(IEMA, store).close()
-        assert _entries(store) == sorted(["CURRENT", _live(store), building.name, f".{building.name}.lock"])
+        assert _entries(store) == sorted([*_kept(store), building.name, f".{building.name}.lock"])
     finally:
         holder.kill()
         holder.wait(30)
     cadkg.build(IEMA, store).close()
-    assert _entries(store) == ["CURRENT", _live(store)]
+    assert _entries(store) == _kept(store)
 
 
 def test_a_claim_is_exclusive_and_released(tmp_path: Path) -> None:

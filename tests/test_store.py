@@ -206,7 +206,13 @@ def test_rebuild_replaces_the_generation(tmp_path: Path) -> None:
     cadkg.build(IEMA, store).close()
     second = (store / "CURRENT").read_text().strip()
     assert first != second
-    assert sorted(p.name for p in store.iterdir()) == ["CURRENT", second]
+    # The replaced generation is kept as the previous one (for 'cadkg diff STORE') ...
+    assert sorted(p.name for p in store.iterdir()) == sorted(["CURRENT", "PREVIOUS", first, second])
+    assert (store / "PREVIOUS").read_text().strip() == first
+    cadkg.build(IEMA, store).close()
+    third = (store / "CURRENT").read_text().strip()
+    # ... until the next build replaces it.
+    assert sorted(p.name for p in store.iterdir()) == sorted(["CURRENT", "PREVIOUS", second, third])
 
 
 def test_refuses_to_build_into_a_foreign_directory(tmp_path: Path) -> None:

@@ -8,7 +8,8 @@ was and readers never see half a build.
 A build killed before its end leaves its generation behind. Each build therefore holds an
 exclusive ``flock`` on ``.gen-*.lock`` beside its generation while it writes (the kernel drops it
 when the process dies, however it dies), and the next successful build into the directory
-removes every generation that is neither live nor held. The query workers of ``cadkg serve``
+removes every generation that is neither live, nor the one live before it (``PREVIOUS``, kept
+for ``cadkg diff STORE``), nor held. The query workers of ``cadkg serve``
 read a snapshot of the store (:func:`take_snapshot`), held the same way while served.
 """
 
@@ -34,6 +35,7 @@ import pyoxigraph as ox
 from cadkg.errors import StoreError
 
 __all__ = [
+    "PREVIOUS",
     "Claim",
     "Snapshot",
     "checkpoint",
@@ -50,6 +52,7 @@ __all__ = [
 ]
 
 CURRENT = "CURRENT"
+PREVIOUS = "PREVIOUS"  # names the generation live before the current one
 GENERATION = "gen-"  # the name of each generation directory starts so
 SNAPSHOT = ".snapshot-"  # and of each snapshot the query workers read
 _LOCK = ".lock"
@@ -58,9 +61,9 @@ KILL_AT = "CADKG_KILL_AT"
 _SCRATCH = "cadkg-snapshot-"  # a snapshot of an in-memory graph, in the temporary directory
 
 
-def read_pointer(directory: Path) -> str | None:
+def read_pointer(directory: Path, pointer: str = CURRENT) -> str | None:
     try:
-        return (directory / CURRENT).read_text(encoding="utf-8").strip() or None
+        return (directory / pointer).read_text(encoding="utf-8").strip() or None
     except FileNotFoundError:
         return None
 
@@ -237,9 +240,9 @@ def checkpoint(store: ox.Store, live: Path, directory: Path, files: str) -> Iter
 
 
 def remove_stale(directory: Path, keep: str | None = None) -> list[str]:
-    """Remove the generations and snapshots of ``directory`` that are neither live, nor
-    ``keep``, nor held by a running process; returns their names."""
-    live = {read_pointer(directory), keep}
+    """Remove the generations and snapshots of ``directory`` that are neither live, nor the
+    previous one, nor ``keep``, nor held by a running process; returns their names."""
+    live = {read_pointer(directory), read_pointer(directory, PREVIOUS), keep}
     removed = []
     for entry in sorted(directory.iterdir()):
         name = entry.name
@@ -272,8 +275,9 @@ def _remove_unheld(entry: Path) -> bool:
 
 
 def publish_generation(directory: Path, generation: Path) -> None:
-    """Make the complete ``generation`` the live one with one atomic rename; drop the previous
-    one and whatever killed builds and servers left (:func:`remove_stale`)."""
+    """Make the complete ``generation`` the live one with one atomic rename; keep the one it
+    replaces as ``PREVIOUS``, and drop the one before and whatever killed builds and servers
+    left (:func:`remove_stale`)."""
     name = generation.name
     pointer = directory / f".{CURRENT}.{name}"
     pointer.write_text(name + "\n", encoding="utf-8")
@@ -282,7 +286,9 @@ def publish_generation(directory: Path, generation: Path) -> None:
     pointer.replace(directory / CURRENT)
     crash_point("publish:renamed")
     if previous is not None and previous != name:
-        shutil.rmtree(directory / previous, ignore_errors=True)
+        kept = directory / f".{PREVIOUS}.{name}"
+        kept.write_text(previous + "\n", encoding="utf-8")
+        kept.replace(directory / PREVIOUS)
     remove_stale(directory, keep=name)
 
 

@@ -95,3 +95,5 @@ class UseCase:
     # Its own checks of a graph for ``cadkg validate``: ``checks(graph)`` gives
     # :class:`cadkg.query.validate.Finding` s (names one file gives and no other defines ...).
     checks: Callable[[Any], Iterable[Any]] | None = None
+    # A folder of the kinds of things a revision diff compares (``.rq``, see cadkg.changes.kinds).
+    changes: Traversable | Path | None = None

@@ -47,7 +47,9 @@ def test_rebuild_while_serving_loses_no_request(store: Path) -> None:
         for thread in threads:
             thread.start()
         time.sleep(0.5)
-        # The build writes a new generation, switches CURRENT and deletes the served one's files.
+        # The builds write new generations and switch CURRENT; the second deletes the served
+        # one's files (the first keeps it as the previous generation).
+        KnowledgeGraph.build(IEMA, store).close()
         KnowledgeGraph.build(IEMA, store).close()
         after = (store / "CURRENT").read_text().strip()
         deadline = time.monotonic() + 20
@@ -61,7 +63,7 @@ def test_rebuild_while_serving_loses_no_request(store: Path) -> None:
     assert failures == []
     assert answers and all(status == 200 and count == "110" for status, count, _ in answers)
     generations = {g for _, _, g in answers}
-    assert generations == {before, after}
+    assert {before, after} <= generations and len(generations) <= 3
     assert not (store / before).exists()
 
 

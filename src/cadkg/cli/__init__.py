@@ -11,6 +11,7 @@ from collections.abc import Sequence
 
 import click
 
+from cadkg.cli.change_commands import diff
 from cadkg.cli.common import err
 from cadkg.cli.graph_commands import build, export, kinds, push, queries, query, validate
 from cadkg.cli.serve_commands import ros, serve
@@ -37,6 +38,7 @@ def cli(debug: bool, auth: str | None, auth_digest: str | None) -> None:
 
 for command in (
     build,
+    diff,
     query,
     push,
     queries,

@@ -35,6 +35,7 @@ from cadkg.query.confinement import DEFAULT_QUERY_MEMORY
 from cadkg.query.frames import label_frames
 from cadkg.query.workers import WorkerPool
 from cadkg.ros_adapter import convert
+from cadkg.ros_adapter.changes import RosChangeFeed
 from cadkg.ros_adapter.sparql import SPARQL_TEXT_TASK, sparql_text
 from cadkg.services.frames import marker_specs, static_frames
 from cadkg.services.session import Session
@@ -54,6 +55,10 @@ def default_namespace(profile: str) -> str:
         return registry.use_case(profile).ros_namespace or DEFAULT_NAMESPACE
     except KeyError:
         return DEFAULT_NAMESPACE
+
+
+# The services that change the graph in place (the others read it or move a cursor).
+_GRAPH_CHANGING = frozenset({"load_files"})
 
 
 def srv_type(name: str) -> Any:
@@ -192,6 +197,8 @@ class CadkgNode:
         self._frame_ids: list[str] = []
         self._marker_message: MarkerArray | None = None
         self.publish()
+        self.changes = RosChangeFeed(node)
+        self.changes.changed(self.loaded.kg, self._revision())
         # RViz's Marker display subscribes volatile by default: it sees what is published after
         # it joined, so the markers go out again every marker_period seconds (0: only once).
         period = float(node.get_parameter("marker_period").value)
@@ -228,6 +235,8 @@ class CadkgNode:
                     result = services.call(
                         self.loaded.session, name, params, client=convert.client_of(request)
                     )
+                if name in _GRAPH_CHANGING and getattr(result, "success", False):
+                    self.changes.changed(self.loaded.kg, self._revision())
                 data = (
                     convert.response(result)
                     if type(result).__name__ in convert.FIELDS
@@ -282,10 +291,13 @@ class CadkgNode:
             return response
         with self._lock:
             old, self.loaded = self.loaded, fresh
+            # Every cursor stays on its wire or operation, found again by what identifies it.
+            notes = fresh.session.carry_over(old.session)
             old.kg.close()
+        self.changes.changed(fresh.kg, self._revision())
         self.publish()
         response.success = True
-        response.message = f"reloaded {self.source}; cursors rewound"
+        response.message = f"reloaded {self.source}" + "".join(f"; {note}" for note in notes)
         return response
 
     def refusal(self, name: str) -> str:
@@ -310,8 +322,9 @@ class CadkgNode:
                 # The cursors go on where they were, over the work now left to the robot.
                 model = loaded.kg.cell_model()
                 session = Session(model, kg=loaded.kg)
-                session.load(loaded.session.dump())
+                session.carry_over(loaded.session)
                 loaded.model, loaded.session = model, session
+            self.changes.changed(loaded.kg, self._revision())
         except CadkgError as err:
             response.success, response.message = False, str(err)
             return response
@@ -396,7 +409,12 @@ class CadkgNode:
         if self._marker_message is not None:
             self._markers.publish(self._marker_message)
 
+    def _revision(self) -> str:
+        """What the graph served now is called in a change set: its generation, or its source."""
+        return str(getattr(self.loaded.kg, "generation", None) or self.source)
+
     def destroy(self) -> None:
+        self.changes.shutdown()
         self.node.destroy_node()
         if self._workers is not None:
             self._workers.close()

@@ -30,6 +30,8 @@ import cadkg.server.workbench.routes as workbench
 from cadkg.errors import StoreError
 from cadkg.server.api import CLIENT_HEADER
 from cadkg.server.context import Endpoint, Settings
+from cadkg.server.feed import ServerFeed
+from cadkg.server.feed import changes as changes_feed
 from cadkg.server.holder import GraphHolder
 from cadkg.server.isolation import pool_maker
 from cadkg.server.protocol import graph_store, sparql
@@ -185,6 +187,7 @@ def create_app(
     else:
         holder = GraphHolder(graph_or_loader)
     endpoint = Endpoint(holder, settings)
+    feed = ServerFeed(holder)
 
     @contextlib.asynccontextmanager
     async def lifespan(app: Starlette) -> AsyncIterator[None]:
@@ -193,6 +196,7 @@ def create_app(
             watcher = asyncio.create_task(_watch(endpoint, settings.watch_seconds))
         # The first query should not wait for the snapshot and the first worker process.
         ready = asyncio.create_task(asyncio.to_thread(_prepare, holder, settings))
+        feed.changed(holder.current)  # what the first change is compared with
         try:
             yield
         finally:
@@ -200,6 +204,7 @@ def create_app(
                 watcher.cancel()
             with contextlib.suppress(Exception):
                 await ready
+            feed.shutdown()
             endpoint.evaluator.shutdown()
             endpoint.local.shutdown()
             endpoint.writer.shutdown()
@@ -222,6 +227,7 @@ def create_app(
             Route("/api/scene", workbench.scene, methods=["GET"]),
             Route("/api/mesh/{path:path}", workbench.mesh, methods=["GET"]),
             Route("/api/assign", api.assign, methods=["GET", "POST"]),
+            Route("/api/changes", changes_feed, methods=["GET"]),
             Route("/api/{service}", api.service, methods=methods),
             Route("/reload", api.reload, methods=["POST"]),
             Mount("/static", StaticFiles(directory=STATIC), name="static"),
@@ -229,6 +235,7 @@ def create_app(
         lifespan=lifespan,
     )
     app.state.endpoint = endpoint
+    app.state.feed = feed
     return _Guard(app, loopback_hosts_only, settings.cors)
 
 

@@ -34,6 +34,11 @@ class Served:
         self.lock = threading.Lock()  # one writer at a time; one service call at a time
         self._refs = threading.Lock()
         self._session: Session | None = None
+        # The session of the graph this one replaced, whose cursors the next session takes over.
+        self._previous: Session | None = None
+        self.cursor_notes: list[str] = []
+        # Told of every change of this graph in place (an update, an assignment, load_files).
+        self.notify: Callable[[Served], None] | None = None
         self._triples: int | None = None
         self._workers: Any = None
         self._workers_lock = threading.Lock()
@@ -48,8 +53,16 @@ class Served:
     def session(self) -> Session:
         """The services' session (cell model and cursors), built on first use. Call under :attr:`lock`."""
         if self._session is None:
-            self._session = Session(self.graph.cell_model(), kg=self.graph)
+            session = Session(self.graph.cell_model(), kg=self.graph)
+            if self._previous is not None:
+                self.cursor_notes = session.carry_over(self._previous)
+                self._previous = None
+            self._session = session
         return self._session
+
+    def inherit(self, old: Served) -> None:
+        """Take over the cursors of ``old``, the graph this one replaces (on the same wire or operation)."""
+        self._previous = old._session or old._previous
 
     def triples(self) -> int:
         """How many triples the graph holds, counted once per change."""
@@ -90,9 +103,12 @@ class Served:
         self.edits += 1
         # A change to a store directory is a new generation, which this graph now has open.
         self.generation = getattr(self.graph, "open_generation", None) or self.generation
+        self._previous = self._session or self._previous
         self._session = None
         self._triples = None
         self._retire_workers()
+        if self.notify is not None:
+            self.notify(self)
 
     def retain(self) -> None:
         with self._refs:
@@ -118,6 +134,9 @@ class GraphHolder:
         belongs to the caller."""
         self._current = Served(graph, owned=load is not None)
         self._load = load
+        # Told of the graph served after every change: a reload, or a change in place.
+        self.on_change: Callable[[Served], None] | None = None
+        self._current.notify = self._changed
         self._swap = threading.Lock()
         self.reloads = 0
 
@@ -167,14 +186,22 @@ class GraphHolder:
         """
         if self._load is None:
             raise RuntimeError("this endpoint serves a graph it cannot reopen")
-        return Served(self._load())
+        fresh = Served(self._load())
+        fresh.notify = self._changed
+        return fresh
+
+    def _changed(self, served: Served) -> None:
+        if self.on_change is not None:
+            self.on_change(served)
 
     def swap(self, fresh: Served) -> tuple[str, str]:
         """Serve ``fresh`` from now on; returns the previous and the new generation."""
         with self._swap:
             old, self._current = self._current, fresh
+            fresh.inherit(old)
             self.reloads += 1
         old.release()
+        self._changed(fresh)
         return old.generation, fresh.generation
 
     def reload(self) -> tuple[str, str]:

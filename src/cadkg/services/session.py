@@ -3,22 +3,63 @@ use case builds from the graph on first use, and every client's cursors.
 
 A cursor (the next wire, the next operation) belongs to one client (a ROS node, a CLI user,
 an HTTP caller) and one use case; :meth:`Session.dump` and :meth:`Session.load` carry them
-between processes (``cadkg call`` keeps them beside the store).
+between processes (``cadkg call`` keeps them beside the store). After a rebuild, a reload or
+an assignment, :meth:`Session.carry_over` moves them onto the same wire or operation of the
+new graph, found by what identifies it (the use case's :func:`cursor_rebase`), not by index.
 """
 
 from __future__ import annotations
 
 import contextlib
+import copy
 import dataclasses
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Hashable, Iterator, Sequence
 from typing import Any, TypeVar, cast
 
-from cadkg.errors import QueryError
+from cadkg.errors import CadkgError, QueryError
 
-__all__ = ["Session"]
+__all__ = ["Rebase", "Session", "cursor_rebase", "follow"]
 
 T = TypeVar("T")
 S = TypeVar("S")
+Item = TypeVar("Item")
+
+# rebase(old, new, cursor): moves ``cursor`` (a copy of one of ``old``'s) onto ``new``'s graph;
+# says where it now is, or why it could not stay on its thing.
+Rebase = Callable[["Session", "Session", Any], str]
+_REBASES: dict[str, Rebase] = {}
+
+
+def cursor_rebase(key: str) -> Callable[[Rebase], Rebase]:
+    """Register how the cursors of the use case ``key`` move to a rebuilt graph."""
+
+    def register(rebase: Rebase) -> Rebase:
+        _REBASES[key] = rebase
+        return rebase
+
+    return register
+
+
+def follow(
+    old: Sequence[Item], position: int, new: Sequence[Item], identities: Sequence[Callable[[Item], Hashable]]
+) -> tuple[int, int]:
+    """Where the item at ``position`` of ``old`` is in ``new``: by the first of ``identities``
+    that finds it (each tried only where it is unique in ``new``); an item no longer there is
+    replaced by the next one of ``old`` that is. Returns the new position (``len(new)`` when
+    none is left) and how many items of ``old`` were passed over."""
+    tables = []
+    for identity in identities:
+        table: dict[Hashable, int | None] = {}
+        for index, item in enumerate(new):
+            key = identity(item)
+            table[key] = None if key in table else index
+        tables.append((identity, table))
+    for skipped, item in enumerate(old[position:]):
+        for identity, table in tables:
+            found = table.get(identity(item))
+            if found is not None:
+                return found, skipped
+    return len(new), len(old) - position
 
 
 class Session:
@@ -97,6 +138,30 @@ class Session:
                 {client: dataclasses.asdict(state) for client, state in clients.items()}
             )
         return data
+
+    def carry_over(self, old: Session) -> list[str]:
+        """Take the cursors of ``old`` (the session of the graph before a rebuild or a change),
+        each moved onto the same wire or operation here; says for each where it is now.
+
+        A use case without a rebase keeps its cursors by index.
+        """
+        notes = []
+        for key, clients in old._saved.items():
+            self._saved.setdefault(key, {}).update(clients)
+        for key, clients in old._cursors.items():
+            rebase = _REBASES.get(key)
+            for client, cursor in clients.items():
+                moved = copy.copy(cursor)
+                if rebase is None:
+                    note = "kept by index"
+                else:
+                    try:
+                        note = rebase(old, self, moved)
+                    except CadkgError as err:
+                        moved, note = type(cursor)(), f"rewound: {err}"
+                self._cursors.setdefault(key, {})[client] = moved
+                notes.append(f"{key} cursor of {client}: {note}")
+        return notes
 
     def load(self, data: dict[str, Any]) -> None:
         """Take cursors written by :meth:`dump`; malformed entries are ignored."""

@@ -62,6 +62,7 @@ USE_CASE = UseCase(
     ),
     services=SERVICES,
     queries=resources.files(__name__).joinpath("queries"),
+    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/elimco",
     frames=bench_frames,
 )

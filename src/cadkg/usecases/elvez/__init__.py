@@ -79,6 +79,7 @@ USE_CASE = UseCase(
     ),
     services=SERVICES,
     queries=resources.files(__name__).joinpath("queries"),
+    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/elvez",
     frames=platform_frames,
     markers=element_meshes,

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from cadkg.services.session import Session
+from cadkg.services.session import Session, cursor_rebase, follow
 from cadkg.usecases.elvez.files.sequence import SequenceStep
 from cadkg.usecases.elvez.model import PROFILE, ElvezModel, model_of, unresolved
 
@@ -168,3 +168,28 @@ def all_operations(session: Session, client: str = "default") -> AllOperationsRe
     notes = [f"operation {i}: {n}" for i, step in enumerate(model.sequence) for n in unresolved(model, step)]
     message = f"{len(model.sequence)} operations" + ("; " + "; ".join(notes) if notes else "")
     return AllOperationsResult(True, message, tuple(_item(s) for s in model.sequence))
+
+
+# An operation by its code, labels and spots, then by its code and labels (moved to other spots).
+_OPERATION_IDENTITIES = (
+    lambda s: (s.code, s.labels, s.spot_text),
+    lambda s: (s.code, s.labels),
+)
+
+
+@cursor_rebase(PROFILE)
+def _rebase(old: Session, new: Session, cursor: SequenceCursor) -> str:
+    """Keep ``cursor`` on the same operation of the assembly sequence."""
+    before, after = model_of(old).sequence, model_of(new).sequence
+    if cursor.position >= len(before):
+        cursor.position = 0
+        return "at the start of the sequence"
+    was = before[cursor.position]
+    cursor.position, skipped = follow(before, cursor.position, after, _OPERATION_IDENTITIES)
+    name = f"{was.code} {' '.join(was.labels)}"
+    if cursor.position >= len(after):
+        cursor.position = 0
+        return f"operation {name} and every one after it are gone: at the start of the sequence"
+    if skipped:
+        return f"operation {name} is gone: on the next one still there, index {cursor.position}"
+    return f"on operation {name}, index {cursor.position}"

@@ -7,6 +7,8 @@ product table.
 
 from __future__ import annotations
 
+from importlib import resources
+
 from cadkg.ingest.reader import Reader
 from cadkg.usecase import UseCase
 from cadkg.usecases.enki import mapping as _mapping  # noqa: F401  (registers the record mappings)
@@ -30,4 +32,5 @@ USE_CASE = UseCase(
     ),
     services=SERVICES,
     ros_namespace="/enki",
+    changes=resources.files(__name__).joinpath("changes"),
 )

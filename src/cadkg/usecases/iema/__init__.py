@@ -83,6 +83,7 @@ USE_CASE = UseCase(
     ),
     services=SERVICES,
     queries=resources.files(__name__).joinpath("queries"),
+    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/gearbox_handler",
     derivation=CABINET,
     frames=cabinet_frames,

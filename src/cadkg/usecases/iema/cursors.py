@@ -17,7 +17,7 @@ from decimal import Decimal, InvalidOperation
 
 from cadkg.geometry.poses import Pose, Vec3
 from cadkg.mapping.writer import node_iri
-from cadkg.services.session import Session
+from cadkg.services.session import Session, cursor_rebase, follow
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
 
 __all__ = [
@@ -247,3 +247,38 @@ def _as_decimal(text: str) -> Decimal | None:
         return Decimal(text).normalize()
     except InvalidOperation:
         return None
+
+
+def _ends(step: WireStep) -> tuple[str, str]:
+    return (f"{step.origin.label}:{step.origin.pin}", f"{step.destination.label}:{step.destination.pin}")
+
+
+# A wire by its number and ends, then by its ends (renumbered), then by its number (an end changed).
+_WIRE_IDENTITIES = (
+    lambda s: (s.wire, *_ends(s)),
+    lambda s: tuple(sorted(_ends(s))),
+    lambda s: s.wire,
+)
+
+
+@cursor_rebase(KEY)
+def _rebase(old: Session, new: Session, cursor: CursorState) -> str:
+    """Keep ``cursor`` on the same wire of the robot's list, and its rail scan on the same rail."""
+    before, after = _work(old).steps, _work(new).steps
+    rails = [r.label for r in new.model.rails]
+    if cursor.rail < len(old.model.rails):
+        label = old.model.rails[cursor.rail].label
+        cursor.rail = rails.index(label) if label in rails else cursor.rail
+    if cursor.step >= len(before):
+        cursor.step, cursor.holding = len(after), False
+        return "at the end of the list"
+    wire = before[cursor.step].wire
+    cursor.step, skipped = follow(before, cursor.step, after, _WIRE_IDENTITIES)
+    if skipped:
+        cursor.holding = False
+    if cursor.step >= len(after):
+        return f"wire {wire} and every robot wire after it are gone: at the end of the list"
+    here = after[cursor.step].wire
+    if skipped:
+        return f"wire {wire} is gone (or no longer the robot's): on wire {here}, the next still there"
+    return f"on wire {here}" + ("" if here == wire else f" (was {wire})")

@@ -44,6 +44,7 @@ USE_CASE = UseCase(
     ),
     services=SERVICES,
     queries=resources.files(__name__).joinpath("queries"),
+    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/vw_harness",
     views={"topology": _view("topology"), "wires": _view("wires")},
 )

@@ -1,0 +1,56 @@
+"""The revisions a diff compares: a store directory, a manifest, a store's previous generation."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pyoxigraph as ox
+
+from cadkg.errors import StoreError
+from cadkg.generations import PREVIOUS, current_generation, read_pointer
+from cadkg.graph import KnowledgeGraph
+
+__all__ = ["open_previous", "open_revision"]
+
+
+def open_revision(target: str | Path) -> KnowledgeGraph:
+    """A store directory opened read-only, or a manifest built in memory.
+
+    Raises
+    ------
+    StoreError
+        When ``target`` is neither.
+    IngestError, ManifestError
+        When a manifest's files are malformed.
+    """
+    path = Path(target)
+    if path.is_dir():
+        return KnowledgeGraph.open(path)
+    if path.is_file():
+        return KnowledgeGraph.build(path)
+    raise StoreError(f"{target}: neither a store directory nor a manifest file")
+
+
+def open_previous(directory: str | Path) -> tuple[KnowledgeGraph, str, str]:
+    """The generation a store directory served before its live one, read-only, with the names
+    of both.
+
+    Raises
+    ------
+    StoreError
+        When the directory is no store or keeps no previous generation (built once).
+    """
+    directory = Path(directory)
+    live = current_generation(directory).name
+    name = read_pointer(directory, PREVIOUS)
+    if name is None or not (directory / name).is_dir():
+        raise StoreError(
+            f"{directory}: keeps no previous generation (built once); compare two revisions with "
+            "'cadkg diff OLD NEW'"
+        )
+    try:
+        store: Any = ox.Store.read_only(str(directory / name))
+    except OSError as err:
+        raise StoreError(f"{directory}: cannot open the previous generation {name}: {err}") from err
+    return KnowledgeGraph(store, None, read_only=True), name, live

@@ -1,0 +1,139 @@
+"""The things of one revision, as its kinds' queries find them."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from datetime import date, datetime
+from decimal import Decimal
+from typing import Any
+
+from cadkg.changes.kinds import POSE, REFERENCE, ThingKind
+from cadkg.geometry.poses import Pose
+
+__all__ = ["Thing", "Value", "normal", "read_things"]
+
+# An attribute's value: one text, or the sorted texts of a thing stated with several.
+Value = str | tuple[str, ...] | None
+
+
+def normal(value: Any) -> str:
+    """``value`` as comparable text: numbers without the noise of their type or float rounding."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, Decimal):
+        text = format(value.normalize(), "f")
+        return text[:-2] if text.endswith(".0") else text
+    if isinstance(value, float):
+        return format(value, ".9g")
+    if isinstance(value, datetime | date):
+        return value.isoformat()
+    return str(value)
+
+
+@dataclass
+class Thing:
+    """One thing of a revision: its identity, attributes and pose."""
+
+    kind: str
+    id: str
+    iri: str | None
+    attributes: dict[str, Value] = field(default_factory=dict)
+    pose: Pose | None = None
+    keys: dict[str, Value] = field(default_factory=dict)
+    # The identity as found; ``id`` may add the kind's detail to it where several share it.
+    identity: str = ""
+
+    def __post_init__(self) -> None:
+        self.identity = self.identity or self.id
+
+    def value(self, name: str) -> Value:
+        """An attribute, a ``key_*`` value, or ``id``."""
+        if name == "id":
+            return self.identity
+        return self.keys[name] if name in self.keys else self.attributes.get(name)
+
+    def key(self, names: tuple[str, ...]) -> tuple[Value, ...] | None:
+        """The values of ``names``, or None when one is missing."""
+        values = tuple(self.value(n) for n in names)
+        return None if any(v is None for v in values) else values
+
+
+def _pose(row: Mapping[str, Any], names: tuple[str, ...]) -> Pose | None:
+    values = [row.get(n) for n in names]
+    if any(v is None for v in values):
+        return None
+    x, y, z, qx, qy, qz, qw = (float(v) for v in values if v is not None)
+    return Pose((x, y, z), (qx, qy, qz, qw))
+
+
+class _Gathered:
+    """The rows of one thing, merged."""
+
+    def __init__(self, row: Mapping[str, Any]) -> None:
+        self.id = normal(row["id"])
+        self.iri = None if row.get("thing") is None else str(row["thing"])
+        self.values: dict[str, set[str]] = {}
+        self.pose = _pose(row, POSE)
+        self.reference = _pose(row, REFERENCE)
+
+    def add(self, row: Mapping[str, Any]) -> None:
+        for name, value in row.items():
+            if name in ("id", "thing") or name in POSE or name in REFERENCE:
+                continue
+            bucket = self.values.setdefault(name, set())
+            if value is not None:
+                bucket.add(normal(value))
+        self.pose = self.pose or _pose(row, POSE)
+        self.reference = self.reference or _pose(row, REFERENCE)
+
+    def thing(self, kind: ThingKind) -> Thing:
+        attributes: dict[str, Value] = {}
+        keys: dict[str, Value] = {}
+        for name, values in self.values.items():
+            value: Value = (
+                None if not values else next(iter(values)) if len(values) == 1 else tuple(sorted(values))
+            )
+            (keys if name.startswith("key_") else attributes)[name] = value
+        pose = self.pose
+        if pose is not None and self.reference is not None:
+            pose = self.reference.inverse() * pose
+        return Thing(kind.name, self.id, self.iri, attributes, pose, keys)
+
+
+def read_things(graph: Any, kind: ThingKind) -> list[Thing]:
+    """The things of ``kind`` in ``graph`` (anything with ``query``), ids made unique with the
+    kind's ``detail`` where several share one."""
+    gathered: dict[Any, _Gathered] = {}
+    first, *more = kind.queries
+    for row in graph.query(first).rows:
+        if row.get("id") is None:
+            continue
+        handle = row.get("thing") or ("id", normal(row["id"]))
+        if handle not in gathered:
+            gathered[handle] = _Gathered(row)
+        gathered[handle].add(row)
+    for query in more:
+        for row in graph.query(query).rows:
+            found = gathered.get(row.get("thing"))
+            if found is not None:
+                found.add(row)
+    things = [g.thing(kind) for g in gathered.values()]
+    if kind.id_name != "id":
+        for thing in things:
+            thing.attributes[kind.id_name] = thing.id
+    if kind.detail:
+        seen: dict[str, int] = {}
+        for thing in things:
+            seen[thing.id] = seen.get(thing.id, 0) + 1
+        for thing in things:
+            if seen[thing.id] > 1:
+                detail = " ".join(_text(thing.value(n)) for n in kind.detail)
+                thing.id = f"{thing.id} ({detail})"
+    return things
+
+
+def _text(value: Value) -> str:
+    if value is None:
+        return ""
+    return value if isinstance(value, str) else ", ".join(value)
