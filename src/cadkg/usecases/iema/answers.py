@@ -45,6 +45,8 @@ class CadConnection:
     destination: str
     performer: str
     missing_pin_data: bool
+    # Why a rule gave the wire to a person (zone, label not in the CAD); empty otherwise.
+    reason: str = ""
 
 
 @dataclass(frozen=True)
@@ -166,6 +168,7 @@ def connection_of(step: WireStep) -> CadConnection:
         destination=f"{step.destination.label}:{step.destination.pin}",
         performer=step.performer,
         missing_pin_data=bool(step.missing),
+        reason=step.reason,
     )
 
 

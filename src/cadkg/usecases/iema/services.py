@@ -63,9 +63,10 @@ SERVICES: tuple[Service, ...] = (
     ),
     Service(
         "full_connection_provider",
-        "next wire end to handle (occupancy: the gripper holds the wire's first end)",
+        "next wire end: origin, then destination (occupancy: the gripper holds the wire's first end)",
         {"occupancy": bool},
         cursors.full_connection_provider,
+        optional=frozenset({"occupancy"}),
     ),
     Service(
         "group_connection_provider",
@@ -81,10 +82,10 @@ SERVICES: tuple[Service, ...] = (
     ),
     Service(
         "reset_to_connection_list",
-        "move the connection cursor to a wire number (or list position) of a source",
-        {"data": float, "source": str},
+        "move the connection cursor to a list position (from 0) or wire number; source: orig or dest next",
+        {"data": float, "source": str, "connection_list": str},
         cursors.reset_to_connection_list,
-        optional=frozenset({"source"}),
+        optional=frozenset({"source", "connection_list"}),
     ),
     Service(
         "rail_scanner",
