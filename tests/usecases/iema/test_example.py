@@ -191,6 +191,7 @@ def test_every_service_runs_on_the_example(model: CellModel) -> None:
     args = {
         "label": "F1500.1",
         "detected_pose": "0.1,0.6,0.0075,0,0,0",
+        "cad_pose": "0.1,0.6,0.25,3.14159265,0,0",
         "occupancy": "false",
         "data": "1500.51",
         "source": "orig",

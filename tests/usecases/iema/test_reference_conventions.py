@@ -185,3 +185,57 @@ def test_a_quote_separated_duct_path_gives_the_same_keypoints(
         other = by_wire[step.iri]
         assert other.path == step.path.replace(";", "'")
         assert (other.ducts, other.keypoints) == (step.ducts, step.keypoints)
+
+
+# -- 6 and 7 on the mini cell: component poses, the node's own service names --------------
+def test_the_group_provider_gives_each_end_its_component_target(built: list[KnowledgeGraph]) -> None:
+    kg = _build(built, MINI / "manifest.toml")
+    w1 = cursors.group_connection_provider(Session(kg.cell_model()))
+    assert w1.origin is not None and w1.destination is not None
+    assert w1.origin.component_pose is not None and w1.destination.component_pose is not None
+    # K1's box front z 0.0675 + 0.15; X1's 0.0475 + 0.15; both over their front faces' centres.
+    assert w1.origin.component_pose.position == pytest.approx((0.165, 0.54, 0.2175))
+    assert w1.destination.component_pose.position == pytest.approx((0.256, 0.525, 0.1975))
+
+
+def test_get_item_screw_targets_moves_the_pins_with_the_detected_target(built: list[KnowledgeGraph]) -> None:
+    from cadkg.geometry.poses import Pose
+
+    model = _build(built, MINI / "manifest.toml").cell_model()
+    # K1's target (0.165, 0.54, 0.2175) detected 0.12 m lower: every pin 0.12 m lower.
+    moved = answers.get_item_screw_targets(model, "K1", Pose((0.165, 0.42, 0.2175), (1.0, 0.0, 0.0, 0.0)))
+    assert moved.success and moved.pins == ("13", "A1", "A2")
+    assert moved.screws[1].position == pytest.approx((0.155, 0.45, 0.0675))
+    assert not answers.get_item_screw_targets(model, "NOPE", Pose()).success
+
+
+def test_full_cad_service_by_cad_item_gives_the_nodes_fields(built: list[KnowledgeGraph]) -> None:
+    model = _build(built, MINI / "manifest.toml").cell_model()
+    # ID000003 is K1's auxiliary contact, which carries pin 13: W2 K1:13 → X1:2:b (terminal item ID000005).
+    result = answers.full_cad_service(model, cad_item="ID000003")
+    assert result.success and len(result.connections) == 1
+    w2 = result.connections[0]
+    assert (w2.wire, w2.source, w2.pin, w2.target_item, w2.target_pin, w2.list_position) == (
+        "W2",
+        "orig",
+        "13",
+        "ID000005",
+        "2:b",
+        1,
+    )
+    assert w2.hole_pose is not None and w2.hole_pose.position == pytest.approx((0.175, 0.505, 0.0575))
+    by_label = answers.full_cad_service(model, "K1").connections
+    assert [(c.wire, c.source) for c in by_label] == [("W1", "orig"), ("W2", "orig"), ("W4", "orig")]
+    assert not answers.full_cad_service(model, cad_item="ID999999").success
+
+
+def test_the_older_provider_and_the_display_switch(built: list[KnowledgeGraph]) -> None:
+    from cadkg.usecases.iema.services import cabinet_frames
+
+    session = Session(_build(built, MINI / "manifest.toml").cell_model())
+    ends = [cursors.connection_provider_service(session) for _ in range(3)]
+    assert [(e.wire, e.source) for e in ends] == [("W1", "orig"), ("W1", "dest"), ("W2", "orig")]
+    shown = len(cabinet_frames(session))
+    assert shown and cursors.gearbox_display(session).display is False
+    assert cabinet_frames(session) == []
+    assert cursors.gearbox_display(session).display is True and len(cabinet_frames(session)) == shown

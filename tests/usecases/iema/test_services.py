@@ -236,7 +236,13 @@ def test_call_converts_and_checks_parameters(session: Session) -> None:
 def test_every_service_gives_json(session: Session) -> None:
     import json
 
-    args = {"label": "K1", "detected_pose": "0,0,0,0,0,0,1", "occupancy": "false", "data": "1"}
+    args = {
+        "label": "K1",
+        "detected_pose": "0,0,0,0,0,0,1",
+        "cad_pose": "0,0,0,0,0,0,1",
+        "occupancy": "false",
+        "data": "1",
+    }
     for service in services_for("iema"):
         name = service.name
         result = call(session, name, {k: args[k] for k in service.params if k in args})

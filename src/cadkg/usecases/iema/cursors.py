@@ -14,7 +14,7 @@ count from 0, as the cell's software numbers its list.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from decimal import Decimal, InvalidOperation
 
 from cadkg.geometry.poses import Pose, Vec3
@@ -25,11 +25,15 @@ from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
 __all__ = [
     "ConnectionEnd",
     "CursorState",
+    "DisplayResult",
     "GroupConnection",
     "RailScan",
     "ResetResult",
     "ResetToResult",
+    "connection_provider_service",
+    "displayed",
     "full_connection_provider",
+    "gearbox_display",
     "group_connection_provider",
     "rail_scanner",
     "reset_connection_list",
@@ -173,16 +177,62 @@ def group_connection_provider(session: Session, client: str = "default") -> Grou
     cursor = state(session, client)
     cursor.step += 1
     cursor.holding = False
+    components = session.model.components
+    origin, destination = (
+        replace(pin, component_pose=g.target if (g := components.get(pin.label)) else None)
+        for pin in (step.origin, step.destination)
+    )
     return GroupConnection(
         end=False,
         missing_pin_data=", ".join(step.missing),
         list_position=step.position,
-        origin=step.origin,
-        destination=step.destination,
+        origin=origin,
+        destination=destination,
         wire=step.wire,
         wire_path=step.path,
         path_keypoints=step.keypoints,
     )
+
+
+def connection_provider_service(session: Session, client: str = "default") -> ConnectionEnd:
+    """The reference node's older provider: the ends in turn, as ``full_connection_provider()``.
+
+    The node skips some labels by name (terminal blocks, ``P`` devices, two strips); here the
+    wires given to people are skipped instead (robot_scope)."""
+    return full_connection_provider(session, None, client)
+
+
+@dataclass(frozen=True)
+class DisplayResult:
+    success: bool
+    message: str
+    display: bool
+
+
+def gearbox_display(session: Session, client: str = "default") -> DisplayResult:
+    """Publish or stop the cabinet's frames (``LABEL/original``, ``/corner``, ``/target``), in turn.
+
+    The frames go on /tf_static (latched): a listener that already has them keeps them; the
+    switch decides what the next publication (and a newly joined listener) gets."""
+    switch = session.cursor("iema-display", "cell", _Display)
+    switch.on = not switch.on
+    message = "cabinet frames published" if switch.on else "cabinet frames withdrawn"
+    return DisplayResult(True, message, switch.on)
+
+
+@dataclass
+class _Display:
+    """One switch for the whole cell (kept with the cursors), not one per client."""
+
+    on: bool = True
+
+    def __post_init__(self) -> None:
+        self.on = bool(self.on)
+
+
+def displayed(session: Session) -> bool:
+    """Whether the cabinet's frames are published (yes until ``gearbox_display`` switches them off)."""
+    return session.cursor("iema-display", "cell", _Display).on
 
 
 def reset_connection_list(session: Session, client: str = "default") -> ResetResult:

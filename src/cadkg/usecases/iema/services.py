@@ -33,15 +33,22 @@ SERVICES: tuple[Service, ...] = (
     ),
     Service(
         "full_cad_service",
-        "as cad_service, with the component's connections",
-        {"label": str},
-        _label(answers.full_cad_service),
+        "as cad_service, with the component's connections; by label or by CAD item (cad_item)",
+        {"label": str, "cad_item": str},
+        on_model(answers.full_cad_service, _cabinet),
+        optional=frozenset({"label", "cad_item"}),
     ),
     Service(
         "get_item_screw_service",
         "screws and holes re-expressed from a detected component pose",
         {"label": str, "detected_pose": Pose},
         on_model(answers.get_item_screw_service, _cabinet),
+    ),
+    Service(
+        "get_item_screw_targets",
+        "the reference node's get_item_screw_service: pins moved with the detected target pose",
+        {"label": str, "cad_pose": Pose},
+        on_model(answers.get_item_screw_targets, _cabinet),
     ),
     Service(
         "get_terminal_data",
@@ -88,6 +95,19 @@ SERVICES: tuple[Service, ...] = (
         optional=frozenset({"source", "connection_list"}),
     ),
     Service(
+        "connection_provider_service",
+        "the reference node's older provider: the next wire end, origin then destination",
+        {},
+        cursors.connection_provider_service,
+        ros_type="FullConnectionProvider",
+    ),
+    Service(
+        "gearbox_display",
+        "publish or withdraw the cabinet's frames (LABEL/original, corner, target), in turn",
+        {},
+        cursors.gearbox_display,
+    ),
+    Service(
         "rail_scanner",
         "the components along the next rail",
         {},
@@ -104,8 +124,11 @@ SERVICES: tuple[Service, ...] = (
 
 def cabinet_frames(session: Session) -> list[Frame]:
     """Per component ``LABEL/original``, ``LABEL/corner``, ``LABEL/target`` (and
-    ``LABEL/terminal_start`` on a terminal block) in its frame; per rail ``LABEL/start``."""
+    ``LABEL/terminal_start`` on a terminal block) in its frame; per rail ``LABEL/start``;
+    none while ``gearbox_display`` has withdrawn them."""
     model = session.model
+    if not cursors.displayed(session):
+        return []
     frames = []
     for label, geometry in sorted(model.components.items()):
         named = [("original", geometry.original), ("corner", geometry.corner), ("target", geometry.target)]

@@ -36,6 +36,8 @@ class CadPin:
     hole: Pose | None
     item: str | None
     iri: str | None = None
+    # Set by group_connection_provider: the component's target pose, as the node's cad_pins.
+    component_pose: Pose | None = None
 
     @property
     def missing(self) -> bool:
