@@ -194,12 +194,14 @@ def group_connection_provider(session: Session, client: str = "default") -> Grou
     )
 
 
-def connection_provider_service(session: Session, client: str = "default") -> ConnectionEnd:
+def connection_provider_service(
+    session: Session, occupancy: bool | None = None, client: str = "default"
+) -> ConnectionEnd:
     """The reference node's older provider: the ends in turn, as ``full_connection_provider()``.
 
     The node skips some labels by name (terminal blocks, ``P`` devices, two strips); here the
     wires given to people are skipped instead (robot_scope)."""
-    return full_connection_provider(session, None, client)
+    return full_connection_provider(session, occupancy, client)
 
 
 @dataclass(frozen=True)

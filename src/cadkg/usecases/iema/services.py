@@ -97,8 +97,9 @@ SERVICES: tuple[Service, ...] = (
     Service(
         "connection_provider_service",
         "the reference node's older provider: the next wire end, origin then destination",
-        {},
+        {"occupancy": bool},
         cursors.connection_provider_service,
+        optional=frozenset({"occupancy"}),
         ros_type="FullConnectionProvider",
     ),
     Service(
