@@ -61,6 +61,8 @@ _GRAPH = "graph"
 CHANGES = {
     "load_files": _GRAPH,
     "full_connection_provider": _CURSOR,
+    "connection_provider_service": _CURSOR,
+    "gearbox_display": _CURSOR,
     "group_connection_provider": _CURSOR,
     "reset_connection_list": _CURSOR,
     "reset_to_connection_list": _CURSOR,
