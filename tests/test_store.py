@@ -284,16 +284,16 @@ def test_an_update_is_followed_by_the_derivation(tmp_path: Path) -> None:
     mini = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"
     target_z = 'SELECT DISTINCT ?z WHERE { ?c ck:label "K1" ; ck:targetPose/ck:tz ?z }'
     with cadkg.KnowledgeGraph.build(mini, tmp_path / "store") as kg:
-        # tests/usecases/iema/test_services.py: K1's target is 0.15 m (the approach) over its top.
-        assert [round(r["z"], 9) for r in kg.query(target_z)] == [0.1875]
+        # tests/usecases/iema/test_services.py: K1's target is 0.15 m in front of its front face.
+        assert [round(r["z"], 9) for r in kg.query(target_z)] == [0.2175]
         kg.execute(
             """DELETE { GRAPH ?g { ?c ck:approachDistance ?d } }
                INSERT { GRAPH ?g { ?c ck:approachDistance 0.25e0 } }
                WHERE { GRAPH ?g { ?c a ck:Cell ; ck:approachDistance ?d } }""",
             update=True,
         )
-        assert [round(r["z"], 9) for r in kg.query(target_z)] == [0.2875]
-        assert kg.cell_model().components["K1"].target.position[2] == pytest.approx(0.2875)
+        assert [round(r["z"], 9) for r in kg.query(target_z)] == [0.3175]
+        assert kg.cell_model().components["K1"].target.position[2] == pytest.approx(0.3175)
 
 
 def test_a_bad_row_late_in_a_streamed_list_fails_the_memory_build_located(tmp_path: Path) -> None:

@@ -22,7 +22,7 @@ def test_the_example_overlay() -> None:
         Assignment("wire", "SSB10.05", "human", 4),
         Assignment("wire", "0040.07", "human", 5),
         Assignment("component", "S0050.1", "human", 6),
-        Assignment("operation", "94", "human", 7),
+        Assignment("operation", "93", "human", 7),
     ]
 
 

@@ -626,6 +626,7 @@ def test_komax_first_row_exact(komax) -> None:
         origin_direction="Verso l'alto",
         destination_direction="Verso l'alto",
         bundling_side="Origine",
+        duct_text="=-U2",
     )
 
 

@@ -13,11 +13,16 @@ import pytest
 from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.eplan.bill_of_materials import BomInfo, BomLine, read_bill_of_materials
 from cadkg.ingest.eplan.connection_files import read_connections
-from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo
-from cadkg.ingest.eplan.labels import PinRef
+from cadkg.ingest.eplan.connection_list import (
+    UNKNOWN_END,
+    Connection,
+    ConnectionListInfo,
+    read_connection_list,
+)
+from cadkg.ingest.eplan.labels import PinRef, parse_pin_ref
 from cadkg.ingest.eplan.parts import read_parts_management
 from cadkg.registry import sniff_kind
-from tests.ingest.workbooks import write_xlsx
+from tests.ingest.workbooks import write_ods, write_xlsx
 
 # --- parts management ---------------------------------------------------------------------------------
 
@@ -315,7 +320,7 @@ def test_connection_list_workbook_picks_its_sheet_and_names_cells(tmp_path: Path
     assert info_err.value.reason == "not a number in column 'L filo (m)'"
 
 
-def test_a_pin_cell_showing_a_formula_error_skips_its_row(tmp_path: Path) -> None:
+def test_a_pin_cell_showing_a_formula_error_keeps_its_wire_with_the_end_unknown(tmp_path: Path) -> None:
     from tests.ingest.workbooks import replace_in_member
 
     other = [*ROW]
@@ -330,10 +335,30 @@ def test_a_pin_cell_showing_a_formula_error_skips_its_row(tmp_path: Path) -> Non
     )
     with pytest.warns(IngestWarning) as caught:
         records = read_connections(path)
-    assert len(records) == 2  # the project and the one wire with two ends
-    assert f"{path}:S!F6: the cell shows the formula error #NAME?; the row is skipped" in [
-        str(w.message) for w in caught
+    kept = records[2]
+    assert isinstance(kept, Connection)
+    assert (kept.index, kept.origin.key, kept.destination) == (2, "F1500.1:1", UNKNOWN_END)
+    assert (
+        f"{path}:S!F6: the cell shows the formula error #NAME?; the wire is kept with this end unknown (?:?)"
+        in [str(w.message) for w in caught]
+    )
+
+
+def test_an_empty_pin_cell_of_a_sheet_keeps_its_wire_and_of_a_text_list_is_an_error(tmp_path: Path) -> None:
+    # LibreOffice shows the formula EPLAN could not evaluate as an empty cell: the .ods twin of #NAME?.
+    other = [*ROW]
+    other[5] = None
+    path = write_ods(tmp_path / "list.ods", [("S", _list_rows(ROW, other))])
+    with pytest.warns(IngestWarning, match="S!F6: the cell shows no pin reference; the wire is kept"):
+        records = read_connections(path)
+    assert [r.destination for r in records if isinstance(r, Connection)] == [
+        parse_pin_ref("=-F1500.2:1"),
+        UNKNOWN_END,
     ]
+    text = tmp_path / "list.csv"
+    text.write_text("\n".join("\t".join(c or "" for c in row) for row in _list_rows(ROW, other)) + "\n")
+    with pytest.raises(IngestError, match="empty cell in column 'Componente:pin'"):
+        read_connection_list(text)
 
 
 KOMAX_PREAMBLE = [

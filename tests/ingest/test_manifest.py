@@ -307,8 +307,20 @@ def test_unknown_dotted_key_in_cell_has_its_line(cell_dir: Path, extra: str, lin
         ("cluster_tolerance = true\n", 14, "'cluster_tolerance' must be a non-negative number of metres"),
         ('rail_pattern = "(RAIL"\n', 14, "not a regular expression"),
         ("approach = 0.1\n", 14, "unknown key 'approach' in [derive]"),
+        ('robot_zones = "Q"\n', 14, "not a list of zone names"),
+        ('robot_zones = ["Q", ""]\n', 14, "not a list of zone names"),
     ],
-    ids=["negative", "text", "400-digits", "nan", "boolean", "bad-pattern", "unknown-key"],
+    ids=[
+        "negative",
+        "text",
+        "400-digits",
+        "nan",
+        "boolean",
+        "bad-pattern",
+        "unknown-key",
+        "zones-text",
+        "zone-empty",
+    ],
 )
 def test_derive_settings_errors(cell_dir: Path, body: str, line: int, reason: str) -> None:
     err = error_of(manifest(cell_dir, CELL + SOURCES + "\n[derive]\n" + body))
@@ -321,3 +333,6 @@ def test_derive_settings_are_read(cell_dir: Path) -> None:
     text = CELL + SOURCES + "\n[derive]\n" + settings
     spec = load_manifest(manifest(cell_dir, text)).derive
     assert (spec.approach_distance, spec.cluster_tolerance, spec.rail_pattern) == (0.0, 0.004, "^R")
+    assert spec.robot_zones == ("Q", "QE")  # the IEMA default
+    zones = load_manifest(manifest(cell_dir, text + 'robot_zones = ["Q", "P"]\n')).derive.robot_zones
+    assert zones == ("Q", "P")

@@ -37,7 +37,7 @@ def kg() -> Iterator[KnowledgeGraph]:
 
 
 def test_every_result_class_is_mapped_field_by_field() -> None:
-    assert len(RESULTS) == 11
+    assert len(RESULTS) == 12
     for cls in RESULTS:
         assert dataclasses.is_dataclass(cls)
         names = [f.name for f in dataclasses.fields(cls)]
@@ -66,7 +66,13 @@ def same(value: Any, data: Any) -> bool:
     return bool(value == data and type(data) is type(value))
 
 
-ARGS = {"label": "K1", "detected_pose": "0.16,0.52,0.0075,0,0,1,0", "occupancy": "false", "data": "1"}
+ARGS = {
+    "label": "K1",
+    "detected_pose": "0.16,0.52,0.0075,0,0,1,0",
+    "cad_pose": "0.16,0.52,0.2175,1,0,0,0",
+    "occupancy": "false",
+    "data": "1",
+}
 
 
 @pytest.mark.parametrize("name", sorted(s.name for s in services_for("iema")))

@@ -23,8 +23,8 @@ def test_frames_and_markers_of_the_mini_cell() -> None:
         specs = marker_specs(placed, model, kg.files_dir)
         assert frames["cabinet"].parent == "world" and frames["cabinet"].pose.position == (1.0, 0.0, 0.0)
         assert frames["K1/corner"].parent == "cabinet"
-        assert frames["K1/corner"].pose.position == pytest.approx((0.15, 0.5, 0.0675))
-        assert frames["X1/terminal_start"].pose.position == pytest.approx((0.25, 0.5, 0.0475))
+        assert frames["K1/corner"].pose.position == pytest.approx((0.15, 0.5, 0.0075))
+        assert frames["X1/terminal_start"].pose.position == pytest.approx((0.25, 0.5, 0.0075))
         assert frames["RAIL1/start"].pose.position == pytest.approx((0.1, 0.5, 0.0))
         assert frames["ID000003"].parent == "ID000002"
         assert "K9/original" not in frames  # K9 has no CAD data: no frame rather than a made-up one

@@ -19,7 +19,7 @@ def test_api_lists_services_and_queries(url: str) -> None:
     data = httpx.get(f"{url}/api").json()
     services = {s["name"]: s for s in data["services"]}
     assert services["cad_service"]["params"] == {"label": "str"}
-    assert services["reset_to_connection_list"]["optional"] == ["source"]
+    assert services["reset_to_connection_list"]["optional"] == ["connection_list", "source"]
     assert "wires-of-component" in data["queries"]
 
 

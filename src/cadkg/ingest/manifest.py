@@ -18,6 +18,7 @@ frame = "cabinet"                # frame of the scene's root (scene readers only
 approach_distance = 0.15         # metres in front of a component for its target pose
 rail_pattern = "^RAIL"           # labels of DIN rails (a regular expression)
 cluster_tolerance = 0.005        # metres: pins this close in height / column form a cluster
+robot_zones = ["Q", "QE"]        # a wire whose origin zone ('Zona') is not one of these is a person's
 
 [[frame]]
 parent = "world"
@@ -50,7 +51,7 @@ _KEYS = {
     "": {"cell", "source", "frame", "derive"},
     "cell": {"name", "profile", "base_iri", "description"},
     "source": {"path", "kind", "description", "frame"},
-    "derive": {"approach_distance", "rail_pattern", "cluster_tolerance"},
+    "derive": {"approach_distance", "rail_pattern", "cluster_tolerance", "robot_zones"},
     "frame": {"parent", "child", "xyz", "rpy", "quaternion"},
 }
 _FRAME_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_./-]*$")
@@ -83,6 +84,8 @@ class DeriveSpec:
     approach_distance: float = 0.15
     rail_pattern: str = "^RAIL"
     cluster_tolerance: float = 0.005
+    # The connection-list zones of the cabinet itself: the robot's wires (cadkg.usecases.iema.robot_scope).
+    robot_zones: tuple[str, ...] = ("Q", "QE")
 
 
 @dataclass(frozen=True, slots=True)
@@ -352,7 +355,11 @@ def _derive_spec(fail: Any, table: object) -> DeriveSpec:
         raise fail(
             "derive", None, "rail_pattern", "not a regular expression", found=pattern, expected="e.g. ^RAIL"
         ) from None
-    return DeriveSpec(rail_pattern=pattern, **values)
+    zones = table.get("robot_zones", list(defaults.robot_zones))
+    if not isinstance(zones, list) or not all(isinstance(z, str) and z.strip() for z in zones):
+        expected = 'e.g. ["Q", "QE"]'
+        raise fail("derive", None, "robot_zones", "not a list of zone names", found=zones, expected=expected)
+    return DeriveSpec(rail_pattern=pattern, robot_zones=tuple(z.strip() for z in zones), **values)
 
 
 def _is_iri(text: str) -> bool:

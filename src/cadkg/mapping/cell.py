@@ -12,7 +12,7 @@ from operator import attrgetter
 
 from cadkg.ingest.assignments import Assignment
 from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo
-from cadkg.ingest.manifest import FrameSpec, Manifest
+from cadkg.ingest.manifest import DeriveSpec, FrameSpec, Manifest
 from cadkg.ingest.scene.records import SceneItem
 from cadkg.ingest.wri import IdEntry
 from cadkg.mapping.dispatch import map_record
@@ -126,7 +126,8 @@ def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
         ]
     )
     if record.duct_path:
-        parts.append(f"{wire} {_DUCT_PATH} {literal(';'.join(record.duct_path))} .\n")
+        # As the list writes it ('=-U3;=-U5', "=-CN2'=-CN3"): what the cell's software hands on.
+        parts.append(f"{wire} {_DUCT_PATH} {literal(record.duct_text or ';'.join(record.duct_path))} .\n")
         for duct_label in dict.fromkeys(record.duct_path):
             parts.append(f"{wire} {_PASSES_THROUGH} {component_node(w, duct_label, 'Duct')} .\n")
     w.add_block("".join(parts), 6 + len(parts))  # seven lines in the first part, one in each other
@@ -143,6 +144,10 @@ def map_manifest(w: TripleWriter, manifest: Manifest) -> None:
     w.add(cell, term("approachDistance"), w.typed(manifest.derive.approach_distance))
     w.add(cell, term("railPattern"), w.text(manifest.derive.rail_pattern))
     w.add(cell, term("clusterTolerance"), w.typed(manifest.derive.cluster_tolerance))
+    # Stated only when the manifest changes them: a cell without ck:robotZone has the default.
+    if manifest.derive.robot_zones != DeriveSpec().robot_zones:
+        for zone in manifest.derive.robot_zones:
+            w.add(cell, term("robotZone"), w.text(zone))
     for frame in manifest.frames:
         _map_frame(w, frame)
 

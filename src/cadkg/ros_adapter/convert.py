@@ -94,6 +94,7 @@ def cad_pin(value: Any) -> Data:
             "has_screw": False,
             "has_hole": False,
             "missing": True,
+            "component_pose": pose(None),
         }
     return {
         "label": str(value.label),
@@ -104,6 +105,7 @@ def cad_pin(value: Any) -> Data:
         "has_screw": value.screw is not None,
         "has_hole": value.hole is not None,
         "missing": value.screw is None and value.hole is None,
+        "component_pose": pose(getattr(value, "component_pose", None)),
     }
 
 
@@ -116,6 +118,13 @@ def _connection(value: Any) -> Data:
         "destination": str(value.destination),
         "performer": str(value.performer),
         "missing_pin_data": bool(value.missing_pin_data),
+        "reason": str(value.reason),
+        "pin": str(value.pin),
+        "target_item": str(value.target_item),
+        "target_pin": str(value.target_pin),
+        "screw_pose": pose(value.screw_pose),
+        "hole_pose": pose(value.hole_pose),
+        "connection_list": str(value.connection_list),
     }
 
 
@@ -185,6 +194,7 @@ FIELDS: dict[str, dict[str, Converter]] = {
         "direction": bool,
         "component_pose": pose,
         "wire": str,
+        "connection_list": str,
     },
     "GroupConnection": {
         "end": bool,
@@ -206,6 +216,7 @@ FIELDS: dict[str, dict[str, Converter]] = {
     },
     "ResetResult": {"success": bool},
     "ResetToResult": {"success": bool, "output": str},
+    "DisplayResult": {"success": bool, "message": str, "display": bool},
 }
 
 # Single fields that are a pose or a vector: None there is worth a word in the message.
@@ -339,9 +350,15 @@ def pose_from_msg(msg: Any) -> Pose:
 
 
 def request_params(params: Mapping[str, type], request: Any) -> dict[str, Any]:
-    """The parameters of a service (``Service.params``) read from a request's fields."""
+    """The parameters of a service (``Service.params``) read from a request's fields.
+
+    A field ``has_NAME`` that is false leaves the parameter ``NAME`` out: a ROS field always has
+    a value, so an optional parameter whose absence means something says so beside it.
+    """
     values: dict[str, Any] = {}
     for name, kind in params.items():
+        if getattr(request, f"has_{name}", True) is False:
+            continue
         value = getattr(request, name)
         if kind is Pose:
             values[name] = pose_from_msg(value)

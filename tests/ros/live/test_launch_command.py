@@ -47,7 +47,7 @@ def test_the_launch_command_line_serves_the_cell(ros: Any, tmp_path: Path) -> No
         assert answer.success
         # tests/usecases/iema/test_services.py: K1's corner in the mini cabinet.
         corner = answer.corner_pose.position
-        assert (round(corner.x, 9), round(corner.y, 9), round(corner.z, 9)) == (0.15, 0.5, 0.0675)
+        assert (round(corner.x, 9), round(corner.y, 9), round(corner.z, 9)) == (0.15, 0.5, 0.0075)
     finally:
         ros.destroy_client(client)
         process.terminate()

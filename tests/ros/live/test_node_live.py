@@ -31,12 +31,11 @@ def close(actual: tuple[float, ...], expected: tuple[float, ...]) -> bool:
 
 
 def test_every_service_is_advertised_with_its_type(ros: Any, server: Server) -> None:
-    from cadkg.ros_adapter.convert import srv_type_name
+    from cadkg.ros_adapter.convert import ros_type_of
     from cadkg.services.table import services_for
 
     expected = {
-        f"{NAMESPACE}/{n}": [f"cadkg_interfaces/srv/{srv_type_name(n)}"]
-        for n in (s.name for s in services_for("iema"))
+        f"{NAMESPACE}/{s.name}": [f"cadkg_interfaces/srv/{ros_type_of(s)}"] for s in services_for("iema")
     }
     expected[f"{NAMESPACE}/sparql"] = ["cadkg_interfaces/srv/Sparql"]
     expected[f"{NAMESPACE}/reload"] = ["cadkg_interfaces/srv/Reload"]
@@ -53,8 +52,9 @@ def test_cad_service(call: Any) -> None:
     assert k1.success and k1.message == "ok"
     assert close(xyz(k1.original_pose.position), (0.15, 0.5, 0.0075))
     assert close(xyz(k1.dimensions), (0.03, 0.08, 0.06))
-    assert close(xyz(k1.corner_pose.position), (0.15, 0.5, 0.0675))
-    assert close(xyz(k1.target_pose.position), (0.165, 0.54, 0.1875))
+    assert close(xyz(k1.corner_pose.position), (0.15, 0.5, 0.0075))
+    assert close(xyz(k1.target_pose.position), (0.165, 0.54, 0.2175))
+    assert k1.target_pose.orientation.x == 1.0  # turned a half turn about x, as the reference node
     pins = {p.pin: p for p in k1.pins}
     assert sorted(pins) == ["13", "A1", "A2"]
     assert close(xyz(pins["A1"].screw.position), (0.155, 0.57, 0.0675))
@@ -63,7 +63,7 @@ def test_cad_service(call: Any) -> None:
     k2 = call(srv.CadService, "cad_service", label="=-K2")
     q = k2.original_pose.orientation
     assert math.isclose(abs(q.x * 0 + q.y * 0 + q.z * 1 + q.w * 0), 1.0, abs_tol=1e-9)
-    assert close(xyz(k2.target_pose.position), (0.29, 0.46, 0.1875))
+    assert close(xyz(k2.target_pose.position), (0.29, 0.46, 0.2175))
     nope = call(srv.CadService, "cad_service", label="NOPE")
     assert not nope.success and "NOPE" in nope.message
 
@@ -72,7 +72,12 @@ def test_full_cad_service(call: Any) -> None:
     result = call(srv.FullCadService, "full_cad_service", label="K1")
     assert result.success and [c.wire for c in result.connections] == ["W1", "W2", "W4"]
     w4 = result.connections[-1]
-    assert w4.destination == "K9:1" and w4.missing_pin_data and w4.list_position == 4
+    assert w4.destination == "K9:1" and w4.missing_pin_data and w4.list_position == 3
+    assert (w4.source, w4.pin, w4.target_pin, w4.connection_list) == ("orig", "A2", "1", "connections.tsv")
+    by_item = call(srv.FullCadService, "full_cad_service", cad_item="ID000003")
+    assert [(c.wire, c.pin, c.target_item, c.target_pin) for c in by_item.connections] == [
+        ("W2", "13", "ID000005", "2:b")
+    ]
 
 
 def test_get_item_screw_service(call: Any) -> None:
@@ -93,7 +98,7 @@ def test_get_item_screw_service(call: Any) -> None:
 def test_get_terminal_data(call: Any) -> None:
     x1 = call(srv.GetTerminalData, "get_terminal_data", label="X1")
     assert x1.success and list(x1.pins) == ["1:a", "1:b", "2:a", "2:b"]
-    assert close(xyz(x1.terminal_start.position), (0.25, 0.5, 0.0475))
+    assert close(xyz(x1.terminal_start.position), (0.25, 0.5, 0.0075))
     assert close(xyz(x1.screws[0].position), (0.2525, 0.54, 0.0475))
     assert close(xyz(x1.holes[3].position), (0.2575, 0.505, 0.0375))
     assert math.isclose(x1.length, 0.012) and math.isclose(x1.height, 0.05)
@@ -107,13 +112,14 @@ def test_cluster_service_and_cad_reference(call: Any) -> None:
     x1 = call(srv.ClusterService, "cluster_service", label="X1")
     assert [list(c.pins) for c in x1.vertical] == [["1:b", "1:a"], ["2:b", "2:a"]]
     reference = call(srv.CadReference, "cad_reference", label="K1")
-    assert close(xyz(reference.corner_pose.position), (0.15, 0.5, 0.0675))
+    assert close(xyz(reference.corner_pose.position), (0.15, 0.5, 0.0075))
 
 
 def test_group_connection_provider_and_reset(call: Any) -> None:
     first = call(srv.GroupConnectionProvider, "group_connection_provider", client="g")
-    assert (first.wire, first.list_position, first.wire_path) == ("W1", 1, "U1")
+    assert (first.wire, first.list_position, first.wire_path) == ("W1", 0, "=-U1")
     assert first.origin.label == "K1" and first.origin.pin == "A1" and first.destination.label == "X1"
+    assert close(xyz(first.origin.component_pose.position), (0.165, 0.54, 0.2175))
     points = [xyz(p.position) for p in first.path_keypoints]
     assert (
         len(points) == 4
@@ -133,28 +139,64 @@ def test_group_connection_provider_and_reset(call: Any) -> None:
 
 
 def test_full_connection_provider(call: Any) -> None:
-    origin = call(srv.FullConnectionProvider, "full_connection_provider", occupancy=False, client="f")
-    again = call(srv.FullConnectionProvider, "full_connection_provider", occupancy=False, client="f")
+    def end(occupancy: bool) -> Any:
+        return call(
+            srv.FullConnectionProvider,
+            "full_connection_provider",
+            has_occupancy=True,
+            occupancy=occupancy,
+            client="f",
+        )
+
+    origin, again = end(False), end(False)
     assert (
         (origin.label, origin.pin, origin.direction) == ("K1", "A1", True) == (again.label, again.pin, True)
     )
-    assert origin.source == "connections.tsv" and origin.list_position == 1 and origin.wire == "W1"
-    destination = call(srv.FullConnectionProvider, "full_connection_provider", occupancy=True, client="f")
-    assert (destination.label, destination.pin, destination.direction) == ("X1", "1:a", False)
-    assert close(xyz(destination.component_pose.position), (0.25, 0.5, 0.0075))
-    assert (
-        call(srv.FullConnectionProvider, "full_connection_provider", occupancy=False, client="f").wire == "W2"
+    assert (origin.source, origin.connection_list, origin.list_position, origin.wire) == (
+        "orig",
+        "connections.tsv",
+        0,
+        "W1",
     )
+    destination = end(True)
+    assert (destination.label, destination.pin, destination.source) == ("X1", "1:a", "dest")
+    assert close(xyz(destination.component_pose.position), (0.256, 0.525, 0.1975))  # X1's target
+    assert end(False).wire == "W2"
+
+
+def test_full_connection_provider_with_the_reference_nodes_empty_request(call: Any) -> None:
+    ends = [call(srv.FullConnectionProvider, "full_connection_provider", client="e") for _ in range(3)]
+    assert [(e.wire, e.source) for e in ends] == [("W1", "orig"), ("W1", "dest"), ("W2", "orig")]
+    older = call(srv.FullConnectionProvider, "connection_provider_service", client="o")
+    assert (older.wire, older.source, older.label) == ("W1", "orig", "K1")
 
 
 def test_reset_to_connection_list(call: Any) -> None:
     moved = call(
-        srv.ResetToConnectionList, "reset_to_connection_list", data=2.0, source="connections.tsv", client="r"
+        srv.ResetToConnectionList,
+        "reset_to_connection_list",
+        data=1.0,
+        connection_list="connections.tsv",
+        client="r",
     )
     assert moved.success and "W2" in moved.output
     assert call(srv.GroupConnectionProvider, "group_connection_provider", client="r").wire == "W2"
-    human = call(srv.ResetToConnectionList, "reset_to_connection_list", data=3.0, client="r")
+    human = call(srv.ResetToConnectionList, "reset_to_connection_list", data=2.0, client="r")
     assert not human.success
+    dest = call(srv.ResetToConnectionList, "reset_to_connection_list", data=3.0, source="dest", client="r")
+    assert dest.success
+    w4 = call(srv.FullConnectionProvider, "full_connection_provider", client="r")
+    assert (w4.wire, w4.source, w4.label, w4.missing_pin_data) == ("W4", "dest", "K9", True)
+
+
+def test_get_item_screw_targets(call: Any) -> None:
+    detected = Pose()
+    # K1's target (0.165, 0.54, 0.2175), turned about x, detected 0.12 m lower.
+    detected.position.x, detected.position.y, detected.position.z = 0.165, 0.42, 0.2175
+    detected.orientation.x, detected.orientation.w = 1.0, 0.0
+    moved = call(srv.GetItemScrewTargets, "get_item_screw_targets", label="K1", cad_pose=detected)
+    assert moved.success and list(moved.pins) == ["13", "A1", "A2"]
+    assert close(xyz(moved.screws[1].position), (0.155, 0.45, 0.0675))
 
 
 def test_rail_scanner_and_reset(call: Any) -> None:
@@ -226,11 +268,24 @@ def test_late_subscriber_gets_every_frame_on_tf_static(ros: Any, server: Server,
     assert cabinet.header.frame_id == "world" and close(xyz(cabinet.transform.translation), (1.0, 0.0, 0.0))
     corner = frames["K1/corner"]
     assert corner.header.frame_id == "cabinet"
-    assert close(xyz(corner.transform.translation), (0.15, 0.5, 0.0675))
+    assert close(xyz(corner.transform.translation), (0.15, 0.5, 0.0075))
     assert {"K1/original", "K1/target", "X1/terminal_start", "RAIL1/start", "ID000003"} <= set(frames)
     for t in message.transforms:
         q = t.transform.rotation
         assert math.isclose(q.x**2 + q.y**2 + q.z**2 + q.w**2, 1.0, abs_tol=1e-9)
+
+
+def test_gearbox_display_withdraws_and_publishes_the_cabinet_frames(
+    ros: Any, server: Server, call: Any
+) -> None:
+    off = call(srv.GearboxDisplay, "gearbox_display")
+    assert off.success and off.display is False
+    withdrawn = {t.child_frame_id for t in _receive(ros, server, TFMessage, "/tf_static").transforms}
+    assert "cabinet" in withdrawn and "K1/corner" not in withdrawn
+    on = call(srv.GearboxDisplay, "gearbox_display")
+    assert on.success and on.display is True
+    published = {t.child_frame_id for t in _receive(ros, server, TFMessage, "/tf_static").transforms}
+    assert {"K1/original", "K1/corner", "K1/target"} <= published
 
 
 def test_markers(ros: Any, server: Server) -> None:
@@ -248,7 +303,7 @@ def test_markers(ros: Any, server: Server) -> None:
 def test_reload_swaps_the_cell_while_serving(ros: Any, call: Any, server: Server) -> None:
     """Last: edits the copied cell (approach 0.15 → 0.25 m) and reloads while calls go on."""
     before = call(srv.CadReference, "cad_reference", label="K1")
-    assert close(xyz(before.target_pose.position), (0.165, 0.54, 0.1875))
+    assert close(xyz(before.target_pose.position), (0.165, 0.54, 0.2175))
     text = server.manifest.read_text()
     server.manifest.write_text(text.replace("approach_distance = 0.15", "approach_distance = 0.25"))
     reload_client = ros.create_client(srv.Reload, f"{NAMESPACE}/reload")
@@ -261,12 +316,12 @@ def test_reload_swaps_the_cell_while_serving(ros: Any, call: Any, server: Server
     # Each answer comes from one whole cell, the old or the new, never a mix.
     for future in during:
         z = future.result().target_pose.position.z
-        assert any(math.isclose(z, expected) for expected in (0.1875, 0.2875)), z
+        assert any(math.isclose(z, expected) for expected in (0.2175, 0.3175)), z
     after = call(srv.CadReference, "cad_reference", label="K1")
-    assert close(xyz(after.target_pose.position), (0.165, 0.54, 0.2875))
+    assert close(xyz(after.target_pose.position), (0.165, 0.54, 0.3175))
     server.manifest.write_text(text.replace("approach_distance = 0.15", "approach_distance = ]"))
     broken = call(srv.Reload, "reload")
     assert not broken.success and "still serving" in broken.message
     assert close(
-        xyz(call(srv.CadReference, "cad_reference", label="K1").target_pose.position), (0.165, 0.54, 0.2875)
+        xyz(call(srv.CadReference, "cad_reference", label="K1").target_pose.position), (0.165, 0.54, 0.3175)
     )

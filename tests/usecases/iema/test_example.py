@@ -81,23 +81,24 @@ def test_every_wire_end_has_pin_data(model: CellModel) -> None:
     assert [s.wire for s in model.steps if s.missing] == []
 
 
-# Hand-computed in the example's README (cabinet frame, metres).
+# Hand-computed in the example's README (cabinet frame, metres): origin, size, corner (the box's
+# minimum corner), target (0.15 m in front of the front face's centre).
 POSES = {
-    "F1500.1": ((0.07, 0.56, 0.0075), (0.054, 0.097, 0.097), (0.07, 0.56, 0.1045), (0.097, 0.6085, 0.206)),
+    "F1500.1": ((0.07, 0.56, 0.0075), (0.054, 0.097, 0.097), (0.07, 0.56, 0.0075), (0.097, 0.6085, 0.2545)),
     "SSB-10Q1": (
         (0.5544, 0.56, 0.0075),
         (0.0898, 0.0359, 0.07448),
-        (0.5544, 0.56, 0.08198),
-        (0.53645, 0.6049, 0.19474),
+        (0.5544, 0.56, 0.0075),
+        (0.53645, 0.6049, 0.23198),
     ),
     "B0040.3": (
         (0.4178, 0.86, 0.0075),
         (0.0175, 0.06, 0.04),
-        (0.4178, 0.86, 0.0475),
-        (0.40905, 0.83, 0.1775),
+        (0.4178, 0.86, 0.0075),
+        (0.40905, 0.83, 0.1975),
     ),
-    "E0040.1": ((0.556, 0.02, 0.0), (0.148, 0.148, 0.067), (0.542, 0.006, 0.067), (0.616, 0.08, 0.1835)),
-    "Q0010": ((0.07, 0.86, 0.0075), (0.054, 0.085, 0.103), (0.07, 0.86, 0.1105), (0.097, 0.9025, 0.209)),
+    "E0040.1": ((0.556, 0.02, 0.0), (0.148, 0.148, 0.067), (0.542, 0.006, 0.0), (0.616, 0.08, 0.217)),
+    "Q0010": ((0.07, 0.86, 0.0075), (0.054, 0.085, 0.103), (0.07, 0.86, 0.0075), (0.097, 0.9025, 0.2605)),
 }
 PINS = {
     ("SSB-10Q1", "1"): ((0.5454, 0.5685, 0.05246), (0.5544, 0.56, 0.0075)),
@@ -134,7 +135,7 @@ def test_hand_computed_pin_frames(model: CellModel, label: str, pin: str) -> Non
 def test_hand_computed_terminal_blocks(model: CellModel) -> None:
     x1500 = iema.get_terminal_data(model, "X1500")
     assert math.isclose(x1500.length, 0.0654) and math.isclose(x1500.height, 0.0675)
-    assert x1500.terminal_start and _near(x1500.terminal_start.position, (0.2649, 0.28, 0.055))
+    assert x1500.terminal_start and _near(x1500.terminal_start.position, (0.2649, 0.28, 0.0075))
     # 12 terminals of two levels each, in block order.
     assert len(x1500.pins) == 24 and x1500.pins[:4] == ("1:a", "1:b", "2:a", "2:b")
     x1600 = iema.get_terminal_data(model, "X1600")
@@ -182,7 +183,7 @@ def test_providers_walk_every_robot_wire_once(model: CellModel) -> None:
     robot = [s.position for s in model.steps if s.performer == "robot"]
     human = [s.position for s in model.steps if s.performer == "human"]
     assert seen == robot and human and not set(seen) & set(human)
-    assert 94 in human  # the overlay assigns operation 94 to a human
+    assert 93 in human  # the overlay assigns operation 93 (from 0) to a human
 
 
 def test_every_service_runs_on_the_example(model: CellModel) -> None:
@@ -190,9 +191,11 @@ def test_every_service_runs_on_the_example(model: CellModel) -> None:
     args = {
         "label": "F1500.1",
         "detected_pose": "0.1,0.6,0.0075,0,0,0",
+        "cad_pose": "0.1,0.6,0.25,3.14159265,0,0",
         "occupancy": "false",
         "data": "1500.51",
-        "source": "lista-cablaggio.csv",
+        "source": "orig",
+        "connection_list": "lista-cablaggio.csv",
     }
     for service in services_for("iema"):
         name = service.name

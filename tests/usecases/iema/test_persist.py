@@ -60,7 +60,7 @@ def _damaged(data: bytes) -> list[bytes]:
     doc = json.loads(data)
     cases = [b"", b"\x00\xff garbage", data[: len(data) // 2], b"[" * 100_000, b'{"format": 1}']
     for key, value in [
-        ("format", 2),
+        ("format", 1),
         ("cadkg", "0.0.0"),
         ("numbers", "not base64!"),
         ("numbers", base64.b64encode(b"\x00" * 5).decode()),
@@ -134,8 +134,8 @@ def test_changes_to_the_store_replace_the_kept_model(tmp_path: Path) -> None:
             update=True,
         )
     with cadkg.open(store) as kg:
-        # tests/test_store.py: K1's target is the approach distance over its top.
-        assert kg.cell_model().components["K1"].target.position[2] == pytest.approx(0.2875)
+        # tests/test_store.py: K1's target is the approach distance in front of its front face.
+        assert kg.cell_model().components["K1"].target.position[2] == pytest.approx(0.3175)
         assert load_model(_model_file(store).read_bytes()) == _derived(kg)
 
 

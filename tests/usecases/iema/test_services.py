@@ -57,8 +57,11 @@ def test_cad_service_on_a_rail_component(kg: KnowledgeGraph) -> None:
     assert close(result.original_pose.position, (0.15, 0.5, 0.0075))
     # The box is the relay (20 mm) and its auxiliary contact (10 mm) side by side.
     assert close(result.dimensions, (0.03, 0.08, 0.06))
-    assert close(result.corner_pose.position if result.corner_pose else None, (0.15, 0.5, 0.0675))
-    assert close(result.target_pose.position if result.target_pose else None, (0.165, 0.54, 0.1875))
+    # Corner: the box's minimum corner. Target: 0.15 m in front of the front face (z 0.0675)
+    # over its centre, turned a half turn about x (z into the plate), as the cell's software.
+    assert close(result.corner_pose.position if result.corner_pose else None, (0.15, 0.5, 0.0075))
+    assert close(result.target_pose.position if result.target_pose else None, (0.165, 0.54, 0.2175))
+    assert same_rotation(result.target_pose, (1.0, 0.0, 0.0, 0.0))
     pins = {p.pin: p for p in result.pins}
     assert sorted(pins) == ["13", "A1", "A2"]
     assert close(pins["A1"].screw.position if pins["A1"].screw else None, (0.155, 0.57, 0.0675))
@@ -70,8 +73,10 @@ def test_cad_service_on_a_rail_component(kg: KnowledgeGraph) -> None:
 def test_cad_service_on_a_turned_component(kg: KnowledgeGraph) -> None:
     result = iema.cad_service(kg.cell_model(), "=-K2")
     assert result.success and same_rotation(result.original_pose, HALF_TURN)
-    assert close(result.corner_pose.position if result.corner_pose else None, (0.3, 0.5, 0.0675))
-    assert close(result.target_pose.position if result.target_pose else None, (0.29, 0.46, 0.1875))
+    assert close(result.corner_pose.position if result.corner_pose else None, (0.3, 0.5, 0.0075))
+    assert close(result.target_pose.position if result.target_pose else None, (0.29, 0.46, 0.2175))
+    # The half turn about z of the component, then the half turn about x: a half turn about y.
+    assert same_rotation(result.target_pose, (0.0, 1.0, 0.0, 0.0))
     pins = {p.pin: p for p in result.pins}
     assert close(pins["A2"].screw.position if pins["A2"].screw else None, (0.285, 0.43, 0.0675))
 
@@ -87,7 +92,7 @@ def test_full_cad_service_lists_connections_in_order(kg: KnowledgeGraph) -> None
     result = iema.full_cad_service(kg.cell_model(), "K1")
     assert [c.wire for c in result.connections] == ["W1", "W2", "W4"]
     w4 = result.connections[-1]
-    assert w4.destination == "K9:1" and w4.missing_pin_data and w4.list_position == 4
+    assert w4.destination == "K9:1" and w4.missing_pin_data and w4.list_position == 3  # from 0
 
 
 def test_item_screws_follow_the_detected_pose(kg: KnowledgeGraph) -> None:
@@ -105,7 +110,7 @@ def test_item_screws_follow_the_detected_pose(kg: KnowledgeGraph) -> None:
 def test_terminal_data(kg: KnowledgeGraph) -> None:
     result = iema.get_terminal_data(kg.cell_model(), "X1")
     assert result.success and result.pins == ("1:a", "1:b", "2:a", "2:b")
-    assert close(result.terminal_start.position if result.terminal_start else None, (0.25, 0.5, 0.0475))
+    assert close(result.terminal_start.position if result.terminal_start else None, (0.25, 0.5, 0.0075))
     assert close(result.screws[0].position, (0.2525, 0.54, 0.0475))
     assert close(result.holes[3].position, (0.2575, 0.505, 0.0375))
     assert math.isclose(result.length, 0.012) and math.isclose(result.height, 0.05)
@@ -123,7 +128,7 @@ def test_clusters(kg: KnowledgeGraph) -> None:
 
 def test_cad_reference(kg: KnowledgeGraph) -> None:
     result = iema.cad_reference(kg.cell_model(), "K1")
-    assert close(result.corner_pose.position if result.corner_pose else None, (0.15, 0.5, 0.0675))
+    assert close(result.corner_pose.position if result.corner_pose else None, (0.15, 0.5, 0.0075))
 
 
 def test_rail_scanner_cursor(session: Session) -> None:
@@ -140,7 +145,7 @@ def test_rail_scanner_cursor(session: Session) -> None:
 
 def test_group_provider_walks_robot_wires_then_ends(session: Session) -> None:
     first = cursors.group_connection_provider(session)
-    assert (first.wire, first.list_position, first.wire_path) == ("W1", 1, "U1")
+    assert (first.wire, first.list_position, first.wire_path) == ("W1", 0, "=-U1")  # as written
     # Origin hole → entry of duct U1 → exit towards the destination → destination hole.
     points = [p.position for p in first.path_keypoints]
     assert len(points) == 4
@@ -154,7 +159,7 @@ def test_group_provider_walks_robot_wires_then_ends(session: Session) -> None:
 
 
 def test_missing_pin_data_is_flagged(session: Session) -> None:
-    cursors.reset_to_connection_list(session, 4)
+    cursors.reset_to_connection_list(session, 3)
     step = cursors.group_connection_provider(session)
     assert step.wire == "W4" and step.missing_pin_data == "K9:1"
     assert step.path_keypoints == ()
@@ -166,21 +171,41 @@ def test_full_provider_hands_out_ends(session: Session) -> None:
     assert (
         (origin.label, origin.pin, origin.direction) == ("K1", "A1", True) == (again.label, again.pin, True)
     )
-    assert origin.source == "connections.tsv" and origin.list_position == 1
+    assert (origin.source, origin.connection_list, origin.list_position) == ("orig", "connections.tsv", 0)
     destination = cursors.full_connection_provider(session, True)
-    assert (destination.label, destination.pin, destination.direction) == ("X1", "1:a", False)
+    assert (destination.label, destination.pin, destination.source) == ("X1", "1:a", "dest")
+    # The component pose is X1's target: box (0.25, 0.5, 0.0075) + (0.012, 0.05, 0.04), front z 0.0475.
     assert close(
-        destination.component_pose.position if destination.component_pose else None, (0.25, 0.5, 0.0075)
+        destination.component_pose.position if destination.component_pose else None, (0.256, 0.525, 0.1975)
     )
     assert cursors.full_connection_provider(session, False).wire == "W2"
 
 
-def test_reset_to_wire_number_or_position(session: Session) -> None:
-    result = cursors.reset_to_connection_list(session, 2.0, "connections.tsv")
+def test_full_provider_without_occupancy_alternates_the_ends(session: Session) -> None:
+    # The cell's software's request is empty: origin, destination, next origin.
+    ends = [cursors.full_connection_provider(session) for _ in range(3)]
+    assert [(e.wire, e.source, e.label, e.list_position) for e in ends] == [
+        ("W1", "orig", "K1", 0),
+        ("W1", "dest", "X1", 0),
+        ("W2", "orig", "K1", 1),
+    ]
+
+
+def test_reset_to_position_or_wire_number(session: Session) -> None:
+    result = cursors.reset_to_connection_list(session, 1.0, connection_list="connections.tsv")
     assert result.success and "W2" in result.output
     assert cursors.group_connection_provider(session).wire == "W2"
-    assert not cursors.reset_to_connection_list(session, 3.0).success  # W3 is the human's
-    assert not cursors.reset_to_connection_list(session, 1.0, "other.csv").success
+    assert not cursors.reset_to_connection_list(session, 2.0).success  # W3 is the human's
+    assert not cursors.reset_to_connection_list(session, 1.0, connection_list="other.csv").success
+    assert not cursors.reset_to_connection_list(session, 1.0, "connections.tsv").success  # source: an end
+
+
+def test_reset_to_with_source_dest_hands_the_destination_next(session: Session) -> None:
+    # As the cell's software: reset_to_connection_list(data=3, source="dest") → W4's destination next.
+    assert cursors.reset_to_connection_list(session, 3, "dest").success
+    end = cursors.full_connection_provider(session)
+    assert (end.wire, end.source, end.label, end.pin, end.missing_pin_data) == ("W4", "dest", "K9", "1", True)
+    assert cursors.full_connection_provider(session).end
 
 
 def test_cursors_are_per_client(session: Session) -> None:
@@ -211,7 +236,13 @@ def test_call_converts_and_checks_parameters(session: Session) -> None:
 def test_every_service_gives_json(session: Session) -> None:
     import json
 
-    args = {"label": "K1", "detected_pose": "0,0,0,0,0,0,1", "occupancy": "false", "data": "1"}
+    args = {
+        "label": "K1",
+        "detected_pose": "0,0,0,0,0,0,1",
+        "cad_pose": "0,0,0,0,0,0,1",
+        "occupancy": "false",
+        "data": "1",
+    }
     for service in services_for("iema"):
         name = service.name
         result = call(session, name, {k: args[k] for k in service.params if k in args})
@@ -223,7 +254,7 @@ def test_derived_triples_are_in_the_graph(kg: KnowledgeGraph) -> None:
         """SELECT DISTINCT ?x ?y ?z WHERE { ?c ck:label "K1" ; ck:cornerPose ?p .
              ?p ck:tx ?x ; ck:ty ?y ; ck:tz ?z }"""
     ).rows
-    assert len(rows) == 1 and close((rows[0]["x"], rows[0]["y"], rows[0]["z"]), (0.15, 0.5, 0.0675))
+    assert len(rows) == 1 and close((rows[0]["x"], rows[0]["y"], rows[0]["z"]), (0.15, 0.5, 0.0075))
     assert kg.ask('ASK { ?w ck:wireNumber "W4" ; ck:missingPinData true }')
     assert kg.ask('ASK { ?c ck:label "K1" ; ck:onRail/ck:label "RAIL1" }')
     assert kg.ask('ASK { ?k a ck:PinCluster ; ck:clusterAxis "horizontal" ; ck:clusterOf/ck:label "K1" }')

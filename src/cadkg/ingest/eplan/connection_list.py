@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.eplan.labels import PinRef, PinSyntaxError, normalize_label, parse_pin_ref
+from cadkg.ingest.eplan.labels import PinRef, PinSyntaxError, duct_labels, parse_pin_ref
 from cadkg.ingest.eplan.list_columns import ALIASES as _ALIASES
 from cadkg.ingest.eplan.list_columns import PAIRED as _PAIRED
 from cadkg.ingest.eplan.list_columns import PER_END as _PER_END
@@ -29,6 +29,7 @@ from cadkg.ingest.text import Row, find_header, parse_decimal, read_text
 
 __all__ = [
     "FORMULA_ERRORS",
+    "UNKNOWN_END",
     "Connection",
     "ConnectionListInfo",
     "Locate",
@@ -46,7 +47,6 @@ _EXPECTED = (
 _HEADER_SCAN_ROWS = 40
 
 _END = re.compile(r"^(?P<base>.+?) (?P<end>origine|origin|destinazione|destination)(?: (?P<rest>.*))?$")
-_DUCTS = re.compile(r"[;']")
 _SECTION_UNITS = frozenset({"mm²", "mm2", "mmq", "mm^2"})
 _LENGTH_UNITS = frozenset({"m", "mm"})
 _REQUIRED = {
@@ -93,6 +93,13 @@ class Connection:
     origin_direction: str | None = None
     destination_direction: str | None = None
     bundling_side: str | None = None
+    # The duct path as the list writes it (``=-U3;=-U5`` or ``=-CN2'=-CN3``); ``duct_path`` has its labels.
+    duct_text: str | None = None
+
+
+# The end of a wire whose pin cell holds no reference (a formula EPLAN could not evaluate, shown
+# as ``#NAME?``, or the empty cell LibreOffice leaves for it): the wire is kept, this end unknown.
+UNKNOWN_END = PinRef(component="?", pin="?", level=None, raw="")
 
 
 def _norm(header: str) -> str:
@@ -239,7 +246,7 @@ def connection_records(
         job=_preamble_value(preamble, "commessa:"),
         header_line=header.line,
     )
-    convert = _RowConverter(path, columns, header_names, locate)
+    convert = _RowConverter(path, columns, header_names, locate, sheet is not None)
     index = 0
     for row in rows[header_at + 1 :]:
         if row.is_blank:
@@ -305,9 +312,12 @@ class _RowConverter:
     """
 
     def __init__(
-        self, path: str | Path, columns: dict[str, int], names: dict[str, str], locate: Locate
+        self, path: str | Path, columns: dict[str, int], names: dict[str, str], locate: Locate, sheet: bool
     ) -> None:
         self.path = path
+        # A sheet's empty pin cell is a formula the spreadsheet evaluated to nothing (LibreOffice's
+        # form of #NAME?); in a text list it is a wire without an end, an error.
+        self.sheet = sheet
         self.columns = columns
         self.names = names
         self.locate = locate
@@ -323,20 +333,6 @@ class _RowConverter:
     def __call__(self, row: Row, index: int) -> Connection | None:
         cells = row.cells
         width = len(cells)
-        for key in ("origin_pin", "destination_pin"):
-            at = self.columns[key]
-            if at < width and cells[at].strip() in FORMULA_ERRORS:
-                # The export lost the value (a formula EPLAN could not evaluate): the wire has
-                # one end only, so the row is left out, loudly.
-                warnings.warn(
-                    IngestWarning(
-                        self.path,
-                        f"the cell shows the formula error {cells[at].strip()}; the row is skipped",
-                        **self.locate(row.line, at),
-                    ),
-                    stacklevel=4,
-                )
-                return None
         # Each cell stripped once; a column past the row's end reads as empty.
         wire_number, origin, destination, section, length, ducts = (
             cells[at].strip() if at < width else "" for at in self.at
@@ -348,16 +344,19 @@ class _RowConverter:
             raise self.empty(row, "wire_number", "a wire number such as 1500.51 or 0V")
         if fields["cable_name"] == "=":
             fields["cable_name"] = None  # EPLAN's empty function designation: no cable
+        origin_ref = self.pin(row, "origin_pin", origin, destination)
+        destination_ref = self.pin(row, "destination_pin", destination, origin)
         return Connection(
             index=index,
             line=row.line,
-            origin=self.pin(row, "origin_pin", origin),
-            destination=self.pin(row, "destination_pin", destination),
+            origin=origin_ref,
+            destination=destination_ref,
             wire_number=wire_number,
             section_mm2=self.number(row, "section", section) if section else None,
             length_m=self.number(row, self.length_key, length) if length else None,
             duct_path=self.duct_path(ducts) if ducts else (),
             **fields,
+            duct_text=ducts or None,
         )
 
     def empty(self, row: Row, key: str, expected: str) -> IngestError:
@@ -384,11 +383,23 @@ class _RowConverter:
     def duct_path(self, text: str) -> tuple[str, ...]:
         path = self.ducts.get(text)
         if path is None:
-            # ';' in EPLAN's lists, "'" in the Komax ones.
-            path = self.ducts[text] = tuple(normalize_label(d) for d in _DUCTS.split(text) if d.strip())
+            path = self.ducts[text] = duct_labels(text)
         return path
 
-    def pin(self, row: Row, key: str, raw: str) -> PinRef:
+    def pin(self, row: Row, key: str, raw: str, other: str) -> PinRef:
+        if raw in FORMULA_ERRORS or (self.sheet and not raw and other and other not in FORMULA_ERRORS):
+            # The export lost this end's value: the wire keeps its place in the list with the
+            # end unknown, and the derivation flags it (missing pin data), as the cell's software.
+            shown = f"the formula error {raw}" if raw else "no pin reference"
+            warnings.warn(
+                IngestWarning(
+                    self.path,
+                    f"the cell shows {shown}; the wire is kept with this end unknown (?:?)",
+                    **self.locate(row.line, self.columns[key]),
+                ),
+                stacklevel=5,
+            )
+            return UNKNOWN_END
         if not raw or raw == "-":
             raise self.empty(row, key, "a pin reference such as -F1500.1:14")
         try:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-__all__ = ["PinRef", "PinSyntaxError", "normalize_label", "parse_pin_ref"]
+__all__ = ["PinRef", "PinSyntaxError", "duct_labels", "normalize_label", "parse_pin_ref"]
 
 _TAG = re.compile(r"^(?:=[^+\-=]*)?(?:\+[^\-=]*)?-?(?P<device>[^=+\-].*)?$")
 _PART = re.compile(r"^[^\s:;]+$")
@@ -28,6 +28,14 @@ def normalize_label(raw: str) -> str:
     if match is None:
         return text
     return (match.group("device") or "").strip()
+
+
+_DUCT_SEPARATORS = re.compile(r"[;']")
+
+
+def duct_labels(path: str) -> tuple[str, ...]:
+    """The ducts a written duct path names: ``;`` in EPLAN's lists, ``'`` in the Komax ones."""
+    return tuple(normalize_label(d) for d in _DUCT_SEPARATORS.split(path) if d.strip())
 
 
 @dataclass(frozen=True, slots=True)

@@ -15,7 +15,7 @@ from importlib import resources
 from cadkg.ingest.reader import Reader
 from cadkg.usecase import Derivation, UseCase
 from cadkg.usecases.iema import mapping as _mapping  # noqa: F401  (registers the record mappings)
-from cadkg.usecases.iema.checks import diagram_against_lists
+from cadkg.usecases.iema.checks import cabinet_checks
 from cadkg.usecases.iema.component_list import looks_like_component_list, read_component_list
 from cadkg.usecases.iema.component_model import looks_like_component_models, read_component_models
 from cadkg.usecases.iema.derive.cabinet import derive_cell
@@ -87,5 +87,5 @@ USE_CASE = UseCase(
     ros_namespace="/gearbox_handler",
     derivation=CABINET,
     frames=cabinet_frames,
-    checks=diagram_against_lists,
+    checks=cabinet_checks,
 )

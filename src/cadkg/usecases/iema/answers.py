@@ -30,13 +30,19 @@ __all__ = [
     "connection_of",
     "full_cad_service",
     "get_item_screw_service",
+    "get_item_screw_targets",
     "get_terminal_data",
 ]
 
 
 @dataclass(frozen=True)
 class CadConnection:
-    """A connection a component takes part in (``full_cad_service``)."""
+    """A connection a component takes part in (``full_cad_service``).
+
+    As the reference node's ``cad_connection``: ``source`` is the component's end (``orig`` or
+    ``dest``), ``pin`` its pin with its ``screw_pose`` and ``hole_pose``, ``target_item`` and
+    ``target_pin`` the other end's CAD item and pin. ``connection_list`` is the list's file.
+    """
 
     wire: str
     list_position: int
@@ -45,6 +51,14 @@ class CadConnection:
     destination: str
     performer: str
     missing_pin_data: bool
+    # Why a rule gave the wire to a person (zone, label not in the CAD); empty otherwise.
+    reason: str = ""
+    pin: str = ""
+    target_item: str = ""
+    target_pin: str = ""
+    screw_pose: Pose | None = None
+    hole_pose: Pose | None = None
+    connection_list: str = ""
 
 
 @dataclass(frozen=True)
@@ -157,24 +171,48 @@ def cad_service(model: CellModel, label: str) -> CadServiceResult:
     )
 
 
-def connection_of(step: WireStep) -> CadConnection:
+def connection_of(step: WireStep, here: CadPin | None = None) -> CadConnection:
+    """A wire seen from its end ``here`` (its origin when not given)."""
+    here = here or step.origin
+    there = step.destination if here is step.origin else step.origin
     return CadConnection(
         wire=step.wire,
         list_position=step.position,
-        source=step.source,
+        source="orig" if here is step.origin else "dest",
         origin=f"{step.origin.label}:{step.origin.pin}",
         destination=f"{step.destination.label}:{step.destination.pin}",
         performer=step.performer,
         missing_pin_data=bool(step.missing),
+        reason=step.reason,
+        pin=here.pin,
+        target_item=there.item or "",
+        target_pin=there.pin,
+        screw_pose=here.screw,
+        hole_pose=here.hole,
+        connection_list=step.source,
     )
 
 
-def full_cad_service(model: CellModel, label: str) -> FullCadServiceResult:
-    """As :func:`cad_service`, with the connections the component takes part in, in list order."""
+def full_cad_service(model: CellModel, label: str = "", cad_item: str = "") -> FullCadServiceResult:
+    """As :func:`cad_service`, with the connections the component takes part in, in list order.
+
+    By ``cad_item`` (as the reference node's request): the component that item belongs to, and
+    the wire ends on that item's pins (a wire between two of them counts twice).
+    """
+    if cad_item:
+        label = next((g.label for g in model.components.values() if cad_item in g.items), "")
+        if not label:
+            return FullCadServiceResult(False, f"unknown CAD item {cad_item!r}")
     geometry, message = _find(model, label)
     if geometry is None or geometry.original is None:
         return FullCadServiceResult(False, message)
-    steps = model.steps_of(geometry.label)
+    connections = []
+    for step in model.steps_of(geometry.label):
+        ends = [end for end in (step.origin, step.destination) if end.label == geometry.label]
+        if cad_item:
+            connections += [connection_of(step, end) for end in ends if end.item == cad_item]
+        else:
+            connections.append(connection_of(step, ends[0]))
     return FullCadServiceResult(
         True,
         message,
@@ -182,7 +220,7 @@ def full_cad_service(model: CellModel, label: str) -> FullCadServiceResult:
         geometry.corner,
         geometry.original,
         geometry.dimensions,
-        tuple(connection_of(s) for s in steps),
+        tuple(connections),
     )
 
 
@@ -195,7 +233,20 @@ def get_item_screw_service(model: CellModel, label: str, detected_pose: Pose) ->
     geometry, message = _find(model, label)
     if geometry is None or geometry.original is None:
         return ItemScrewResult(False, message)
-    shift = detected_pose * geometry.original.inverse()
+    return _moved(model, geometry, message, detected_pose * geometry.original.inverse())
+
+
+def get_item_screw_targets(model: CellModel, label: str, cad_pose: Pose) -> ItemScrewResult:
+    """As :func:`get_item_screw_service`, the reference node's request: ``cad_pose`` is where the
+    component's *target* pose was detected. The pins move rigidly with it (the node shifts their
+    x and y only: docs/iema-services.md, Differences from the reference node)."""
+    geometry, message = _find(model, label)
+    if geometry is None or geometry.target is None:
+        return ItemScrewResult(False, message if geometry is None else f"{geometry.label}: no target pose")
+    return _moved(model, geometry, message, cad_pose * geometry.target.inverse())
+
+
+def _moved(model: CellModel, geometry: ComponentGeometry, message: str, shift: Pose) -> ItemScrewResult:
     ends = model.ends_of(geometry.label)
     pins, screws, holes, screw_data, hole_data = [], [], [], [], []
     for pin in _pins_sorted(geometry):

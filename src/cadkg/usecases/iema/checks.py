@@ -1,12 +1,12 @@
 """IEMA's own checks for ``cadkg validate``: what the terminal diagram and the connection
-lists of one cabinet say differently."""
+lists of one cabinet say differently, the wires a rule gave to people, the wire ends a list lost."""
 
 from __future__ import annotations
 
 from cadkg.query.validate import Finding, source_location
 from cadkg.store import GraphStore
 
-__all__ = ["diagram_against_lists"]
+__all__ = ["cabinet_checks", "diagram_against_lists", "people_and_lost_ends"]
 
 # The terminal diagram's wire ends beside the connection lists' (docs/formats/terminal-diagram.md).
 _DIAGRAM_DESTINATIONS = """
@@ -78,3 +78,46 @@ def diagram_against_lists(kg: GraphStore) -> list[Finding]:
                 )
             )
     return findings
+
+
+# The derived graph's rule decisions (robot_scope), and the wires whose list lost an end's reference.
+_FOR_PEOPLE = """
+SELECT DISTINCT ?wire ?number ?reason WHERE { ?wire ck:wireNumber ?number ; ck:assignmentReason ?reason }
+"""
+_LOST_ENDS = """
+SELECT DISTINCT ?wire ?number ?end WHERE {
+  ?wire a ck:Wire ; ck:wireNumber ?number .
+  { ?wire ck:fromPin ?pin BIND("origin" AS ?end) } UNION { ?wire ck:toPin ?pin BIND("destination" AS ?end) }
+  ?pin ck:pinName "?" ; ck:pinOf/ck:label "?" .
+}
+"""
+
+
+def people_and_lost_ends(kg: GraphStore) -> list[Finding]:
+    """One finding per wire the cabinet rule gave to a person (with the rule and the value), and
+    per wire end the list lost (``#NAME?`` or an empty cell), kept with missing pin data."""
+    findings = [
+        Finding(
+            source_location(kg, row["wire"]),
+            "warning",
+            "wire-for-a-person",
+            f"wire {row['number']} is given to a person: {row['reason']}",
+        )
+        for row in kg.query(_FOR_PEOPLE)
+    ]
+    findings += [
+        Finding(
+            source_location(kg, row["wire"]),
+            "warning",
+            "lost-wire-end",
+            f"wire {row['number']}: the list gives no reference for its {row['end']};"
+            " it is kept with missing pin data",
+        )
+        for row in kg.query(_LOST_ENDS)
+    ]
+    return findings
+
+
+def cabinet_checks(kg: GraphStore) -> list[Finding]:
+    """Every IEMA check of :mod:`cadkg.usecases.iema.checks`."""
+    return diagram_against_lists(kg) + people_and_lost_ends(kg)

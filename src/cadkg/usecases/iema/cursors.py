@@ -3,16 +3,18 @@
 A cursor is per client (a ROS node, a CLI user) and walks only the work assigned to
 the robot: wires, operations and components assigned to a human are skipped.
 
-``full_connection_provider(occupancy)`` hands out wire *ends*: with the gripper
-empty (``occupancy=False``) it gives the origin of the current wire and does not
-move; with the wire in hand (``occupancy=True``) it gives the destination and moves
-to the next wire. ``group_connection_provider()`` gives a whole wire and moves on.
-Both share one position, so they can be mixed, and ``reset_connection_list`` rewinds it.
+``full_connection_provider()`` hands out wire *ends*, as the cell's software does: the
+origin of the current wire (``source="orig"``), then its destination (``"dest"``), then the
+next wire's origin. ``occupancy`` says which end is wanted instead (``false``: the gripper is
+empty, the origin, without moving; ``true``: the wire is in hand, its destination, and the
+cursor moves on). ``group_connection_provider()`` gives a whole wire and moves on. Both share
+one position, so they can be mixed, and ``reset_connection_list`` rewinds it. List positions
+count from 0, as the cell's software numbers its list.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from decimal import Decimal, InvalidOperation
 
 from cadkg.geometry.poses import Pose, Vec3
@@ -23,11 +25,15 @@ from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
 __all__ = [
     "ConnectionEnd",
     "CursorState",
+    "DisplayResult",
     "GroupConnection",
     "RailScan",
     "ResetResult",
     "ResetToResult",
+    "connection_provider_service",
+    "displayed",
     "full_connection_provider",
+    "gearbox_display",
     "group_connection_provider",
     "rail_scanner",
     "reset_connection_list",
@@ -41,6 +47,8 @@ KEY = "iema"
 
 @dataclass(frozen=True)
 class ConnectionEnd:
+    """One wire end; ``source`` says which (``orig`` or ``dest``), ``connection_list`` from which file."""
+
     end: bool
     missing_pin_data: bool = False
     list_position: int = 0
@@ -50,6 +58,7 @@ class ConnectionEnd:
     direction: bool = True
     component_pose: Pose | None = None
     wire: str = ""
+    connection_list: str = ""
 
 
 @dataclass(frozen=True)
@@ -129,11 +138,16 @@ def _current(session: Session, client: str) -> WireStep | None:
     return steps[cursor.step] if cursor.step < len(steps) else None
 
 
-def full_connection_provider(session: Session, occupancy: bool, client: str = "default") -> ConnectionEnd:
+def full_connection_provider(
+    session: Session, occupancy: bool | None = None, client: str = "default"
+) -> ConnectionEnd:
     step = _current(session, client)
     if step is None:
         return ConnectionEnd(end=True)
     cursor = state(session, client)
+    if occupancy is None:
+        # Without the gripper's state, the ends alternate: origin, destination, next origin.
+        occupancy = cursor.holding
     pin = step.destination if occupancy else step.origin
     if occupancy:
         cursor.step += 1
@@ -145,12 +159,14 @@ def full_connection_provider(session: Session, occupancy: bool, client: str = "d
         end=False,
         missing_pin_data=pin.missing,
         list_position=step.position,
-        source=step.source,
+        source="dest" if occupancy else "orig",
         label=pin.label,
         pin=pin.pin,
         direction=not occupancy,
-        component_pose=geometry.original if geometry else None,
+        # The approach pose over the component, as the cell's software hands it to the robot.
+        component_pose=geometry.target if geometry else None,
         wire=step.wire,
+        connection_list=step.source,
     )
 
 
@@ -161,16 +177,64 @@ def group_connection_provider(session: Session, client: str = "default") -> Grou
     cursor = state(session, client)
     cursor.step += 1
     cursor.holding = False
+    components = session.model.components
+    origin, destination = (
+        replace(pin, component_pose=g.target if (g := components.get(pin.label)) else None)
+        for pin in (step.origin, step.destination)
+    )
     return GroupConnection(
         end=False,
         missing_pin_data=", ".join(step.missing),
         list_position=step.position,
-        origin=step.origin,
-        destination=step.destination,
+        origin=origin,
+        destination=destination,
         wire=step.wire,
-        wire_path=";".join(step.ducts),
+        wire_path=step.path,
         path_keypoints=step.keypoints,
     )
+
+
+def connection_provider_service(
+    session: Session, occupancy: bool | None = None, client: str = "default"
+) -> ConnectionEnd:
+    """The reference node's older provider: the ends in turn, as ``full_connection_provider()``.
+
+    The node skips some labels by name (terminal blocks, ``P`` devices, two strips); here the
+    wires given to people are skipped instead (robot_scope)."""
+    return full_connection_provider(session, occupancy, client)
+
+
+@dataclass(frozen=True)
+class DisplayResult:
+    success: bool
+    message: str
+    display: bool
+
+
+def gearbox_display(session: Session, client: str = "default") -> DisplayResult:
+    """Publish or stop the cabinet's frames (``LABEL/original``, ``/corner``, ``/target``), in turn.
+
+    The frames go on /tf_static (latched): a listener that already has them keeps them; the
+    switch decides what the next publication (and a newly joined listener) gets."""
+    switch = session.cursor("iema-display", "cell", _Display)
+    switch.on = not switch.on
+    message = "cabinet frames published" if switch.on else "cabinet frames withdrawn"
+    return DisplayResult(True, message, switch.on)
+
+
+@dataclass
+class _Display:
+    """One switch for the whole cell (kept with the cursors), not one per client."""
+
+    on: bool = True
+
+    def __post_init__(self) -> None:
+        self.on = bool(self.on)
+
+
+def displayed(session: Session) -> bool:
+    """Whether the cabinet's frames are published (yes until ``gearbox_display`` switches them off)."""
+    return session.cursor("iema-display", "cell", _Display).on
 
 
 def reset_connection_list(session: Session, client: str = "default") -> ResetResult:
@@ -180,24 +244,34 @@ def reset_connection_list(session: Session, client: str = "default") -> ResetRes
 
 
 def reset_to_connection_list(
-    session: Session, data: float, source: str = "", client: str = "default"
+    session: Session, data: float, source: str = "", connection_list: str = "", client: str = "default"
 ) -> ResetToResult:
-    """Move the cursor to the wire numbered ``data`` (1500.5 matches 1500.50), else to position ``data``.
+    """Move the cursor to list position ``data`` (from 0), else to the wire numbered ``data``.
 
-    ``source`` picks the connection list (its path, file name or stem) when a cell has several.
+    ``source`` says which end comes next, ``orig`` (also when empty) or ``dest``, as in the cell's
+    software; ``connection_list`` picks the list (its path, file name or stem) when a cell has several.
+    A whole number is a list position first, as the cell's software reads it; a wire number is
+    compared as a number (1500.5 matches 1500.50).
     """
-    by_wire, by_position = _lookup_of(_work(session), source)
+    if source not in ("", "orig", "dest"):
+        return ResetToResult(
+            False, f"source {source!r}: expected orig or dest (the list is connection_list=)"
+        )
+    by_wire, by_position = _lookup_of(_work(session), connection_list)
     if not by_position:
-        return ResetToResult(False, f"no connection list {source!r} with robot work")
-    index = by_wire.get(Decimal(repr(float(data))).normalize())
-    if index is None and float(data).is_integer():
-        index = by_position.get(int(data))
+        return ResetToResult(False, f"no connection list {connection_list!r} with robot work")
+    index = by_position.get(int(data)) if float(data).is_integer() else None
     if index is None:
-        return ResetToResult(False, f"no robot wire numbered {data:g} and no list position {data:g}")
+        index = by_wire.get(Decimal(repr(float(data))).normalize())
+    if index is None:
+        return ResetToResult(False, f"no robot list position {data:g} and no robot wire numbered {data:g}")
     cursor = state(session, client)
     step = _work(session).steps[index]
-    cursor.step, cursor.holding = index, False
-    return ResetToResult(True, f"next: list position {step.position} of {step.source}, wire {step.wire}")
+    cursor.step, cursor.holding = index, source == "dest"
+    end = "destination" if cursor.holding else "origin"
+    return ResetToResult(
+        True, f"next: the {end} of list position {step.position} of {step.source}, wire {step.wire}"
+    )
 
 
 def _lookup_of(work: _Work, source: str) -> tuple[dict[Decimal, int], dict[int, int]]:

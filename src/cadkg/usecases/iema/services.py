@@ -34,9 +34,10 @@ SERVICES: tuple[Service, ...] = (
     ),
     Service(
         "full_cad_service",
-        "as cad_service, with the component's connections",
-        {"label": str},
-        _label(answers.full_cad_service),
+        "as cad_service, with the component's connections; by label or by CAD item (cad_item)",
+        {"label": str, "cad_item": str},
+        on_model(answers.full_cad_service, _cabinet),
+        optional=frozenset({"label", "cad_item"}),
         effect=Effect.READS,
     ),
     Service(
@@ -44,6 +45,13 @@ SERVICES: tuple[Service, ...] = (
         "screws and holes re-expressed from a detected component pose",
         {"label": str, "detected_pose": Pose},
         on_model(answers.get_item_screw_service, _cabinet),
+        effect=Effect.READS,
+    ),
+    Service(
+        "get_item_screw_targets",
+        "the reference node's get_item_screw_service: pins moved with the detected target pose",
+        {"label": str, "cad_pose": Pose},
+        on_model(answers.get_item_screw_targets, _cabinet),
         effect=Effect.READS,
     ),
     Service(
@@ -69,10 +77,11 @@ SERVICES: tuple[Service, ...] = (
     ),
     Service(
         "full_connection_provider",
-        "next wire end to handle (occupancy: the gripper holds the wire's first end)",
+        "next wire end: origin, then destination (occupancy: the gripper holds the wire's first end)",
         {"occupancy": bool},
         cursors.full_connection_provider,
         effect=Effect.CURSOR,
+        optional=frozenset({"occupancy"}),
     ),
     Service(
         "group_connection_provider",
@@ -90,11 +99,27 @@ SERVICES: tuple[Service, ...] = (
     ),
     Service(
         "reset_to_connection_list",
-        "move the connection cursor to a wire number (or list position) of a source",
-        {"data": float, "source": str},
+        "move the connection cursor to a list position (from 0) or wire number; source: orig or dest next",
+        {"data": float, "source": str, "connection_list": str},
         cursors.reset_to_connection_list,
         effect=Effect.CURSOR,
-        optional=frozenset({"source"}),
+        optional=frozenset({"source", "connection_list"}),
+    ),
+    Service(
+        "connection_provider_service",
+        "the reference node's older provider: the next wire end, origin then destination",
+        {"occupancy": bool},
+        cursors.connection_provider_service,
+        optional=frozenset({"occupancy"}),
+        ros_type="FullConnectionProvider",
+        effect=Effect.CURSOR,
+    ),
+    Service(
+        "gearbox_display",
+        "publish or withdraw the cabinet's frames (LABEL/original, corner, target), in turn",
+        {},
+        cursors.gearbox_display,
+        effect=Effect.CURSOR,
     ),
     Service(
         "rail_scanner",
@@ -115,8 +140,11 @@ SERVICES: tuple[Service, ...] = (
 
 def cabinet_frames(session: Session) -> list[Frame]:
     """Per component ``LABEL/original``, ``LABEL/corner``, ``LABEL/target`` (and
-    ``LABEL/terminal_start`` on a terminal block) in its frame; per rail ``LABEL/start``."""
+    ``LABEL/terminal_start`` on a terminal block) in its frame; per rail ``LABEL/start``;
+    none while ``gearbox_display`` has withdrawn them."""
     model = session.model
+    if not cursors.displayed(session):
+        return []
     frames = []
     for label, geometry in sorted(model.components.items()):
         named = [("original", geometry.original), ("corner", geometry.corner), ("target", geometry.target)]

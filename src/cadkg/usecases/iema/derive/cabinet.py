@@ -4,9 +4,9 @@ Conventions (docs/derived-geometry.md): every pose is expressed in the root fram
 of the scene that placed the items (``cabinet`` in the examples: x right, y up, z
 out of the mounting plate). A component's frame is its root item's frame. Its
 box is the union of its items' boxes (scene geometry, else the model's
-``[0, dims]`` box). The corner is the box's lower-left front corner (min x,
-min y, max z); the target is the box centre moved along the component's z by
-the approach distance.
+``[0, dims]`` box). The corner is the box's minimum corner; the target is the
+front face's centre moved along the component's z by the approach distance and
+turned a half turn about x (z into the plate), as the cell's software computes both.
 """
 
 from __future__ import annotations
@@ -16,13 +16,14 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 from cadkg.geometry.poses import IDENTITY, Pose, Vec3, bounds, box_corners, closest_point_on_segment
-from cadkg.mapping.writer import node_iri
 from cadkg.usecases.iema.derive.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.usecases.iema.robot_scope import decide, performers_of
 from cadkg.usecases.iema.terminal_diagram import items_along
 
 __all__ = ["CadPin", "CellModel", "Cluster", "ComponentGeometry", "Rail", "WireStep", "derive_cell"]
 
 _ROOT = "root"
+_HALF_TURN_X = Pose((0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0))
 
 
 @dataclass(frozen=True)
@@ -35,6 +36,8 @@ class CadPin:
     hole: Pose | None
     item: str | None
     iri: str | None = None
+    # Set by group_connection_provider: the component's target pose, as the node's cad_pins.
+    component_pose: Pose | None = None
 
     @property
     def missing(self) -> bool:
@@ -87,6 +90,9 @@ class WireStep:
     keypoints: tuple[Pose, ...]
     performer: str
     terminations: tuple[str | None, str | None] = (None, None)
+    # The duct path as the list writes it; why a rule gave the wire to a person (robot_scope).
+    path: str = ""
+    reason: str = ""
 
     @property
     def missing(self) -> tuple[str, ...]:
@@ -211,8 +217,11 @@ class _Deriver:
         lo, hi = bounds(corners)
         geometry.dimensions = (hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
         centre = ((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2)
-        geometry.target = origin.at((centre[0], centre[1], centre[2] + self.cell.approach_distance))
-        geometry.corner = origin.at((lo[0], lo[1], hi[2]))
+        # As the cell's software: the target is an approach pose over the front face's centre, its z
+        # turned into the plate; the corner is the box's minimum corner.
+        front = origin.at((centre[0], centre[1], hi[2] + self.cell.approach_distance))
+        geometry.target = front * _HALF_TURN_X
+        geometry.corner = origin.at(lo)
         # A model's own corner frame replaces the computed one, as the cell's software does.
         if root_model is not None and "corner" in root_model.items:
             geometry.corner = origin * root_model.items["corner"]
@@ -220,9 +229,7 @@ class _Deriver:
             geometry.terminal_block = True
             first_box = self.box(root)
             if first_box is not None:
-                geometry.terminal_start = geometry.corner = origin.at(
-                    (first_box[0][0], first_box[0][1], first_box[1][2])
-                )
+                geometry.terminal_start = geometry.corner = origin.at(first_box[0])
             widths = [self._size(item, 0) for item in items]
             heights = [self._size(item, 1) for item in items]
             geometry.length = sum(w for w in widths if w is not None)
@@ -397,7 +404,7 @@ def derive_cell(cell: CellInputs) -> CellModel:
         for label, g in components.items()
         if g.pins and not re.match(cell.rail_pattern, label)
     }
-    performers = _performers(cell)
+    performers = performers_of(cell.assignments, cell.base)
     axes = {
         label: axis
         for label in cell.duct_labels
@@ -456,13 +463,6 @@ def _nearest_rail(
     return None
 
 
-def _performers(cell: CellInputs) -> dict[str, str]:
-    # Source files first, then the edits graph, so later edits win.
-    edits = cell.base + "assignments"
-    ordered = sorted(cell.assignments, key=lambda a: a[0] == edits)
-    return {target: who for _, target, who in ordered}
-
-
 def _step(
     cell: CellInputs,
     components: dict[str, ComponentGeometry],
@@ -475,13 +475,14 @@ def _step(
         info = cell.pins[iri]
         ends.append(components[info.label].pins[pin_key(info)])
     origin, destination = ends
-    base = cell.base
-    by_component = [performers.get(node_iri(base, "component", end.label)) for end in (origin, destination)]
-    performer = (
-        performers.get(wire.iri)
-        or performers.get(node_iri(base, "wire", wire.number))
-        or performers.get(node_iri(base, "operation", str(wire.position)))
-        or ("human" if "human" in by_component else "robot")
+    decision = decide(
+        performers,
+        cell.base,
+        (wire.iri, wire.number, wire.position),
+        (origin.label, destination.label),
+        wire.zone,
+        cell.robot_zones,
+        cell.items_of,
     )
     return WireStep(
         position=wire.position,
@@ -492,6 +493,8 @@ def _step(
         destination=destination,
         ducts=wire.ducts,
         keypoints=_keypoints(origin, destination, [axes[d] for d in wire.ducts if d in axes]),
-        performer=performer,
+        performer=decision.performer,
         terminations=wire.terminations,
+        path=wire.path,
+        reason=decision.reason,
     )

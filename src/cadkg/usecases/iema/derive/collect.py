@@ -133,6 +133,7 @@ class InputCollector:
                 )
             ],
             duct_labels=set(self._ducts),
+            robot_zones=tuple(sorted(settings.robot_zones)),
         )
 
     # -- one method per record type, mirroring its mapping ----------------------------
@@ -154,7 +155,7 @@ class InputCollector:
             WireInfo(
                 iri=wire,
                 number=record.wire_number,
-                position=record.index,
+                position=record.index - 1,
                 source=source.rel,
                 origin=self._pin(record.origin),
                 destination=self._pin(record.destination),
@@ -163,6 +164,8 @@ class InputCollector:
                 colour=record.colour,
                 length_m=float(length) if length is not None else None,
                 terminations=(record.origin_termination, record.destination_termination),
+                path=record.duct_text or ";".join(record.duct_path),
+                zone=record.origin_zone,
             )
         )
         self._ducts.update(record.duct_path)

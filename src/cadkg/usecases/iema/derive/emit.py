@@ -85,6 +85,10 @@ def derived_ntriples(model: CellModel, base: str, sink: Callable[[bytes], None] 
         wire = f"<{step.iri}>"
         if step.origin.missing or step.destination.missing:
             w.lines.append(wire + flag)
+        if step.reason:
+            # A rule, not an assignment, gave the wire to its performer (robot_scope).
+            w.add(wire, t("assignedTo"), t(step.performer))
+            w.add(wire, t("assignmentReason"), w.text(step.reason))
         if not step.keypoints:
             continue
         route = w.iri("derived", "route", str(number))

@@ -16,8 +16,10 @@ from typing import TYPE_CHECKING, Any
 import pyoxigraph as ox
 
 from cadkg.geometry.poses import Pose, Vec3
+from cadkg.ingest.eplan.labels import duct_labels
 from cadkg.ontology.terms import CK_NS
 from cadkg.sparql_text import term_value
+from cadkg.usecases.iema.robot_scope import DEFAULT_ZONES
 
 if TYPE_CHECKING:
     from cadkg.graph import KnowledgeGraph
@@ -32,6 +34,7 @@ __all__ = [
     "placements",
 ]
 
+_ZONES = "SELECT DISTINCT ?z WHERE { ?c a ck:Cell ; ck:robotZone ?z }"
 _RDF_TYPE = "http://www.w3.org/1999/02/22-rdf-syntax-ns#type"
 _SCAN = "SELECT ?s ?o WHERE { GRAPH ?g { ?s ?p ?o } }"
 _POSE = ("tx", "ty", "tz", "qx", "qy", "qz", "qw")
@@ -86,6 +89,9 @@ class WireInfo:
     colour: str | None
     length_m: float | None
     terminations: tuple[str | None, str | None] = (None, None)
+    # The duct path as the list writes it, and the zone of the wire's origin (the list's 'Zona').
+    path: str = ""
+    zone: str | None = None
 
 
 @dataclass
@@ -107,6 +113,7 @@ class CellInputs:
     wires: list[WireInfo]
     assignments: list[tuple[str, str, str]]
     duct_labels: set[str]
+    robot_zones: tuple[str, ...] = DEFAULT_ZONES
 
 
 @dataclass
@@ -179,6 +186,7 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
             row["label"]
             for row in kg.query("SELECT DISTINCT ?label WHERE { ?d a ck:Duct ; ck:label ?label }")
         },
+        robot_zones=tuple(sorted(row["z"] for row in kg.query(_ZONES))) or DEFAULT_ZONES,
     )
 
 
@@ -405,6 +413,7 @@ def _wires(tables: _Tables) -> list[WireInfo]:
             "lengthM",
             "originTermination",
             "destinationTermination",
+            "originZone",
         )
     ]
     paths = tables.values("sourcePath")
@@ -413,21 +422,26 @@ def _wires(tables: _Tables) -> list[WireInfo]:
         key = (graph, wire)
         columns = [table.get(key, []) for table in required]
         columns += [table.get(key) or [None] for table in optional]
-        for number, idx, origin, destination, ducts, section, colour, length, t1, t2 in product(*columns):
+        for number, idx, origin, destination, ducts, section, colour, length, t1, t2, zone in product(
+            *columns
+        ):
             for path in paths.get(graph, ()):
                 wires.append(
                     WireInfo(
                         iri=wire,
                         number=number,
-                        position=int(idx),
+                        # The list's rows count from 0 in the services, as in the cell's software.
+                        position=int(idx) - 1,
                         source=path,
                         origin=origin,
                         destination=destination,
-                        ducts=tuple(ducts.split(";")) if ducts else (),
+                        ducts=duct_labels(ducts) if ducts else (),
                         section_mm2=float(section) if section is not None else None,
                         colour=colour,
                         length_m=float(length) if length is not None else None,
                         terminations=(t1, t2),
+                        path=ducts or "",
+                        zone=zone,
                     )
                 )
     wires.sort(key=lambda w: (w.source, w.position))

@@ -28,7 +28,7 @@ _VERSION = version("cadkg")
 
 __all__ = ["dump_model", "load_model"]
 
-_FORMAT = 1
+_FORMAT = 2
 _READ_ERRORS = (ValueError, TypeError, KeyError, IndexError, AttributeError, RecursionError)
 
 
@@ -93,6 +93,8 @@ def dump_model(model: CellModel) -> bytes:
             [w.pose(p) for p in step.keypoints],
             step.performer,
             list(step.terminations),
+            step.path,
+            step.reason,
         ]
         for step in model.steps
     ]
@@ -204,7 +206,9 @@ class _Reader:
 
         steps = []
         for fields in _typed(doc["steps"], list):
-            position, source, wire, iri, origin, destination, ducts, keypoints, performer, ends = fields
+            position, source, wire, iri, origin, destination, ducts, keypoints, performer, ends, path, why = (
+                fields
+            )
             first, second = ends
             steps.append(
                 WireStep(
@@ -218,6 +222,8 @@ class _Reader:
                     keypoints=tuple(self.required(p) for p in _typed(keypoints, list)),
                     performer=_typed(performer, str),
                     terminations=(_text(first), _text(second)),
+                    path=_typed(path, str),
+                    reason=_typed(why, str),
                 )
             )
         return CellModel(

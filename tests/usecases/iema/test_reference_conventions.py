@@ -1,0 +1,241 @@
+"""The reference IEMA node's conventions, on copies of tests/data/cells/mini and the example.
+
+Values worked by hand: the mini cell's wires W1-W4 (tests/usecases/iema/test_services.py) and the
+example's README (section "The reference node's conventions").
+"""
+
+from __future__ import annotations
+
+import shutil
+import warnings
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from cadkg.graph import KnowledgeGraph
+from cadkg.query.validate import validate
+from cadkg.services.session import Session
+from cadkg.usecases.iema import answers, cursors
+from cadkg.usecases.iema.robot_scope import scope_reason
+from tests.conftest import ROOT
+from tests.ingest.workbooks import replace_in_member, write_ods, write_xlsx
+
+MINI = ROOT / "tests" / "data" / "cells" / "mini"
+EXAMPLE = ROOT / "examples" / "iema-switchgear"
+
+
+def _mini(tmp_path: Path, rows: dict[int, tuple[int, str]] | None = None, derive: str = "") -> Path:
+    """A copy of the mini cell; ``rows`` replaces cells of connections.tsv (line → column, text)."""
+    cell = tmp_path / "mini"
+    shutil.copytree(MINI, cell)
+    lines = (cell / "connections.tsv").read_text(encoding="utf-8").splitlines()
+    for line, (column, text) in (rows or {}).items():
+        cells = lines[line - 1].split("\t")
+        cells[column] = text
+        lines[line - 1] = "\t".join(cells)
+    (cell / "connections.tsv").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    manifest = cell / "manifest.toml"
+    if derive:
+        text = manifest.read_text(encoding="utf-8")
+        manifest.write_text(text.replace("[derive]\n", f"[derive]\n{derive}\n"), encoding="utf-8")
+    return manifest
+
+
+@pytest.fixture
+def built() -> Iterator[list[KnowledgeGraph]]:
+    graphs: list[KnowledgeGraph] = []
+    yield graphs
+    for kg in graphs:
+        kg.close()
+
+
+def _build(built: list[KnowledgeGraph], manifest: Path) -> KnowledgeGraph:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        kg = KnowledgeGraph.build(manifest)
+    built.append(kg)
+    return kg
+
+
+def _served(kg: KnowledgeGraph) -> list[str]:
+    session = Session(kg.cell_model())
+    wires = []
+    while not (wire := cursors.group_connection_provider(session)).end:
+        wires.append(wire.wire)
+    return wires
+
+
+# -- 4. which wires the robot is handed ------------------------------------------------------
+def test_the_scope_rule_names_its_value() -> None:
+    zones = ("Q", "QE")
+    assert scope_reason("Q", ("K1", "X1"), zones, {"K1"}) is None  # the zone decides, not the labels
+    assert scope_reason("P", ("K1",), zones, {"K1"}) == "zone P is not among the robot zones Q, QE"
+    assert scope_reason(None, ("K1", "M1"), zones, {"K1"}) == "label M1 is not in the CAD (no ID table row)"
+    assert scope_reason("", ("K1",), zones, {"K1"}) is None
+
+
+def test_a_wire_of_another_zone_goes_to_a_person_with_the_reason(
+    tmp_path: Path, built: list[KnowledgeGraph]
+) -> None:
+    # Line 3 of connections.tsv is W2 (K1:13 → X1:2:b); its origin zone becomes P.
+    kg = _build(built, _mini(tmp_path, {3: (1, "P")}))
+    assert _served(kg) == ["W1", "W4"]  # W3 is assigned to a person by the overlay
+    w2 = next(c for c in answers.full_cad_service(kg.cell_model(), "K1").connections if c.wire == "W2")
+    assert (w2.performer, w2.reason) == ("human", "zone P is not among the robot zones Q, QE")
+    rows = kg.query(
+        """SELECT ?number ?who ?why WHERE { GRAPH ?g { ?w ck:assignedTo ?who ; ck:assignmentReason ?why }
+             ?w ck:wireNumber ?number }"""
+    ).rows
+    assert [(r["number"], r["who"].rsplit("#")[-1], r["why"]) for r in rows] == [
+        ("W2", "human", "zone P is not among the robot zones Q, QE")
+    ]
+    findings = [str(f) for f in validate(kg, shacl=False) if f.check == "wire-for-a-person"]
+    assert findings == [
+        "connections.tsv:3: warning: wire W2 is given to a person:"
+        " zone P is not among the robot zones Q, QE [wire-for-a-person]"
+    ]
+
+
+def test_the_manifest_names_the_robot_zones(tmp_path: Path, built: list[KnowledgeGraph]) -> None:
+    kg = _build(built, _mini(tmp_path, {3: (1, "P")}, 'robot_zones = ["Q", "P"]'))
+    assert _served(kg) == ["W1", "W2", "W4"]
+    assert sorted(r["z"] for r in kg.query("SELECT ?z WHERE { ?c ck:robotZone ?z }")) == ["P", "Q"]
+
+
+def test_a_list_without_zones_hands_the_robot_the_wires_between_cad_labels(
+    tmp_path: Path, built: list[KnowledgeGraph]
+) -> None:
+    # W4 ends on K9, which no ID table row names.
+    kg = _build(built, _mini(tmp_path, {line: (1, "") for line in (2, 3, 4, 5)}))
+    assert _served(kg) == ["W1", "W2"]
+    w4 = answers.full_cad_service(kg.cell_model(), "K1").connections[-1]
+    assert (w4.wire, w4.reason) == ("W4", "label K9 is not in the CAD (no ID table row)")
+
+
+# -- 8. an end without data keeps its wire --------------------------------------------------
+def _as_workbook(tmp_path: Path, form: str) -> Path:
+    """The mini cell with its list as a workbook whose W2 destination (F3) lost its value."""
+    manifest = _mini(tmp_path)
+    cell = manifest.parent
+    rows: list[list[object]] = [
+        line.split("\t") for line in (cell / "connections.tsv").read_text(encoding="utf-8").splitlines()
+    ]
+    if form == "ods":
+        rows[2][5] = None  # LibreOffice's form of the formula EPLAN could not evaluate
+        write_ods(cell / "connections.ods", [("Lista", rows)])
+    else:
+        rows[2][5] = "LOST"
+        path = write_xlsx(cell / "connections.xlsx", [("Lista", rows)])
+        replace_in_member(
+            path,
+            "xl/worksheets/sheet1.xml",
+            b'<c r="F3" t="inlineStr"><is><t>LOST</t></is></c>',
+            b'<c r="F3" t="e"><f>-basta</f><v>#NAME?</v></c>',
+        )
+    text = manifest.read_text(encoding="utf-8").replace(
+        'path = "connections.tsv"', f'path = "connections.{form}"'
+    )
+    manifest.write_text(text.replace('kind = "connection-list"\n', ""), encoding="utf-8")
+    return manifest
+
+
+@pytest.mark.parametrize("form", ["xlsx", "ods"])
+def test_a_lost_wire_end_keeps_its_wire_flagged(
+    tmp_path: Path, built: list[KnowledgeGraph], form: str
+) -> None:
+    kg = _build(built, _as_workbook(tmp_path, form))
+    session = Session(kg.cell_model())
+    assert cursors.reset_to_connection_list(session, 1).success
+    w2 = cursors.group_connection_provider(session)
+    assert (w2.wire, w2.list_position, w2.missing_pin_data) == ("W2", 1, "?:?")
+    end = cursors.full_connection_provider(session, True)
+    assert end.wire == "W4"  # the cursor moved past W2 (W3 is a person's)
+    assert [f.message for f in validate(kg, shacl=False) if f.check == "lost-wire-end"] == [
+        "wire W2: the list gives no reference for its destination; it is kept with missing pin data"
+    ]
+
+
+# -- 1 and 2 on the example: positions from 0, duct paths as written --------------------------
+def test_positions_count_from_0_and_paths_are_as_written(built: list[KnowledgeGraph]) -> None:
+    kg = _build(built, EXAMPLE / "manifest.toml")
+    session = Session(kg.cell_model())
+    first = cursors.group_connection_provider(session)
+    assert first.origin is not None and first.destination is not None
+    assert (first.list_position, first.origin.label, first.origin.pin) == (0, "F1500.1", "14")
+    assert (first.destination.label, first.destination.pin, first.wire_path) == ("Q1500.1", "A1", "=-U2")
+    assert cursors.reset_to_connection_list(session, 0, "dest").success
+    end = cursors.full_connection_provider(session)
+    assert (end.source, end.label, end.pin, end.list_position) == ("dest", "Q1500.1", "A1", 0)
+
+
+def test_a_quote_separated_duct_path_gives_the_same_keypoints(
+    tmp_path: Path, built: list[KnowledgeGraph]
+) -> None:
+    cell = tmp_path / "example"
+    shutil.copytree(EXAMPLE, cell)
+    listing = cell / "lista-cablaggio.csv"
+    listing.write_bytes(listing.read_bytes().replace(b";=-", b"'=-"))
+    semicolons = _build(built, EXAMPLE / "manifest.toml").cell_model()
+    quotes = _build(built, cell / "manifest.toml").cell_model()
+    several = [s for s in semicolons.steps if len(s.ducts) > 1]
+    assert several and several[0].path.count(";") == len(several[0].ducts) - 1
+    by_wire = {s.iri: s for s in quotes.steps}
+    for step in semicolons.steps:
+        other = by_wire[step.iri]
+        assert other.path == step.path.replace(";", "'")
+        assert (other.ducts, other.keypoints) == (step.ducts, step.keypoints)
+
+
+# -- 6 and 7 on the mini cell: component poses, the node's own service names --------------
+def test_the_group_provider_gives_each_end_its_component_target(built: list[KnowledgeGraph]) -> None:
+    kg = _build(built, MINI / "manifest.toml")
+    w1 = cursors.group_connection_provider(Session(kg.cell_model()))
+    assert w1.origin is not None and w1.destination is not None
+    assert w1.origin.component_pose is not None and w1.destination.component_pose is not None
+    # K1's box front z 0.0675 + 0.15; X1's 0.0475 + 0.15; both over their front faces' centres.
+    assert w1.origin.component_pose.position == pytest.approx((0.165, 0.54, 0.2175))
+    assert w1.destination.component_pose.position == pytest.approx((0.256, 0.525, 0.1975))
+
+
+def test_get_item_screw_targets_moves_the_pins_with_the_detected_target(built: list[KnowledgeGraph]) -> None:
+    from cadkg.geometry.poses import Pose
+
+    model = _build(built, MINI / "manifest.toml").cell_model()
+    # K1's target (0.165, 0.54, 0.2175) detected 0.12 m lower: every pin 0.12 m lower.
+    moved = answers.get_item_screw_targets(model, "K1", Pose((0.165, 0.42, 0.2175), (1.0, 0.0, 0.0, 0.0)))
+    assert moved.success and moved.pins == ("13", "A1", "A2")
+    assert moved.screws[1].position == pytest.approx((0.155, 0.45, 0.0675))
+    assert not answers.get_item_screw_targets(model, "NOPE", Pose()).success
+
+
+def test_full_cad_service_by_cad_item_gives_the_nodes_fields(built: list[KnowledgeGraph]) -> None:
+    model = _build(built, MINI / "manifest.toml").cell_model()
+    # ID000003 is K1's auxiliary contact, which carries pin 13: W2 K1:13 → X1:2:b (terminal item ID000005).
+    result = answers.full_cad_service(model, cad_item="ID000003")
+    assert result.success and len(result.connections) == 1
+    w2 = result.connections[0]
+    assert (w2.wire, w2.source, w2.pin, w2.target_item, w2.target_pin, w2.list_position) == (
+        "W2",
+        "orig",
+        "13",
+        "ID000005",
+        "2:b",
+        1,
+    )
+    assert w2.hole_pose is not None and w2.hole_pose.position == pytest.approx((0.175, 0.505, 0.0575))
+    by_label = answers.full_cad_service(model, "K1").connections
+    assert [(c.wire, c.source) for c in by_label] == [("W1", "orig"), ("W2", "orig"), ("W4", "orig")]
+    assert not answers.full_cad_service(model, cad_item="ID999999").success
+
+
+def test_the_older_provider_and_the_display_switch(built: list[KnowledgeGraph]) -> None:
+    from cadkg.usecases.iema.services import cabinet_frames
+
+    session = Session(_build(built, MINI / "manifest.toml").cell_model())
+    ends = [cursors.connection_provider_service(session) for _ in range(3)]
+    assert [(e.wire, e.source) for e in ends] == [("W1", "orig"), ("W1", "dest"), ("W2", "orig")]
+    shown = len(cabinet_frames(session))
+    assert shown and cursors.gearbox_display(session).display is False
+    assert cabinet_frames(session) == []
+    assert cursors.gearbox_display(session).display is True and len(cabinet_frames(session)) == shown
