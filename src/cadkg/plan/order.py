@@ -1,0 +1,192 @@
+"""Order a problem's tasks: break precedence cycles, then a greedy order that respects
+precedence and takes, at each step, a ready task needing no tool change, else the tool with
+the most ready tasks, and among those the nearest to where the robot's tool is.
+
+People's tasks cost the robot nothing: each is placed as soon as what must come before it is
+done. The order is a function of the problem alone (ties go to the files' order), so the same
+store gives the same plan.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass, field, replace
+
+import networkx as nx
+import numpy as np
+
+from cadkg.plan.measure import Measure, lower_bound, measure
+from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
+
+__all__ = ["ASSIGNED", "CYCLE", "Plan", "Step", "make_plan"]
+
+CYCLE = "precedence-cycle"
+ASSIGNED = "assigned"
+"""The rule of a decision made with ``cadkg assign`` (or an assignments file): it wins over
+every other rule, and a cycle is broken elsewhere when it can be."""
+
+
+@dataclass(frozen=True, slots=True)
+class Step:
+    """A task at its place in the plan, who does it and why it is there."""
+
+    index: int
+    task: Task
+    decision: Decision
+    why_here: str
+
+
+@dataclass
+class Plan:
+    """The ordered tasks, the precedence kept, the edges dropped to break cycles, and measures
+    of the plan and of the files' own order."""
+
+    steps: list[Step]
+    precedence: list[Precedence]
+    dropped: list[Precedence] = field(default_factory=list)
+    measure: Measure = field(default_factory=Measure)
+    files: Measure = field(default_factory=Measure)
+    lower_bound: int = 0
+    notes: list[tuple[str, str]] = field(default_factory=list)
+
+    def step_of(self, task: str) -> Step | None:
+        """The step of the task keyed or labelled ``task``."""
+        return next((s for s in self.steps if task in (s.task.key, s.task.label)), None)
+
+
+def _break_cycles(problem: Problem) -> tuple[list[Precedence], list[Precedence], dict[str, Decision]]:
+    """Give one task of every cycle to a person (one not assigned by hand when there is one);
+    its edges inside the cycle are dropped. Returns kept edges, dropped edges, decisions."""
+    decisions = dict(problem.decisions)
+    position = {t.key: t.position for t in problem.tasks}
+    edges = list(problem.precedence)
+    dropped: list[Precedence] = []
+    while True:
+        graph = nx.DiGraph()
+        graph.add_edges_from((e.before, e.after) for e in edges)
+        knots = sorted(
+            (
+                sorted(c, key=position.__getitem__)
+                for c in nx.strongly_connected_components(graph)
+                if len(c) > 1
+            ),
+            key=lambda c: position[c[0]],
+        )
+        if not knots:
+            return edges, dropped, decisions
+        for knot in knots:
+            members = set(knot)
+            inside = graph.subgraph(knot)
+            chosen = max(
+                knot,
+                key=lambda key, inside=inside: (  # type: ignore[misc]
+                    decisions[key].performer == HUMAN,
+                    decisions[key].rule != ASSIGNED,
+                    inside.degree(key),
+                    position[key],
+                ),
+            )
+            cycle = [a for a, _ in nx.find_cycle(inside, source=chosen)]
+            path = " → ".join([*cycle, cycle[0]])
+            old = decisions[chosen]
+            if old.performer == ROBOT and old.rule != ASSIGNED:
+                decisions[chosen] = Decision(
+                    HUMAN, CYCLE, f"precedence cycle {path}: no order lets the robot do them all"
+                )
+            elif old.performer == ROBOT:
+                decisions[chosen] = replace(
+                    old, reason=f"{old.reason}; in precedence cycle {path}, whose edges on it are dropped"
+                )
+            keep: list[Precedence] = []
+            for edge in edges:
+                inner = edge.before in members and edge.after in members
+                (dropped if inner and chosen in (edge.before, edge.after) else keep).append(edge)
+            edges = keep
+
+
+def make_plan(problem: Problem) -> Plan:
+    """The plan of ``problem``: cycles broken, tasks in a greedy order (see the module doc)."""
+    edges, dropped, decisions = _break_cycles(problem)
+    tasks = sorted(problem.tasks, key=lambda t: t.position)
+    index = {t.key: i for i, t in enumerate(tasks)}
+    count = len(tasks)
+    after: list[list[int]] = [[] for _ in range(count)]
+    waiting = np.zeros(count, dtype=np.int64)
+    for edge in edges:
+        after[index[edge.before]].append(index[edge.after])
+        waiting[index[edge.after]] += 1
+    robot = np.array([decisions[t.key].performer == ROBOT for t in tasks], dtype=bool)
+    first_tool = [t.tools[0] if t.tools else "" for t in tasks]
+    tool_names = sorted({n for n in first_tool if n})
+    tool_id = np.array([tool_names.index(n) if n else -1 for n in first_tool], dtype=np.int64)
+    starts = np.array([t.start if t.start is not None else (np.nan,) * 3 for t in tasks], dtype=float)
+    starts = starts.reshape(count, 3)
+    ready = waiting == 0
+    done = np.zeros(count, dtype=bool)
+    order: list[tuple[int, str]] = []
+    tool, here = "", None
+
+    def finish(i: int, why: str) -> None:
+        done[i], ready[i] = True, False
+        order.append((i, why))
+        for j in after[i]:
+            waiting[j] -= 1
+            if waiting[j] == 0:
+                ready[j] = True
+
+    while len(order) < count:
+        people = np.flatnonzero(ready & ~robot)
+        if people.size:
+            for person in people:
+                finish(int(person), "a person's task, placed as soon as what comes before it is done")
+            continue
+        candidates = np.flatnonzero(ready & robot)
+        if not candidates.size:
+            raise AssertionError("precedence left with a cycle")  # _break_cycles removes them all
+        same = candidates[tool_id[candidates] == (tool_names.index(tool) if tool in tool_names else -2)]
+        untooled = candidates[tool_id[candidates] == -1]
+        if same.size or untooled.size:
+            pool, why = (
+                np.concatenate([same, untooled]),
+                f"keeps the tool {tool}" if tool else "needs no tool",
+            )
+        else:
+            counts = Counter(int(t) for t in tool_id[candidates])
+            best: int = max(counts, key=lambda t: (counts[t], -t))
+            pool = candidates[tool_id[candidates] == best]
+            why = (
+                f"tool change to {tool_names[best]} ({counts[best]} ready tasks use it)"
+                if tool
+                else f"starts with {tool_names[best]} ({counts[best]} ready tasks use it)"
+            )
+        i = int(_nearest(pool, starts, here))
+        task = tasks[i]
+        if here is not None and task.start is not None:
+            why += f", {1000 * float(np.linalg.norm(starts[i] - here)):.0f} mm from the previous end"
+        finish(i, why)
+        tool = task.tools[-1] if task.tools else tool
+        here = np.array(task.end) if task.end is not None else here
+    steps = [Step(n, tasks[i], decisions[tasks[i].key], why) for n, (i, why) in enumerate(order)]
+    planned = [s.task for s in steps]
+    return Plan(
+        steps=steps,
+        precedence=edges,
+        dropped=dropped,
+        measure=measure(planned, decisions, edges),
+        files=measure(tasks, decisions, edges),
+        lower_bound=lower_bound(tasks, decisions),
+        notes=list(problem.notes),
+    )
+
+
+def _nearest(pool: np.ndarray, starts: np.ndarray, here: np.ndarray | None) -> int:
+    """The task of ``pool`` (indices in the files' order) starting nearest ``here``; the first
+    one when nothing is known of where the tool is."""
+    pool = np.sort(pool)
+    if here is None:
+        return int(pool[0])
+    distance = np.linalg.norm(starts[pool] - here, axis=1)
+    distance = np.where(np.isnan(distance), np.inf, distance)
+    if not np.isfinite(distance).any():
+        return int(pool[0])
+    return int(pool[int(np.argmin(distance))])
