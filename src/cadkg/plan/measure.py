@@ -41,6 +41,9 @@ def measure(order: Sequence[Task], decisions: Mapping[str, Decision], edges: Ite
 
 
 def lower_bound(tasks: Iterable[Task], decisions: Mapping[str, Decision]) -> int:
-    """Tool classes the robot's tasks use, less one: no order changes tools fewer times."""
-    tools = {tool for t in tasks if decisions[t.key].performer == ROBOT for tool in t.tools}
-    return max(0, len(tools) - 1)
+    """The fewest tool changes any order can have: the tool classes the robot's tasks use less
+    one, or the changes inside tasks (a wire whose two ends need two tools), whichever is more."""
+    robots = [t for t in tasks if decisions[t.key].performer == ROBOT]
+    tools = {tool for t in robots for tool in t.tools}
+    inside = sum(1 for t in robots for a, b in zip(t.tools, t.tools[1:], strict=False) if a != b)
+    return max(0, len(tools) - 1, inside)

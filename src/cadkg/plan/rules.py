@@ -104,8 +104,8 @@ def parse_rules(text: str, source: str) -> Rules:
     return Rules(source, robot, tuple(tools))
 
 
-def load_rules(path: Path | Traversable) -> Rules:
-    """Read a rules file (see :func:`parse_rules`).
+def load_rules(path: Path | Traversable, name: str | None = None) -> Rules:
+    """Read a rules file (see :func:`parse_rules`); ``name`` says what it is in reasons.
 
     Raises
     ------
@@ -116,4 +116,4 @@ def load_rules(path: Path | Traversable) -> Rules:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as err:
         raise RulesError(f"{path}: cannot read the rules file ({err})") from None
-    return parse_rules(text, str(path) if isinstance(path, Path) else path.name)
+    return parse_rules(text, name or str(path))

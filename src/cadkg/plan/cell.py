@@ -1,0 +1,49 @@
+"""The plan of a cell: its use case's tasks under a rules file, ordered.
+
+The rules are, first found: the file given, the manifest's ``[plan] rules``, the use case's
+default (``plan-rules.toml`` in its folder).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import cadkg.registry as registry
+from cadkg.errors import QueryError
+from cadkg.plan.order import Plan, make_plan
+from cadkg.plan.rules import Rules, load_rules
+
+__all__ = ["cell_profile", "plan_cell", "rules_of"]
+
+
+def cell_profile(kg: Any) -> str:
+    rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
+    return str(rows[0]["p"]) if rows else ""
+
+
+def rules_of(kg: Any, rules: Path | None = None) -> Rules:
+    """The rules a plan of ``kg`` is made under (see the module doc).
+
+    Raises
+    ------
+    QueryError
+        When the cell's use case makes no plans.
+    RulesError
+        When the rules file is malformed.
+    """
+    profile = cell_profile(kg)
+    planner = registry.use_case(profile).planner
+    if planner is None:
+        raise QueryError(f"the {profile or 'default'} use case makes no task list")
+    if rules is not None:
+        return load_rules(rules)
+    return load_rules(planner.rules, f"the {profile} default rules")
+
+
+def plan_cell(kg: Any, rules: Path | None = None) -> Plan:
+    """The plan of the cell in ``kg`` (not written; see :func:`cadkg.plan.graph.write_plan`)."""
+    planner = registry.use_case(cell_profile(kg)).planner
+    chosen = rules_of(kg, rules)
+    assert planner is not None  # rules_of raised otherwise
+    return make_plan(planner.tasks(kg, chosen))
