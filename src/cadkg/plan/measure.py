@@ -36,7 +36,13 @@ def measure(order: Sequence[Task], decisions: Mapping[str, Decision], edges: Ite
             travel += math.dist(here, task.start)
         here = task.end if task.end is not None else here
     at = {task.key: n for n, task in enumerate(order)}
-    broken = sum(1 for e in edges if e.before in at and e.after in at and at[e.before] > at[e.after])
+    broken = sum(
+        1
+        for e in edges
+        if e.before in at
+        and e.after in at
+        and (at[e.before] + 1 != at[e.after] if e.immediate else at[e.before] > at[e.after])
+    )
     return Measure(changes, travel, broken)
 
 

@@ -113,11 +113,14 @@ def make_plan(problem: Problem) -> Plan:
     index = {t.key: i for i, t in enumerate(tasks)}
     after: list[list[int]] = [[] for _ in tasks]
     waiting = np.zeros(len(tasks), dtype=np.int64)
+    then: dict[int, tuple[int, str]] = {}
     for edge in edges:
         after[index[edge.before]].append(index[edge.after])
         waiting[index[edge.after]] += 1
-    greedy = _greedy(tasks, decisions, after, waiting.copy())
-    kept = _kept(len(tasks), after, waiting.copy())
+        if edge.immediate:
+            then[index[edge.before]] = (index[edge.after], f"right after {edge.before}: {edge.reason}")
+    greedy = _greedy(tasks, decisions, after, waiting.copy(), then)
+    kept = _kept(len(tasks), after, waiting.copy(), then)
     scored = []
     for order in (greedy, kept):
         measured = measure([tasks[i] for i, _ in order], decisions, edges)
@@ -135,14 +138,22 @@ def make_plan(problem: Problem) -> Plan:
     )
 
 
-def _kept(count: int, after: list[list[int]], waiting: np.ndarray) -> list[tuple[int, str]]:
+def _kept(
+    count: int, after: list[list[int]], waiting: np.ndarray, then: dict[int, tuple[int, str]]
+) -> list[tuple[int, str]]:
     """The files' order, each task moved only as late as its precedence needs."""
     ready = [i for i in range(count) if waiting[i] == 0]
     heapq.heapify(ready)
-    order = []
+    order: list[tuple[int, str]] = []
     while ready:
-        i = heapq.heappop(ready)
-        order.append((i, "the files' order, kept: it needs no more tool changes than the greedy order"))
+        forced = then.get(order[-1][0]) if order else None
+        if forced is not None and forced[0] in ready:
+            ready.remove(forced[0])
+            heapq.heapify(ready)
+            i, why = forced
+        else:
+            i, why = heapq.heappop(ready), "the files' order, kept: as few tool changes as the greedy order"
+        order.append((i, why))
         for j in after[i]:
             waiting[j] -= 1
             if waiting[j] == 0:
@@ -151,7 +162,11 @@ def _kept(count: int, after: list[list[int]], waiting: np.ndarray) -> list[tuple
 
 
 def _greedy(
-    tasks: list[Task], decisions: dict[str, Decision], after: list[list[int]], waiting: np.ndarray
+    tasks: list[Task],
+    decisions: dict[str, Decision],
+    after: list[list[int]],
+    waiting: np.ndarray,
+    then: dict[int, tuple[int, str]],
 ) -> list[tuple[int, str]]:
     count = len(tasks)
     robot = np.array([decisions[t.key].performer == ROBOT for t in tasks], dtype=bool)
@@ -173,6 +188,13 @@ def _greedy(
                 ready[j] = True
 
     while len(order) < count:
+        forced = then.get(order[-1][0]) if order else None
+        if forced is not None and ready[forced[0]]:
+            finish(*forced)
+            task = tasks[forced[0]]
+            tool = task.tools[-1] if task.tools else tool
+            here = np.array(task.end) if task.end is not None else here
+            continue
         people = np.flatnonzero(ready & ~robot)
         if people.size:
             for person in people:

@@ -49,11 +49,13 @@ class Decision:
 
 @dataclass(frozen=True, slots=True)
 class Precedence:
-    """``before`` must be done before ``after`` (task keys), because of ``reason``."""
+    """``before`` must be done before ``after`` (task keys), because of ``reason``; right before
+    it when ``immediate`` (the robot holds what the first task picked up until the second)."""
 
     before: str
     after: str
     reason: str
+    immediate: bool = False
 
 
 @dataclass
