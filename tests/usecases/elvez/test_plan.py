@@ -76,7 +76,7 @@ def test_a_taping_before_its_routing_is_an_error_and_the_plan_moves_it(tmp_path:
     kg = _cell(tmp_path, rows)
     found = [f for f in _order(kg) if f.severity == "error"]
     assert {f.location.rsplit("/", 1)[-1] for f in found} == {"Assembly_sequence.csv:4"}
-    assert "T WH1 (order 3) comes before RC GR11" in found[0].message
+    assert "T WH1 comes before RC GR11" in found[0].message
     plan = plan_cell(kg)
     assert plan.steps[-1].task.label == "T WH1" and plan.measure.violations == 0
 

@@ -118,3 +118,11 @@ def test_the_example_cabinet_has_a_complete_violation_free_plan() -> None:
     assert plan.measure.violations == 0 and plan.precedence
     assert plan.measure.tool_changes <= plan.files.tool_changes
     assert plan.lower_bound <= plan.measure.tool_changes
+
+
+def test_validate_warns_of_the_lists_order_at_its_lines(kg: KnowledgeGraph) -> None:
+    from cadkg.query.validate import validate
+
+    found = {f.location: f.message for f in validate(kg, shacl=False) if f.check == "iema-order"}
+    assert set(found) == {"connections.tsv:2", "connections.tsv:4", "connections.tsv:6"}
+    assert found["connections.tsv:2"].startswith("W1 comes before W2 (connections.tsv:3)")

@@ -21,7 +21,7 @@ from cadkg.usecases.elvez.files.definitions import looks_like_element_definition
 from cadkg.usecases.elvez.files.harnesses import looks_like_harness_configuration, read_harness_configuration
 from cadkg.usecases.elvez.files.platforms import read_platform_ids, read_platform_mesh, read_platform_scene
 from cadkg.usecases.elvez.files.sequence import looks_like_sequence, read_sequence
-from cadkg.usecases.elvez.plan_tasks import elvez_problem
+from cadkg.usecases.elvez.plan_tasks import DEFAULT_RULES, elvez_problem
 from cadkg.usecases.elvez.services import SERVICES, element_meshes, platform_frames
 
 __all__ = ["USE_CASE"]
@@ -84,5 +84,5 @@ USE_CASE = UseCase(
     frames=platform_frames,
     markers=element_meshes,
     checks=findings,
-    planner=Planner(resources.files(__name__).joinpath("plan-rules.toml"), elvez_problem),
+    planner=Planner(DEFAULT_RULES, elvez_problem),
 )

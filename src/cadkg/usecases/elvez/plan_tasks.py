@@ -14,14 +14,16 @@ its branch. A spot or label no file defines sends the operation to a person.
 from __future__ import annotations
 
 from collections import defaultdict
+from importlib import resources
 from typing import Any
 
 from cadkg.errors import CadkgError
 from cadkg.geometry.poses import Vec3
 from cadkg.mapping.writer import node_iri
 from cadkg.plan.cell import cell_base
+from cadkg.plan.check import order_findings as check_order
 from cadkg.plan.order import ASSIGNED
-from cadkg.plan.rules import Rules
+from cadkg.plan.rules import Rules, load_rules
 from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
 from cadkg.query.validate import Finding
 from cadkg.usecases.elvez.files.harnesses import WiringHarness
@@ -29,10 +31,19 @@ from cadkg.usecases.elvez.files.sequence import SequenceStep, SpotRef
 from cadkg.usecases.elvez.model import ElvezModel, build_model, unresolved
 from cadkg.usecases.elvez.platform import key_centre
 
-__all__ = ["elvez_problem", "operation_key", "operation_label", "order_findings", "source_path"]
+__all__ = [
+    "DEFAULT_RULES",
+    "elvez_problem",
+    "operation_key",
+    "operation_label",
+    "order_findings",
+    "problem_of",
+    "source_path",
+]
 
 _ROUTE, _TAPES, _EXTRACT, _PLACE = "RC", ("T", "TJ"), "EC", "PC"
 _CHECK = "elvez-order"
+DEFAULT_RULES = resources.files("cadkg.usecases.elvez").joinpath("plan-rules.toml")
 
 
 def operation_key(step: SequenceStep) -> str:
@@ -101,7 +112,11 @@ def _decide(
 
 def elvez_problem(kg: Any, rules: Rules) -> Problem:
     """The operations of the sequence as tasks in file order, with decisions and precedence."""
-    model = build_model(kg)
+    return problem_of(kg, build_model(kg), rules)
+
+
+def problem_of(kg: Any, model: ElvezModel, rules: Rules) -> Problem:
+    """:func:`elvez_problem` of a model already built."""
     iris = {
         int(row["line"]): row["op"]
         for row in kg.query("SELECT ?op ?line WHERE { ?op ck:operationCode ?c ; ck:sourceLine ?line }")
@@ -151,36 +166,7 @@ def order_findings(kg: Any, model: ElvezModel) -> list[Finding]:
     """The sequence's own order checked against what must come first: an error at the line of
     each operation that comes too early, and the notes (a branch routed twice or never, a
     taping on no route) as warnings."""
-    edges, notes = _precedence(model, _harness_file(kg))
-    steps = {
-        operation_key(s): (n, s, where)
-        for n, (s, where) in enumerate(zip(model.sequence, model.step_where, strict=True))
-    }
-    found = []
-    for edge in edges:
-        (at, before, _), (later, after, where) = steps[edge.before], steps[edge.after]
-        if edge.immediate and at + 1 != later:
-            found.append(
-                Finding(
-                    where,
-                    "error",
-                    _CHECK,
-                    f"{operation_label(after)} (order {after.order}) does not come right after "
-                    f"{operation_label(before)} (order {before.order}): {edge.reason}",
-                )
-            )
-        elif at > later:
-            found.append(
-                Finding(
-                    where,
-                    "error",
-                    _CHECK,
-                    f"{operation_label(after)} (order {after.order}) comes before "
-                    f"{operation_label(before)} (order {before.order}), which must come first: {edge.reason}",
-                )
-            )
-    found += [Finding(where, "warning", _CHECK, text) for where, text in notes]
-    return found
+    return check_order(problem_of(kg, model, load_rules(DEFAULT_RULES, "the elvez default rules")), _CHECK)
 
 
 def _precedence(model: ElvezModel, harness_file: str) -> tuple[list[Precedence], list[tuple[str, str]]]:

@@ -24,7 +24,7 @@ from cadkg.usecases.iema.derive.emit import derived_graph, derived_ntriples
 from cadkg.usecases.iema.derive.extract import extract
 from cadkg.usecases.iema.derive.persist import dump_model, load_model
 from cadkg.usecases.iema.marker_table import looks_like_marker_table, read_marker_table
-from cadkg.usecases.iema.plan_tasks import iema_problem
+from cadkg.usecases.iema.plan_tasks import DEFAULT_RULES, iema_problem, order_check
 from cadkg.usecases.iema.services import SERVICES, cabinet_frames
 from cadkg.usecases.iema.terminal_diagram import looks_like_terminal_diagram, read_terminal_diagram
 from cadkg.usecases.iema.terminal_schema import looks_like_terminal_schema, read_terminal_schema
@@ -87,6 +87,6 @@ USE_CASE = UseCase(
     ros_namespace="/gearbox_handler",
     derivation=CABINET,
     frames=cabinet_frames,
-    checks=diagram_against_lists,
-    planner=Planner(resources.files(__name__).joinpath("plan-rules.toml"), iema_problem),
+    checks=lambda kg: [*diagram_against_lists(kg), *order_check(kg)],
+    planner=Planner(DEFAULT_RULES, iema_problem),
 )

@@ -12,18 +12,23 @@ from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
+from importlib import resources
 from typing import Any
 
 from cadkg.geometry.poses import Vec3
 from cadkg.geometry.segments import SegmentGrid
 from cadkg.mapping.writer import node_iri
+from cadkg.plan.check import order_findings
 from cadkg.plan.order import ASSIGNED
-from cadkg.plan.rules import Rules
+from cadkg.plan.rules import Rules, load_rules
 from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
+from cadkg.query.validate import Finding
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
 from cadkg.usecases.iema.plan_scope import scope_decision
 
-__all__ = ["iema_problem"]
+__all__ = ["DEFAULT_RULES", "iema_problem", "order_check"]
+
+DEFAULT_RULES = resources.files("cadkg.usecases.iema").joinpath("plan-rules.toml")
 
 _ENDS = ("origin", "destination")
 
@@ -151,6 +156,15 @@ def iema_problem(kg: Any, rules: Rules) -> Problem:
         )
         decisions[key] = decision
     return Problem(tasks, decisions, _precedence(model, [t.key for t in tasks], rules))
+
+
+def order_check(kg: Any) -> list[Finding]:
+    """The connection lists' order against the default rules' precedence: a warning at the line
+    of each wire listed before a wire that must be made first (the plan orders them)."""
+    if not kg.cell_model().steps:
+        return []
+    problem = iema_problem(kg, load_rules(DEFAULT_RULES, "the iema default rules"))
+    return order_findings(problem, "iema-order", "warning")
 
 
 def _exit(step: WireStep, end: int, length: float) -> tuple[Vec3, Vec3] | None:
