@@ -13,6 +13,7 @@ import click
 
 from cadkg.cli.common import err
 from cadkg.cli.graph_commands import build, export, kinds, push, queries, query, validate
+from cadkg.cli.plan_commands import plan
 from cadkg.cli.serve_commands import ros, serve
 from cadkg.cli.service_commands import assign, call_service, list_services
 
@@ -45,6 +46,7 @@ for command in (
     call_service,
     list_services,
     assign,
+    plan,
     kinds,
     serve,
     ros,

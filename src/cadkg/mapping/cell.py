@@ -143,6 +143,10 @@ def map_manifest(w: TripleWriter, manifest: Manifest) -> None:
     w.add(cell, term("approachDistance"), w.typed(manifest.derive.approach_distance))
     w.add(cell, term("railPattern"), w.text(manifest.derive.rail_pattern))
     w.add(cell, term("clusterTolerance"), w.typed(manifest.derive.cluster_tolerance))
+    if manifest.plan_rules is not None:
+        # The text itself, so that a store planned elsewhere plans by the manifest's rules.
+        w.add(cell, term("planRules"), w.text(manifest.plan_rules.name))
+        w.add(cell, term("planRulesText"), w.text(manifest.plan_rules.read_text(encoding="utf-8")))
     for frame in manifest.frames:
         _map_frame(w, frame)
 

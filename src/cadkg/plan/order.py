@@ -120,7 +120,7 @@ def make_plan(problem: Problem) -> Plan:
         if edge.immediate:
             then[index[edge.before]] = (index[edge.after], f"right after {edge.before}: {edge.reason}")
     greedy = _greedy(tasks, decisions, after, waiting.copy(), then)
-    kept = _kept(len(tasks), after, waiting.copy(), then)
+    kept = _kept([t.label for t in tasks], after, waiting.copy(), then)
     scored = []
     for order in (greedy, kept):
         measured = measure([tasks[i] for i, _ in order], decisions, edges)
@@ -139,9 +139,15 @@ def make_plan(problem: Problem) -> Plan:
 
 
 def _kept(
-    count: int, after: list[list[int]], waiting: np.ndarray, then: dict[int, tuple[int, str]]
+    labels: list[str], after: list[list[int]], waiting: np.ndarray, then: dict[int, tuple[int, str]]
 ) -> list[tuple[int, str]]:
     """The files' order, each task moved only as late as its precedence needs."""
+    count = len(labels)
+    later_first: dict[int, int] = {}  # task → the last task listed after it that must come first
+    for i, followers in enumerate(after):
+        for j in followers:
+            if i > j:
+                later_first[j] = max(i, later_first.get(j, i))
     ready = [i for i in range(count) if waiting[i] == 0]
     heapq.heapify(ready)
     order: list[tuple[int, str]] = []
@@ -152,7 +158,10 @@ def _kept(
             heapq.heapify(ready)
             i, why = forced
         else:
-            i, why = heapq.heappop(ready), "the files' order, kept: as few tool changes as the greedy order"
+            i = heapq.heappop(ready)
+            why = "in the files' order (as few tool changes as the greedy order)"
+            if i in later_first:
+                why = f"in the files' order, moved after {labels[later_first[i]]}, which must come first"
         order.append((i, why))
         for j in after[i]:
             waiting[j] -= 1
