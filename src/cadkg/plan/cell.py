@@ -70,14 +70,7 @@ def _planned(kg: Any, rules: Rules) -> Plan:
 def store_plan(kg: Any, rules: Path | None = None) -> StoredPlan:
     """Make the plan of the cell in ``kg``, replace its plan graph with it, and read it back.
 
-    Raises
-    ------
-    QueryError
-        When the cell's use case makes no plans.
-    RulesError
-        When the rules file is malformed.
-    StoreError
-        When the store is read-only.
+    Raises what :func:`rules_of` raises, and StoreError on a read-only store.
     """
     chosen = rules_of(kg, rules)
     base = cell_base(kg)
