@@ -11,24 +11,16 @@ from typing import Any
 
 import cadkg.registry as registry
 from cadkg.errors import QueryError
-from cadkg.plan.graph import StoredPlan, read_plan, write_plan
+from cadkg.plan.graph import StoredPlan, cell_base, read_plan, write_plan
 from cadkg.plan.order import Plan, make_plan
 from cadkg.plan.rules import Rules, load_rules, parse_rules
 
 __all__ = ["cell_base", "cell_profile", "plan_cell", "rules_of", "store_plan"]
 
-_CELL = "cell/this"
-
 
 def cell_profile(kg: Any) -> str:
     rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
     return str(rows[0]["p"]) if rows else ""
-
-
-def cell_base(kg: Any) -> str:
-    """The base IRI of the cell (its ``ck:Cell`` is ``{base}cell/this``); empty without a cell."""
-    rows = kg.query("SELECT ?c WHERE { ?c a ck:Cell } LIMIT 1").rows
-    return str(rows[0]["c"]).removesuffix(_CELL) if rows else ""
 
 
 def rules_of(kg: Any, rules: Path | None = None) -> Rules:

@@ -15,9 +15,24 @@ from cadkg.ontology.terms import CK_NS
 from cadkg.plan.order import Plan
 from cadkg.plan.tasks import ROBOT
 
-__all__ = ["PlannedStep", "StoredPlan", "plan_graph", "plan_ntriples", "read_plan", "write_plan"]
+__all__ = [
+    "PlannedStep",
+    "StoredPlan",
+    "cell_base",
+    "plan_graph",
+    "plan_ntriples",
+    "read_plan",
+    "robot_positions",
+    "write_plan",
+]
 
 _TYPE = "<http://www.w3.org/1999/02/22-rdf-syntax-ns#type>"
+
+
+def cell_base(kg: Any) -> str:
+    """The base IRI of the cell (its ``ck:Cell`` is ``{base}cell/this``); empty without a cell."""
+    rows = kg.query("SELECT ?c WHERE { ?c a ck:Cell } LIMIT 1").rows
+    return str(rows[0]["c"]).removesuffix("cell/this") if rows else ""
 
 
 def plan_graph(base: str) -> str:
@@ -158,3 +173,20 @@ def read_plan(kg: Any, base: str) -> StoredPlan | None:
     ).rows
     summary = {str(r["p"]).removeprefix(CK_NS): r["v"] for r in summary_rows if str(r["p"]).startswith(CK_NS)}
     return StoredPlan(steps, edges, summary)
+
+
+def robot_positions(kg: Any) -> list[int] | None:
+    """The files' positions of the robot's tasks in the order of the stored plan, for the cursor
+    services to follow; None when ``kg`` (a store, or None) holds no plan."""
+    if kg is None:
+        return None
+    base = cell_base(kg)
+    name = plan_graph(base)
+    if not base or name not in kg.named_graphs():
+        return None
+    found = kg.query(
+        """SELECT ?position WHERE { GRAPH ?g { ?t a ck:PlannedTask ; ck:assignedTo ck:robot ;
+             ck:stepIndex ?step ; ck:filePosition ?position } } ORDER BY ?step""",
+        g=ox.NamedNode(name),
+    )
+    return [int(row["position"]) for row in found]
