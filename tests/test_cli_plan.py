@@ -13,6 +13,7 @@ import pytest
 
 from tests.conftest import ROOT
 from tests.test_cli import run
+from tests.test_cli_services import call
 
 CABINET = ROOT / "tests" / "data" / "plan" / "cabinet"
 ELVEZ = ROOT / "examples" / "elvez-cell"
@@ -30,13 +31,6 @@ def _store(source: Path, tmp_path: Path) -> Path:
 @pytest.fixture(scope="module")
 def cabinet(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return _store(CABINET, tmp_path_factory.mktemp("cabinet"))
-
-
-def _call(store: Path, *args: str) -> dict[str, object]:
-    result = run("call", store, *args)
-    assert result.returncode == 0, result.stderr
-    data: dict[str, object] = json.loads(result.stdout)
-    return data
 
 
 def test_csv_has_exactly_the_columns_and_a_step_from_0(cabinet: Path) -> None:
@@ -81,7 +75,7 @@ def test_the_plan_is_a_named_graph_that_sparql_sees(cabinet: Path) -> None:
 def test_the_connection_provider_follows_the_plan_and_skips_peoples_wires(cabinet: Path) -> None:
     run("plan", cabinet)
     run("call", cabinet, "reset_connection_list")
-    wires = [_call(cabinet, "group_connection_provider")["wire"] for _ in range(7)]
+    wires = [call(cabinet, "group_connection_provider")["wire"] for _ in range(7)]
     assert wires == ["W2", "W1", "W4", "W3", "W5", "W11", ""]
 
 
@@ -112,6 +106,6 @@ def test_next_operation_follows_the_elvez_plan(tmp_path: Path) -> None:
     result = run("plan", store, "--format", "csv")
     assert result.returncode == 0, result.stderr
     planned = [row[1] for row in list(csv.reader(io.StringIO(result.stdout)))[1:]]
-    served = [_call(store, "CAD_platform.next_operation") for _ in range(9)]
+    served = [call(store, "CAD_platform.next_operation") for _ in range(9)]
     assert [f"{s['type']} {'-'.join(s['label'])}" for s in served] == planned  # type: ignore[arg-type]
     assert served[-1]["end"] is True and planned[-2:] == ["TJ WH2", "T WH1"]
