@@ -1,63 +1,61 @@
 """Distances between straight segments, and a grid that finds the segments near another.
 
 A wire leaving a pin and the corridor a tool takes to reach a screw are both segments; a wire
-is in the tool's way when the two pass closer than the tool's clearance.
+is in the tool's way when the two pass closer than the tool's clearance. The distances of many
+pairs are computed at once (numpy), the pairs worth computing found through the grid.
 """
 
 from __future__ import annotations
 
 import math
 from collections import defaultdict
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from itertools import product
+
+import numpy as np
 
 from cadkg.geometry.poses import Vec3
 
-__all__ = ["SegmentGrid", "segment_distance"]
+__all__ = ["SegmentGrid", "segment_distances"]
 
 _EPS = 1e-12
 
 
-def _sub(a: Vec3, b: Vec3) -> Vec3:
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+def segment_distances(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.ndarray) -> np.ndarray:
+    """The shortest distance between segments ``p1[i] q1[i]`` and ``p2[i] q2[i]`` for every row
+    ``i`` (arrays of shape (n, 3); a segment may be a point).
 
-
-def _dot(a: Vec3, b: Vec3) -> float:
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def _clamp(value: float) -> float:
-    return 0.0 if value < 0.0 else 1.0 if value > 1.0 else value
-
-
-def segment_distance(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3) -> float:
-    """The shortest distance between the segments ``p1 q1`` and ``p2 q2`` (either may be a point).
-
-    >>> segment_distance((0, 0, 0), (1, 0, 0), (0.5, 1, -1), (0.5, 1, 1))
-    1.0
+    >>> a = np.array([[0.0, 0, 0]]); b = np.array([[1.0, 0, 0]])
+    >>> segment_distances(a, b, np.array([[0.5, 1, -1]]), np.array([[0.5, 1, 1]])).tolist()
+    [1.0]
     """
-    d1, d2, r = _sub(q1, p1), _sub(q2, p2), _sub(p1, p2)
-    a, e, f = _dot(d1, d1), _dot(d2, d2), _dot(d2, r)
-    if a <= _EPS and e <= _EPS:
-        s = t = 0.0
-    elif a <= _EPS:
-        s, t = 0.0, _clamp(f / e)
-    else:
-        c = _dot(d1, r)
-        if e <= _EPS:
-            s, t = _clamp(-c / a), 0.0
-        else:
-            b = _dot(d1, d2)
-            denominator = a * e - b * b
-            s = _clamp((b * f - c * e) / denominator) if denominator > _EPS else 0.0
-            t = (b * s + f) / e
-            if t < 0.0:
-                s, t = _clamp(-c / a), 0.0
-            elif t > 1.0:
-                s, t = _clamp((b - c) / a), 1.0
-    c1 = (p1[0] + d1[0] * s, p1[1] + d1[1] * s, p1[2] + d1[2] * s)
-    c2 = (p2[0] + d2[0] * t, p2[1] + d2[1] * t, p2[2] + d2[2] * t)
-    return math.dist(c1, c2)
+    d1, d2, r = q1 - p1, q2 - p2, p1 - p2
+    a = np.einsum("ij,ij->i", d1, d1)
+    e = np.einsum("ij,ij->i", d2, d2)
+    b = np.einsum("ij,ij->i", d1, d2)
+    c = np.einsum("ij,ij->i", d1, r)
+    f = np.einsum("ij,ij->i", d2, r)
+    point1, point2 = a <= _EPS, e <= _EPS
+    safe_a, safe_e = np.where(point1, 1.0, a), np.where(point2, 1.0, e)
+    denominator = a * e - b * b
+    # Both segments proper: the closest points of the two lines, clamped to the first segment.
+    s = np.where(
+        denominator > _EPS,
+        np.clip((b * f - c * e) / np.where(denominator > _EPS, denominator, 1.0), 0, 1),
+        0.0,
+    )
+    t = (b * s + f) / safe_e
+    low, high = t < 0.0, t > 1.0
+    s = np.where(low, np.clip(-c / safe_a, 0, 1), np.where(high, np.clip((b - c) / safe_a, 0, 1), s))
+    t = np.clip(t, 0.0, 1.0)
+    # A point against a segment, or two points.
+    s = np.where(point1, 0.0, np.where(point2, np.clip(-c / safe_a, 0, 1), s))
+    t = np.where(point2, 0.0, np.where(point1, np.clip(f / safe_e, 0, 1), t))
+    closest1 = p1 + d1 * s[:, None]
+    closest2 = p2 + d2 * t[:, None]
+    gap = closest1 - closest2
+    distances: np.ndarray = np.sqrt(np.einsum("ij,ij->i", gap, gap))
+    return distances
 
 
 class SegmentGrid:
@@ -70,10 +68,11 @@ class SegmentGrid:
         self.segments: list[tuple[Vec3, Vec3]] = []
 
     def _span(self, a: Vec3, b: Vec3) -> Iterator[tuple[int, int, int]]:
+        cell, margin = self.cell, self.margin
         ranges = [
             range(
-                math.floor((min(a[k], b[k]) - self.margin) / self.cell),
-                math.floor((max(a[k], b[k]) + self.margin) / self.cell) + 1,
+                math.floor((min(a[k], b[k]) - margin) / cell),
+                math.floor((max(a[k], b[k]) + margin) / cell) + 1,
             )
             for k in range(3)
         ]
@@ -87,13 +86,24 @@ class SegmentGrid:
             self.cells[key].append(number)
         return number
 
-    def near(self, a: Vec3, b: Vec3, distance: float) -> Iterator[tuple[int, float]]:
-        """The filed segments passing closer than ``distance`` (at most the margin) to ``a b``,
-        with how close, each once, in the order they were filed."""
-        seen: set[int] = set()
-        for key in self._span(a, b):
-            seen.update(self.cells.get(key, ()))
-        for number in sorted(seen):
-            gap = segment_distance(a, b, *self.segments[number])
+    def near(self, queries: Sequence[tuple[Vec3, Vec3]], distance: float) -> Iterator[tuple[int, int, float]]:
+        """``(query, filed segment, how close)`` for every filed segment passing closer than
+        ``distance`` (at most the margin) to a query segment; by query, then filed number."""
+        pairs: list[tuple[int, int]] = []
+        for q, (a, b) in enumerate(queries):
+            found: set[int] = set()
+            for key in self._span(a, b):
+                found.update(self.cells.get(key, ()))
+            pairs.extend((q, n) for n in sorted(found))
+        if not pairs:
+            return
+        index = np.array(pairs, dtype=np.int64)
+        starts = np.array([s[0] for s in queries], dtype=float)
+        ends = np.array([s[1] for s in queries], dtype=float)
+        filed = np.array(self.segments, dtype=float).reshape(-1, 2, 3)
+        gaps = segment_distances(
+            starts[index[:, 0]], ends[index[:, 0]], filed[index[:, 1], 0], filed[index[:, 1], 1]
+        )
+        for (q, n), gap in zip(pairs, gaps.tolist(), strict=True):
             if gap < distance:
-                yield number, gap
+                yield q, n, gap

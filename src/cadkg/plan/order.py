@@ -10,7 +10,6 @@ store gives the same plan.
 from __future__ import annotations
 
 import heapq
-from collections import Counter
 from dataclasses import dataclass, field, replace
 
 import networkx as nx
@@ -218,8 +217,8 @@ def _greedy(
             pool = np.concatenate([same, untooled])
             why = f"keeps the tool {tool}" if tool else "needs no tool"
         else:
-            counts = Counter(int(t) for t in tool_id[candidates])
-            best: int = max(counts, key=lambda t: (counts[t], -t))
+            counts = np.bincount(tool_id[candidates], minlength=len(tool_names))
+            best = int(np.argmax(counts))  # the most ready tasks; ties to the first by name
             pool = candidates[tool_id[candidates] == best]
             why = (
                 f"tool change to {tool_names[best]} ({counts[best]} ready tasks use it)"
@@ -238,12 +237,13 @@ def _greedy(
 
 def _nearest(pool: np.ndarray, starts: np.ndarray, here: np.ndarray | None) -> int:
     """The task of ``pool`` (indices in the files' order) starting nearest ``here``; the first
-    one when nothing is known of where the tool is."""
-    pool = np.sort(pool)
+    one when nothing is known of where the tool is. Ties go to the files' order."""
+    if pool.size > 1 and np.any(pool[1:] < pool[:-1]):
+        pool = np.sort(pool)
     if here is None:
         return int(pool[0])
-    distance = np.linalg.norm(starts[pool] - here, axis=1)
-    distance = np.where(np.isnan(distance), np.inf, distance)
-    if not np.isfinite(distance).any():
-        return int(pool[0])
-    return int(pool[int(np.argmin(distance))])
+    gap = starts[pool] - here
+    squared = np.einsum("ij,ij->i", gap, gap)
+    squared[np.isnan(squared)] = np.inf
+    k = int(np.argmin(squared))
+    return int(pool[k]) if np.isfinite(squared[k]) else int(pool[0])

@@ -31,6 +31,8 @@ import cadkg.registry as registry
 import cadkg.services.table as services
 from cadkg.errors import CadkgError
 from cadkg.graph import KnowledgeGraph
+from cadkg.plan.graph import cell_base, read_plan
+from cadkg.plan.report import as_json, summary
 from cadkg.query.frames import label_frames
 from cadkg.ros_adapter import convert
 from cadkg.services.frames import marker_specs, static_frames
@@ -175,6 +177,7 @@ class CadkgNode:
             ("reload", self._reload),
             ("assign", self._assign),
             ("label_frames", self._label_frames),
+            ("plan", self._plan),
         ):
             self._services.append(
                 node.create_service(srv_type(name), self.name_of(name), handler, callback_group=group)
@@ -277,6 +280,29 @@ class CadkgNode:
         response.success = True
         response.message = f"{request.kind} {request.id} → {request.performer}{kept}"
         return response
+
+    def _plan(self, request: Any, response: Any) -> Any:
+        with self._lock:
+            kg = self.loaded.kg
+            stored = read_plan(kg, cell_base(kg))
+        if stored is None:
+            response.success, response.message = (
+                False,
+                "the store holds no plan: make one with cadkg plan STORE",
+            )
+            return response
+        data = as_json(stored)
+        keep = ("step", "task", "kind", "performer", "tool", "reason", "placement")
+        return convert.fill(
+            response,
+            {
+                "success": True,
+                "message": summary(stored),
+                "steps": [{k: step[k] for k in keep} for step in data["steps"]],
+                "precedence": data["precedence"],
+            },
+            _resolve,
+        )
 
     def _label_frames(self, request: Any, response: Any) -> Any:
         try:

@@ -207,22 +207,26 @@ def _precedence(model: CellModel, keys: list[str], rules: Rules) -> list[Precede
             grid.add(start, (start[0] + axis[0], start[1] + axis[1], start[2] + axis[2]))
             corridors.append((n, pin))
             seen.add((pin.label, pin.pin))
-    edges: dict[tuple[int, int], Precedence] = {}
+    exits: list[tuple[Vec3, Vec3]] = []
+    owners: list[tuple[int, CadPin]] = []  # per exit: its task and the pin it leaves
     for n, step in enumerate(model.steps):
-        for end in (0, 1):
+        for end, landed in enumerate((step.origin, step.destination)):
             run = _exit(step, end, length)
-            if run is None:
-                continue
-            landed = (step.origin, step.destination)[end]
-            for number, gap in grid.near(*run, clearance):
-                first, pin = corridors[number]
-                if first == n or (pin.label, pin.pin) == (landed.label, landed.pin) or (first, n) in edges:
-                    continue
-                edges[(first, n)] = Precedence(
-                    keys[first],
-                    keys[n],
-                    f"wire {step.wire} landed on {landed.label}:{landed.pin} passes {gap * 1000:.1f} mm from "
-                    f"the approach of {pin.label}:{pin.pin} (clearance {clearance * 1000:g} mm, depth "
-                    f"{depth * 1000:g} mm): {model.steps[first].wire} first",
-                )
+            if run is not None:
+                exits.append(run)
+                owners.append((n, landed))
+    edges: dict[tuple[int, int], Precedence] = {}
+    for number, corridor, gap in grid.near(exits, clearance):
+        n, landed = owners[number]
+        first, pin = corridors[corridor]
+        if first == n or (pin.label, pin.pin) == (landed.label, landed.pin) or (first, n) in edges:
+            continue
+        wire = model.steps[n].wire
+        edges[(first, n)] = Precedence(
+            keys[first],
+            keys[n],
+            f"wire {wire} landed on {landed.label}:{landed.pin} passes {gap * 1000:.1f} mm from "
+            f"the approach of {pin.label}:{pin.pin} (clearance {clearance * 1000:g} mm, depth "
+            f"{depth * 1000:g} mm): {model.steps[first].wire} first",
+        )
     return [edges[k] for k in sorted(edges)]
