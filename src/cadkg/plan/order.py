@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, replace
 import networkx as nx
 import numpy as np
 
+from cadkg.plan.greedy import greedy_order
 from cadkg.plan.measure import Measure, lower_bound, measure
 from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
 
@@ -118,7 +119,7 @@ def make_plan(problem: Problem) -> Plan:
         waiting[index[edge.after]] += 1
         if edge.immediate:
             then[index[edge.before]] = (index[edge.after], f"right after {edge.before}: {edge.reason}")
-    greedy = _greedy(tasks, decisions, after, waiting.copy(), then)
+    greedy = greedy_order(tasks, decisions, after, waiting.copy(), then)
     kept = _kept([t.label for t in tasks], after, waiting.copy(), then)
     scored = []
     for order in (greedy, kept):
@@ -167,83 +168,3 @@ def _kept(
             if waiting[j] == 0:
                 heapq.heappush(ready, j)
     return order
-
-
-def _greedy(
-    tasks: list[Task],
-    decisions: dict[str, Decision],
-    after: list[list[int]],
-    waiting: np.ndarray,
-    then: dict[int, tuple[int, str]],
-) -> list[tuple[int, str]]:
-    count = len(tasks)
-    robot = np.array([decisions[t.key].performer == ROBOT for t in tasks], dtype=bool)
-    first_tool = [t.tools[0] if t.tools else "" for t in tasks]
-    tool_names = sorted({n for n in first_tool if n})
-    tool_id = np.array([tool_names.index(n) if n else -1 for n in first_tool], dtype=np.int64)
-    starts = np.array([t.start if t.start is not None else (np.nan,) * 3 for t in tasks], dtype=float)
-    starts = starts.reshape(count, 3)
-    ready = waiting == 0
-    order: list[tuple[int, str]] = []
-    tool, here = "", None
-
-    def finish(i: int, why: str) -> None:
-        ready[i] = False
-        order.append((i, why))
-        for j in after[i]:
-            waiting[j] -= 1
-            if waiting[j] == 0:
-                ready[j] = True
-
-    while len(order) < count:
-        forced = then.get(order[-1][0]) if order else None
-        if forced is not None and ready[forced[0]]:
-            finish(*forced)
-            task = tasks[forced[0]]
-            tool = task.tools[-1] if task.tools else tool
-            here = np.array(task.end) if task.end is not None else here
-            continue
-        people = np.flatnonzero(ready & ~robot)
-        if people.size:
-            for person in people:
-                finish(int(person), "a person's task, placed as soon as what comes before it is done")
-            continue
-        candidates = np.flatnonzero(ready & robot)
-        if not candidates.size:
-            raise AssertionError("precedence left with a cycle")  # _break_cycles removes them all
-        same = candidates[tool_id[candidates] == (tool_names.index(tool) if tool in tool_names else -2)]
-        untooled = candidates[tool_id[candidates] == -1]
-        if same.size or untooled.size:
-            pool = np.concatenate([same, untooled])
-            why = f"keeps the tool {tool}" if tool else "needs no tool"
-        else:
-            counts = np.bincount(tool_id[candidates], minlength=len(tool_names))
-            best = int(np.argmax(counts))  # the most ready tasks; ties to the first by name
-            pool = candidates[tool_id[candidates] == best]
-            why = (
-                f"tool change to {tool_names[best]} ({counts[best]} ready tasks use it)"
-                if tool
-                else f"starts with {tool_names[best]} ({counts[best]} ready tasks use it)"
-            )
-        i = int(_nearest(pool, starts, here))
-        task = tasks[i]
-        if here is not None and task.start is not None:
-            why += f", {1000 * float(np.linalg.norm(starts[i] - here)):.0f} mm from the previous end"
-        finish(i, why)
-        tool = task.tools[-1] if task.tools else tool
-        here = np.array(task.end) if task.end is not None else here
-    return order
-
-
-def _nearest(pool: np.ndarray, starts: np.ndarray, here: np.ndarray | None) -> int:
-    """The task of ``pool`` (indices in the files' order) starting nearest ``here``; the first
-    one when nothing is known of where the tool is. Ties go to the files' order."""
-    if pool.size > 1 and np.any(pool[1:] < pool[:-1]):
-        pool = np.sort(pool)
-    if here is None:
-        return int(pool[0])
-    gap = starts[pool] - here
-    squared = np.einsum("ij,ij->i", gap, gap)
-    squared[np.isnan(squared)] = np.inf
-    k = int(np.argmin(squared))
-    return int(pool[k]) if np.isfinite(squared[k]) else int(pool[0])

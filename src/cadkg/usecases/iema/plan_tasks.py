@@ -66,6 +66,8 @@ def _point(pin: CadPin) -> Vec3 | None:
 def _assigned(model: CellModel, step: WireStep) -> str | None:
     """What an explicit assignment decided the wire by (``wire 1500.51``), if one did."""
     base, performers = model.base, model.performers
+    if not performers:
+        return None
     named = (
         (step.iri, f"wire {step.wire}"),
         (node_iri(base, "wire", step.wire), f"wire {step.wire}"),
