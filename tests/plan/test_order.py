@@ -73,3 +73,22 @@ def test_the_same_problem_gives_the_same_plan() -> None:
     edges = [(f"T{i}", f"T{i + 3}") for i in range(0, 36, 5)]
     first, second = make_plan(_problem(tasks, edges)), make_plan(_problem(list(reversed(tasks)), edges))
     assert [s.task.key for s in first.steps] == [s.task.key for s in second.steps]
+
+
+def test_the_nearest_next_task_is_the_nearest_of_all() -> None:
+    # Scattered over a cabinet's plate, some far apart (past the rings the grid looks at first).
+    import math
+    import random
+
+    rng = random.Random(5)
+    points = [(rng.uniform(0, 3), rng.uniform(0, 2), rng.uniform(0, 0.1)) for _ in range(300)]
+    points += [(rng.uniform(10, 12), rng.uniform(10, 12), 0.0) for _ in range(5)]
+    tasks = [Task(f"T{i}", f"T{i}", "wire", i, ("a",), p, p) for i, p in enumerate(points)]
+    planned = [s.task.position for s in make_plan(_problem(tasks)).steps]
+    expected, left = [0], set(range(1, len(points)))
+    while left:
+        here = points[expected[-1]]
+        nearest = min(left, key=lambda i: (math.dist(here, points[i]), i))
+        expected.append(nearest)
+        left.remove(nearest)
+    assert planned == expected

@@ -10,37 +10,85 @@ copying, and the ready count of each group is kept as tasks become ready and are
 
 from __future__ import annotations
 
+import math
+from collections import defaultdict
+
 import numpy as np
 
 from cadkg.plan.tasks import ROBOT, Decision, Task
 
 __all__ = ["greedy_order"]
 
+_CELL = 0.05  # m: the side of a square of the grid of ready starts
+_RINGS = 24  # rings of squares looked at before every ready task is
 _PERSON = "a person's task, placed as soon as what comes before it is done"
 
 
 class _Group:
-    """The robot's tasks whose first tool is one tool (or none), in the files' order."""
+    """The robot's tasks whose first tool is one tool (or none), in the files' order.
+
+    The ready ones with a known start are also filed in a grid of ``_CELL`` squares (x, y), so
+    the nearest is found by looking at the squares around a point, ring by ring, until no
+    farther ring can hold a nearer start; past ``_RINGS`` rings every ready task is looked at.
+    """
 
     def __init__(self, members: list[int], starts: np.ndarray) -> None:
         self.members = np.array(members, dtype=np.int64)
         self.starts = starts[self.members]
+        self.known = ~np.isnan(self.starts).any(axis=1)
+        self.cells = [
+            (math.floor(x / _CELL), math.floor(y / _CELL)) if known else None
+            for (x, y, _), known in zip(self.starts.tolist(), self.known.tolist(), strict=True)
+        ]
+        self.grid: dict[tuple[int, int], set[int]] = defaultdict(set)
         self.ready = np.zeros(len(members), dtype=bool)
         self.count = 0
+        self.located = 0  # ready tasks with a known start
+
+    def set_ready(self, k: int, ready: bool) -> None:
+        self.ready[k] = ready
+        self.count += 1 if ready else -1
+        cell = self.cells[k]
+        if cell is not None:
+            (self.grid[cell].add if ready else self.grid[cell].discard)(k)
+            self.located += 1 if ready else -1
 
     def nearest(self, here: np.ndarray | None) -> tuple[float, int]:
         """(squared distance, task) of the ready task starting nearest ``here``; the first ready
-        one, at infinity, when its distance is not known."""
-        first = int(np.argmax(self.ready))
-        if here is None:
-            return np.inf, int(self.members[first])
+        one, at infinity, when no distance is known."""
+        if here is None or not self.located:
+            return np.inf, int(self.members[int(np.argmax(self.ready))])
+        cx, cy = math.floor(here[0] / _CELL), math.floor(here[1] / _CELL)
+        best: tuple[float, int] | None = None
+        for ring in range(_RINGS):
+            found = [k for cell in _ring(cx, cy, ring) for k in self.grid.get(cell, ())]
+            if found:
+                gap = self.starts[found] - here
+                squared = np.einsum("ij,ij->i", gap, gap).tolist()
+                for k, d in zip(found, squared, strict=True):
+                    if best is None or (d, k) < best:
+                        best = (d, k)
+            # Every start of a farther ring is at least ``ring`` squares away.
+            if best is not None and best[0] < (ring * _CELL) ** 2:
+                return best[0], int(self.members[best[1]])
         gap = self.starts - here
         squared = np.einsum("ij,ij->i", gap, gap)
-        squared[~self.ready | np.isnan(squared)] = np.inf
+        squared[~(self.ready & self.known)] = np.inf
         k = int(np.argmin(squared))
-        if not np.isfinite(squared[k]):
-            return np.inf, int(self.members[first])
         return float(squared[k]), int(self.members[k])
+
+
+def _ring(cx: int, cy: int, ring: int) -> list[tuple[int, int]]:
+    """The grid squares at Chebyshev distance ``ring`` from square (cx, cy)."""
+    if ring == 0:
+        return [(cx, cy)]
+    side = range(-ring, ring + 1)
+    return (
+        [(cx + d, cy - ring) for d in side]
+        + [(cx + d, cy + ring) for d in side]
+        + [(cx - ring, cy + d) for d in side[1:-1]]
+        + [(cx + ring, cy + d) for d in side[1:-1]]
+    )
 
 
 def greedy_order(
@@ -75,8 +123,7 @@ def greedy_order(
     def become_ready(j: int) -> None:
         if robot[j]:
             group, k = slot[j]
-            group.ready[k] = True
-            group.count += 1
+            group.set_ready(k, True)
         else:
             people.append(j)
 
@@ -90,8 +137,7 @@ def greedy_order(
         done[i] = True
         if robot[i]:
             group, k = slot[i]
-            group.ready[k] = False
-            group.count -= 1
+            group.set_ready(k, False)
         order.append((i, why))
         for j in after[i]:
             waiting[j] -= 1

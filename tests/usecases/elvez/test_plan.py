@@ -92,3 +92,15 @@ def test_a_missing_guide_sends_the_operation_to_a_person_and_notes_the_unrouted_
     notes = [f.message for f in _order(kg) if f.severity == "warning"]
     assert "branch GR11 of WH1 is routed 2 times (3, 4)" in notes
     assert "branch GR12 of WH1 is not routed by the sequence" in notes
+
+
+def test_an_operation_assigned_to_a_person_in_an_assignments_file_says_so(tmp_path: Path) -> None:
+    copy = tmp_path / "cell"
+    shutil.copytree(EXAMPLE, copy)
+    (copy / "assignments.csv").write_text("kind,id,performer\noperation,5,human\n", encoding="utf-8")
+    with (copy / "manifest.toml").open("a", encoding="utf-8") as manifest:
+        manifest.write('\n[[source]]\npath = "assignments.csv"\nkind = "assignments"\n')
+    plan = plan_cell(KnowledgeGraph.build(copy / "manifest.toml"))
+    taping = plan.step_of("op5")
+    assert taping is not None and taping.decision.performer == "human" and taping.decision.rule == "assigned"
+    assert "operation 5 assigned to a person by hand" in taping.decision.reason
