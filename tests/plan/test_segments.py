@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from cadkg.geometry.segments import SegmentGrid, segment_distances
+from cadkg.geometry.segments import close_pairs, segment_distances
 
 
 def _sampled(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.ndarray) -> float:
@@ -32,18 +32,13 @@ def test_distances_match_sampling_for_crossing_parallel_and_degenerate_segments(
 
 def test_the_grid_finds_what_checking_every_pair_finds() -> None:
     rng = np.random.default_rng(3)
-    filed = [
-        (tuple(a), tuple(a + rng.normal(scale=0.03, size=3))) for a in rng.uniform(0, 0.5, size=(300, 3))
-    ]
-    queries = [
-        (tuple(a), tuple(a + rng.normal(scale=0.05, size=3))) for a in rng.uniform(0, 0.5, size=(200, 3))
-    ]
-    grid = SegmentGrid(cell=0.05, margin=0.01)
-    for a, b in filed:
-        grid.add(a, b)  # type: ignore[arg-type]
-    found = {(q, n) for q, n, _ in grid.near(queries, 0.01)}  # type: ignore[arg-type]
+    lows = rng.uniform(-0.5, 0.5, size=(300, 3))
+    filed = np.stack([lows, lows + rng.normal(scale=0.03, size=(300, 3))], axis=1)
+    starts = rng.uniform(-0.5, 0.5, size=(200, 3))
+    queries = np.stack([starts, starts + rng.normal(scale=0.05, size=(200, 3))], axis=1)
+    found = [(q, n) for q, n, _ in close_pairs(queries, filed, 0.01, chunk=64)]
     pairs = [(q, n) for q in range(len(queries)) for n in range(len(filed))]
     a, b = (np.array([queries[q][k] for q, _ in pairs]) for k in (0, 1))
     c, d = (np.array([filed[n][k] for _, n in pairs]) for k in (0, 1))
-    every = {pair for pair, gap in zip(pairs, segment_distances(a, b, c, d), strict=True) if gap < 0.01}
+    every = [pair for pair, gap in zip(pairs, segment_distances(a, b, c, d), strict=True) if gap < 0.01]
     assert found == every and found

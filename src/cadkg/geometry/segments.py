@@ -2,21 +2,17 @@
 
 A wire leaving a pin and the corridor a tool takes to reach a screw are both segments; a wire
 is in the tool's way when the two pass closer than the tool's clearance. The distances of many
-pairs are computed at once (numpy), the pairs worth computing found through the grid.
+pairs are computed at once (numpy), the pairs worth computing found through a grid of cubes.
 """
 
 from __future__ import annotations
 
-import math
-from collections import defaultdict
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from itertools import product
 
 import numpy as np
 
-from cadkg.geometry.poses import Vec3
-
-__all__ = ["SegmentGrid", "segment_distances"]
+__all__ = ["close_pairs", "segment_distances"]
 
 _EPS = 1e-12
 
@@ -58,52 +54,59 @@ def segment_distances(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.nda
     return distances
 
 
-class SegmentGrid:
-    """Segments filed by the cells of a uniform grid their bounding boxes (grown by ``margin``)
-    touch, so the segments near another are found without looking at all of them."""
+def close_pairs(
+    queries: np.ndarray, filed: np.ndarray, distance: float, chunk: int = 4096
+) -> Iterator[tuple[int, int, float]]:
+    """``(query, filed, gap)`` for every filed segment passing closer than ``distance`` to a query
+    segment (arrays of shape (n, 2, 3): start and end of each), by query, then filed number.
 
-    def __init__(self, cell: float, margin: float) -> None:
-        self.cell, self.margin = cell, margin
-        self.cells: dict[tuple[int, int, int], list[int]] = defaultdict(list)
-        self.segments: list[tuple[Vec3, Vec3]] = []
+    Each filed segment is binned by the lowest corner of its box grown by ``distance``, in cubes
+    as large as the longest segment and twice the distance: a filed segment near a query is then
+    in one of the 27 cubes around the query's lowest corner, found by sorting, not by looking at
+    every pair.
+    """
+    if not len(queries) or not len(filed):
+        return
+    longest = max(
+        float(np.abs(filed[:, 1] - filed[:, 0]).max()), float(np.abs(queries[:, 1] - queries[:, 0]).max())
+    )
+    cube = longest + 2 * distance + 1e-9
+    keys = np.floor((filed.min(axis=1) - distance) / cube).astype(np.int64)
+    low = keys.min(axis=0) - 2
+    span = keys.max(axis=0) - low + 3
+    code = _codes(keys - low, span)
+    order = np.argsort(code, kind="stable")
+    sorted_codes = code[order]
+    for first in range(0, len(queries), chunk):
+        block = queries[first : first + chunk]
+        corner = np.floor(block.min(axis=1) / cube).astype(np.int64) - low
+        found_q: list[np.ndarray] = []
+        found_f: list[np.ndarray] = []
+        for offset in product((-1, 0, 1), repeat=3):
+            cell = corner + np.array(offset)
+            inside = np.all((cell >= 0) & (cell < span), axis=1)
+            wanted = np.where(inside, _codes(np.clip(cell, 0, span - 1), span), -1)
+            lo = np.searchsorted(sorted_codes, wanted, side="left")
+            hi = np.searchsorted(sorted_codes, wanted, side="right")
+            counts = np.where(inside, hi - lo, 0)
+            if not counts.any():
+                continue
+            rows = np.repeat(np.arange(len(block)), counts)
+            starts = np.repeat(lo, counts)
+            steps = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+            found_q.append(rows)
+            found_f.append(order[starts + steps])
+        if not found_q:
+            continue
+        q, f = np.concatenate(found_q), np.concatenate(found_f)
+        gaps = segment_distances(block[q, 0], block[q, 1], filed[f, 0], filed[f, 1])
+        near = gaps < distance
+        q, f, gaps = q[near] + first, f[near], gaps[near]
+        for k in np.lexsort((f, q)).tolist():
+            yield int(q[k]), int(f[k]), float(gaps[k])
 
-    def _span(self, a: Vec3, b: Vec3) -> Iterator[tuple[int, int, int]]:
-        cell, margin = self.cell, self.margin
-        ranges = [
-            range(
-                math.floor((min(a[k], b[k]) - margin) / cell),
-                math.floor((max(a[k], b[k]) + margin) / cell) + 1,
-            )
-            for k in range(3)
-        ]
-        return product(*ranges)  # type: ignore[return-value]
 
-    def add(self, a: Vec3, b: Vec3) -> int:
-        """File the segment ``a b``; returns its number."""
-        number = len(self.segments)
-        self.segments.append((a, b))
-        for key in self._span(a, b):
-            self.cells[key].append(number)
-        return number
-
-    def near(self, queries: Sequence[tuple[Vec3, Vec3]], distance: float) -> Iterator[tuple[int, int, float]]:
-        """``(query, filed segment, how close)`` for every filed segment passing closer than
-        ``distance`` (at most the margin) to a query segment; by query, then filed number."""
-        pairs: list[tuple[int, int]] = []
-        for q, (a, b) in enumerate(queries):
-            found: set[int] = set()
-            for key in self._span(a, b):
-                found.update(self.cells.get(key, ()))
-            pairs.extend((q, n) for n in sorted(found))
-        if not pairs:
-            return
-        index = np.array(pairs, dtype=np.int64)
-        starts = np.array([s[0] for s in queries], dtype=float)
-        ends = np.array([s[1] for s in queries], dtype=float)
-        filed = np.array(self.segments, dtype=float).reshape(-1, 2, 3)
-        gaps = segment_distances(
-            starts[index[:, 0]], ends[index[:, 0]], filed[index[:, 1], 0], filed[index[:, 1], 1]
-        )
-        for (q, n), gap in zip(pairs, gaps.tolist(), strict=True):
-            if gap < distance:
-                yield q, n, gap
+def _codes(cells: np.ndarray, span: np.ndarray) -> np.ndarray:
+    """One integer per cube (x, y, z) of a grid ``span`` cubes wide."""
+    result: np.ndarray = (cells[:, 0] * span[1] + cells[:, 1]) * span[2] + cells[:, 2]
+    return result

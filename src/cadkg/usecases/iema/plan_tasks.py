@@ -15,8 +15,10 @@ from dataclasses import dataclass
 from importlib import resources
 from typing import Any
 
+import numpy as np
+
 from cadkg.geometry.poses import Vec3
-from cadkg.geometry.segments import SegmentGrid
+from cadkg.geometry.segments import close_pairs
 from cadkg.mapping.writer import node_iri
 from cadkg.plan.check import order_findings
 from cadkg.plan.order import ASSIGNED
@@ -195,9 +197,8 @@ def _precedence(model: CellModel, keys: list[str], rules: Rules) -> list[Precede
     clearance = rules.number("clearance_m", 0.004)
     depth = rules.number("corridor_depth_m", 0.05)
     length = rules.number("exit_length_m", 0.1)
-    grid = SegmentGrid(cell=max(depth, length, 0.01), margin=clearance)
+    filed: list[tuple[Vec3, Vec3]] = []
     corridors: list[tuple[int, CadPin]] = []  # per filed corridor: its task and pin
-    seen: set[tuple[str, str]] = set()
     for n, step in enumerate(model.steps):
         for pin in (step.origin, step.destination):
             if pin.screw is None and pin.hole is None:
@@ -206,9 +207,8 @@ def _precedence(model: CellModel, keys: list[str], rules: Rules) -> list[Precede
             assert pose is not None
             axis = pose.rotate((0.0, 0.0, depth))
             start = pose.position
-            grid.add(start, (start[0] + axis[0], start[1] + axis[1], start[2] + axis[2]))
+            filed.append((start, (start[0] + axis[0], start[1] + axis[1], start[2] + axis[2])))
             corridors.append((n, pin))
-            seen.add((pin.label, pin.pin))
     exits: list[tuple[Vec3, Vec3]] = []
     owners: list[tuple[int, CadPin]] = []  # per exit: its task and the pin it leaves
     for n, step in enumerate(model.steps):
@@ -218,7 +218,12 @@ def _precedence(model: CellModel, keys: list[str], rules: Rules) -> list[Precede
                 exits.append(run)
                 owners.append((n, landed))
     edges: dict[tuple[int, int], Precedence] = {}
-    for number, corridor, gap in grid.near(exits, clearance):
+    found = close_pairs(
+        np.array(exits, dtype=float).reshape(-1, 2, 3),
+        np.array(filed, dtype=float).reshape(-1, 2, 3),
+        clearance,
+    )
+    for number, corridor, gap in found:
         n, landed = owners[number]
         first, pin = corridors[corridor]
         if first == n or (pin.label, pin.pin) == (landed.label, landed.pin) or (first, n) in edges:
