@@ -118,6 +118,13 @@ def test_the_example_cabinet_has_a_complete_violation_free_plan() -> None:
     assert plan.measure.violations == 0 and plan.precedence
     assert plan.measure.tool_changes <= plan.files.tool_changes
     assert plan.lower_bound <= plan.measure.tool_changes
+    by_hand = {
+        s.task.label: s.decision.reason.split(" assigned")[0]
+        for s in plan.steps
+        if s.decision.rule == "assigned"
+    }
+    assert by_hand["0050.01"] == "component S0050.1" and by_hand["SSB10.08"] == "operation 94"
+    assert len(by_hand) == 7
 
 
 def test_validate_warns_of_the_lists_order_at_its_lines(kg: KnowledgeGraph) -> None:

@@ -14,12 +14,12 @@ from collections import Counter
 from dataclasses import dataclass
 from importlib import resources
 from typing import Any
+from urllib.parse import unquote
 
 import numpy as np
 
 from cadkg.geometry.poses import Vec3
 from cadkg.geometry.segments import close_pairs
-from cadkg.mapping.writer import node_iri
 from cadkg.plan.check import order_findings
 from cadkg.plan.order import ASSIGNED
 from cadkg.plan.rules import Rules, load_rules
@@ -65,30 +65,34 @@ def _point(pin: CadPin) -> Vec3 | None:
     return pose.position if pose is not None else None
 
 
-def _assigned(model: CellModel, step: WireStep) -> str | None:
+def _assigned_by_kind(model: CellModel) -> dict[str, set[str]]:
+    """The wire numbers, list positions and labels an assignment names, by kind."""
+    found: dict[str, set[str]] = {"wire": set(), "operation": set(), "component": set()}
+    for target in model.performers:
+        for kind, names in found.items():
+            prefix = f"{model.base}{kind}/"
+            if target.startswith(prefix):
+                names.add(unquote(target[len(prefix) :]))
+    return found
+
+
+def _assigned(model: CellModel, step: WireStep, by_kind: dict[str, set[str]]) -> str | None:
     """What an explicit assignment decided the wire by (``wire 1500.51``), if one did."""
-    base, performers = model.base, model.performers
-    if not performers:
-        return None
-    named = (
-        (step.iri, f"wire {step.wire}"),
-        (node_iri(base, "wire", step.wire), f"wire {step.wire}"),
-        (node_iri(base, "operation", str(step.position)), f"operation {step.position}"),
-    )
-    for target, text in named:
-        if target in performers:
-            return text
+    if step.iri in model.performers or step.wire in by_kind["wire"]:
+        return f"wire {step.wire}"
+    if str(step.position) in by_kind["operation"]:
+        return f"operation {step.position}"
     for pin in (step.origin, step.destination):
-        if node_iri(base, "component", pin.label) in performers:
+        if pin.label in by_kind["component"]:
             return f"component {pin.label}"
     return None
 
 
 def _decide(
-    model: CellModel, step: WireStep, facts: _Facts, rules: Rules
+    model: CellModel, step: WireStep, facts: _Facts, rules: Rules, by_kind: dict[str, set[str]]
 ) -> tuple[Decision, tuple[str, ...]]:
     """Who makes the wire and why, and the tools it needs (origin's, then destination's)."""
-    by_hand = _assigned(model, step)
+    by_hand = _assigned(model, step, by_kind)
     tools, missing_tool = [], []
     default_tool = rules.robot.get("default_tool")
     for end, termination in zip(_ENDS, step.terminations, strict=True):
@@ -139,11 +143,12 @@ def iema_problem(kg: Any, rules: Rules) -> Problem:
     model: CellModel = kg.cell_model()
     facts = _facts(kg)
     numbers = Counter(step.wire for step in model.steps)
+    by_kind = _assigned_by_kind(model)
     tasks, decisions = [], {}
     for n, step in enumerate(model.steps):
         key = step.wire if numbers[step.wire] == 1 else f"{step.wire}@{step.position}"
         fact = facts.get(step.iri, _Facts())
-        decision, tools = _decide(model, step, fact, rules)
+        decision, tools = _decide(model, step, fact, rules, by_kind)
         where = f"{step.source}:{fact.line}" if fact.line is not None else step.source
         tasks.append(
             Task(
