@@ -109,3 +109,11 @@ def test_next_operation_follows_the_elvez_plan(tmp_path: Path) -> None:
     served = [call(store, "CAD_platform.next_operation") for _ in range(9)]
     assert [f"{s['type']} {'-'.join(s['label'])}" for s in served] == planned  # type: ignore[arg-type]
     assert served[-1]["end"] is True and planned[-2:] == ["TJ WH2", "T WH1"]
+
+
+def test_a_cell_whose_use_case_makes_no_task_list_is_one_line() -> None:
+    result = run("plan", ROOT / "examples" / "enki-hose" / "manifest.toml")
+    assert (
+        result.returncode == 2
+        and result.stderr.strip() == "cadkg: error: the enki use case makes no task list"
+    )
