@@ -483,7 +483,7 @@ def _rail_origin(rail: int) -> tuple[float, float]:
 
 
 def _scene_lines(
-    components: Sequence[Component], layout: _Layout, models: dict[str, PartModel]
+    components: Sequence[Component], layout: _Layout, models: dict[str, PartModel], turned_every: int = 0
 ) -> Iterator[str]:
     yield (
         '<?xml version="1.0" encoding="UTF-8"?>\n'
@@ -513,7 +513,13 @@ def _scene_lines(
                 x += size[0]
             continue
         root = models[codes[0]].size
-        line = f'      <Transform DEF="{ids[0]}" translation="{_num(x)} 0 {RAIL_FRONT}">{_shape(root)}'
+        place = f'translation="{_num(x)} 0 {RAIL_FRONT}"'
+        if turned_every and component.kind == "K" and index % turned_every == 0:
+            # Mounted upside down: turned half a turn about the plate's normal, same footprint.
+            place = (
+                f'translation="{_num(x + root[0])} {_num(root[1])} {RAIL_FRONT}" rotation="0 0 1 3.14159265"'
+            )
+        line = f'      <Transform DEF="{ids[0]}" {place}>{_shape(root)}'
         if component.kind == "Q" and index % 2 == 0:
             # Every other contactor has its auxiliary contact in the scene; the others get it
             # from the model's <child> placement.
@@ -627,7 +633,9 @@ def _cabinet_manifest_text(wires: int, seed: int) -> str:
     )
 
 
-def write_cabinet_files(directory: str | Path, wires: int, seed: int = 0) -> CabinetFiles:
+def write_cabinet_files(
+    directory: str | Path, wires: int, seed: int = 0, turned_every: int = 0
+) -> CabinetFiles:
     """Write a complete synthetic cabinet of ``wires`` wires into ``directory``.
 
     About ``wires / 3`` components (the kinds and labels of :func:`build_components`),
@@ -635,7 +643,8 @@ def write_cabinet_files(directory: str | Path, wires: int, seed: int = 0) -> Cab
     positions further on (a daisy chain once those are taken), 20 components to a
     DIN rail, 4 rails to a row, a horizontal duct above each row and a vertical duct
     beside each column. Every 499th wire (from the 8th) ends on a motor outside the
-    cabinet that no file describes: those ends, and only those, lack pin data.
+    cabinet that no file describes: those ends, and only those, lack pin data. With
+    ``turned_every`` N, every relay whose index is a multiple of N is mounted upside down.
     """
     if wires < 1:
         raise ValueError("a cabinet needs at least one wire")
@@ -651,7 +660,7 @@ def write_cabinet_files(directory: str | Path, wires: int, seed: int = 0) -> Cab
     _write_lines(paths["ids.wri"], _cabinet_wri_lines(components, layout))
     _write_lines(paths["models.xml"], _models_xml(models))
     _write_lines(paths["terminals.csv"], _terminal_schema_lines(components, layout))
-    _write_lines(paths["scene.x3d"], _scene_lines(components, layout, models))
+    _write_lines(paths["scene.x3d"], _scene_lines(components, layout, models, turned_every))
     rows = _cabinet_wire_lines(components, layout, wires, rng)
     _write_lines(paths["lista-cablaggio.csv"], _chain(_preamble(), rows))
 
@@ -685,9 +694,9 @@ def write_cabinet_files(directory: str | Path, wires: int, seed: int = 0) -> Cab
     )
 
 
-def write_cabinet(directory: str | Path, wires: int, seed: int = 0) -> Path:
+def write_cabinet(directory: str | Path, wires: int, seed: int = 0, turned_every: int = 0) -> Path:
     """Write a complete synthetic cabinet of ``wires`` wires; returns the path of its manifest."""
-    return write_cabinet_files(directory, wires, seed).manifest
+    return write_cabinet_files(directory, wires, seed, turned_every).manifest
 
 
 def _chain(*parts: Iterator[str]) -> Iterator[str]:

@@ -354,6 +354,20 @@ class GraphStore:
         assert data is not None  # dump() returns bytes when given no output
         return data
 
+    def replace_graph(self, graph: str, ntriples: bytes) -> None:
+        """Replace the named graph ``graph`` with ``ntriples`` in one transaction. Nothing is
+        derived again: for graphs nothing is derived from (a plan).
+
+        Raises
+        ------
+        StoreError
+            On a read-only store.
+        """
+        if self.read_only:
+            raise StoreError("the store is open read-only")
+        inserts = ntriples.decode("utf-8")
+        self._store.update(f"DROP SILENT GRAPH <{graph}> ; INSERT DATA {{ GRAPH <{graph}> {{ {inserts} }} }}")
+
     def execute(
         self,
         sparql: str,

@@ -25,7 +25,7 @@ from cadkg.services.display import Frame, MarkerSpec
 from cadkg.services.service import Service
 from cadkg.services.session import Session
 
-__all__ = ["Collector", "Derivation", "ExportOptions", "ExportView", "UseCase"]
+__all__ = ["Collector", "Derivation", "ExportOptions", "ExportView", "Planner", "UseCase"]
 
 
 class Collector(Protocol):
@@ -74,6 +74,16 @@ ExportView = Callable[[Any, str, str | None, ExportOptions], Sequence[str]]
 
 
 @dataclass(frozen=True)
+class Planner:
+    """How ``cadkg plan`` makes the robot's task list of a cell of this use case (docs/plan.md):
+    ``tasks(graph, rules)`` gives a :class:`cadkg.plan.tasks.Problem`; ``rules`` is the default
+    rules file."""
+
+    rules: Traversable | Path
+    tasks: Callable[[Any, Any], Any]
+
+
+@dataclass(frozen=True)
 class UseCase:
     """A use case: the profile a manifest names (``[cell] profile``) and all it adds."""
 
@@ -97,3 +107,5 @@ class UseCase:
     checks: Callable[[Any], Iterable[Any]] | None = None
     # A folder of the kinds of things a revision diff compares (``.rq``, see cadkg.changes.kinds).
     changes: Traversable | Path | None = None
+    # How the robot's task list is made (``cadkg plan``).
+    planner: Planner | None = None

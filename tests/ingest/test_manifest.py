@@ -336,3 +336,23 @@ def test_derive_settings_are_read(cell_dir: Path) -> None:
     assert spec.robot_zones == ("Q", "QE")  # the IEMA default
     zones = load_manifest(manifest(cell_dir, text + 'robot_zones = ["Q", "P"]\n')).derive.robot_zones
     assert zones == ("Q", "P")
+
+
+def test_plan_rules_are_a_file_beside_the_manifest(cell_dir: Path) -> None:
+    (cell_dir / "robot.toml").write_text("[robot]\n", encoding="utf-8")
+    m = load_manifest(manifest(cell_dir, CELL + SOURCES + '\n[plan]\nrules = "robot.toml"\n'))
+    assert m.plan_rules == (cell_dir / "robot.toml").resolve()
+    assert load_manifest(manifest(cell_dir, CELL + SOURCES)).plan_rules is None
+
+
+@pytest.mark.parametrize(
+    ("text", "reason"),
+    [
+        ('\n[plan]\nrules = "none.toml"\n', "no such rules file"),
+        ("\n[plan]\nrules = 3\n", "rules must name a file"),
+        ('\n[plan]\nrulez = "robot.toml"\n', "[plan] takes only rules"),
+    ],
+)
+def test_bad_plan_rules_are_errors_at_their_line(cell_dir: Path, text: str, reason: str) -> None:
+    err = error_of(manifest(cell_dir, CELL + SOURCES + text))
+    assert reason in str(err) and err.line is not None and err.line >= 12

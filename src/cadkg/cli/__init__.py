@@ -14,6 +14,7 @@ import click
 from cadkg.cli.change_commands import diff
 from cadkg.cli.common import err
 from cadkg.cli.graph_commands import build, export, kinds, push, queries, query, validate
+from cadkg.cli.plan_commands import plan
 from cadkg.cli.serve_commands import ros, serve
 from cadkg.cli.service_commands import assign, call_service, list_services
 
@@ -47,6 +48,7 @@ for command in (
     call_service,
     list_services,
     assign,
+    plan,
     kinds,
     serve,
     ros,

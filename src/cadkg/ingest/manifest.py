@@ -48,10 +48,11 @@ from cadkg.registry import kinds, use_cases
 __all__ = ["CellSpec", "DeriveSpec", "FrameSpec", "Manifest", "SourceSpec", "load_manifest"]
 
 _KEYS = {
-    "": {"cell", "source", "frame", "derive"},
+    "": {"cell", "source", "frame", "derive", "plan"},
     "cell": {"name", "profile", "base_iri", "description"},
     "source": {"path", "kind", "description", "frame"},
     "derive": {"approach_distance", "rail_pattern", "cluster_tolerance", "robot_zones"},
+    "plan": {"rules"},
     "frame": {"parent", "child", "xyz", "rpy", "quaternion"},
 }
 _FRAME_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_./-]*$")
@@ -106,6 +107,8 @@ class Manifest:
     sources: tuple[SourceSpec, ...]
     frames: tuple[FrameSpec, ...]
     derive: DeriveSpec = DeriveSpec()
+    # [plan] rules: the robot's rules file for `cadkg plan` (docs/plan.md)
+    plan_rules: Path | None = None
 
 
 class _Locator:
@@ -178,7 +181,7 @@ def load_manifest(path: str | Path) -> Manifest:
                 path,
                 f"unknown key {key!r}",
                 line=locate.line(key, None, None),
-                expected="cell, source, frame or derive",
+                expected="cell, source, frame, derive or plan",
             )
     if not isinstance(data.get("cell"), dict):
         raise ManifestError(path, "missing [cell] table", expected="[cell] with name, profile, base_iri")
@@ -322,7 +325,22 @@ def load_manifest(path: str | Path) -> Manifest:
         sources=tuple(sources),
         frames=tuple(frames),
         derive=_derive_spec(fail, data.get("derive")),
+        plan_rules=_plan_rules(fail, path, data.get("plan")),
     )
+
+
+def _plan_rules(fail: Any, path: Path, table: object) -> Path | None:
+    if table is None:
+        return None
+    if not isinstance(table, dict) or set(table) - _KEYS["plan"]:
+        raise fail("plan", None, None, "[plan] takes only rules", expected='[plan] rules = "robot.toml"')
+    rules = table.get("rules")
+    if not isinstance(rules, str) or not rules:
+        raise fail("plan", None, "rules", "rules must name a file", found=rules, expected='"robot.toml"')
+    resolved = (path.parent / rules).resolve()
+    if not resolved.is_file():
+        raise fail("plan", None, "rules", "no such rules file", found=rules)
+    return resolved
 
 
 def _derive_spec(fail: Any, table: object) -> DeriveSpec:

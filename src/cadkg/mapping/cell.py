@@ -148,6 +148,10 @@ def map_manifest(w: TripleWriter, manifest: Manifest) -> None:
     if manifest.derive.robot_zones != DeriveSpec().robot_zones:
         for zone in manifest.derive.robot_zones:
             w.add(cell, term("robotZone"), w.text(zone))
+    if manifest.plan_rules is not None:
+        # The text itself, so that a store planned elsewhere plans by the manifest's rules.
+        w.add(cell, term("planRules"), w.text(manifest.plan_rules.name))
+        w.add(cell, term("planRulesText"), w.text(manifest.plan_rules.read_text(encoding="utf-8")))
     for frame in manifest.frames:
         _map_frame(w, frame)
 

@@ -13,7 +13,6 @@ import json
 import math
 import threading
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -30,17 +29,17 @@ from visualization_msgs.msg import Marker, MarkerArray
 import cadkg.registry as registry
 import cadkg.services.table as services
 from cadkg.errors import CadkgError
-from cadkg.graph import KnowledgeGraph
+from cadkg.plan.graph import cell_base, read_plan
+from cadkg.plan.report import as_json, summary
 from cadkg.query.confinement import DEFAULT_QUERY_MEMORY
 from cadkg.query.frames import label_frames
 from cadkg.query.workers import WorkerPool
 from cadkg.ros_adapter import convert
 from cadkg.ros_adapter.changes import RosChangeFeed
+from cadkg.ros_adapter.loaded import Loaded, load
 from cadkg.ros_adapter.sparql import SPARQL_TEXT_TASK, sparql_text
 from cadkg.services.frames import marker_specs, static_frames
 from cadkg.services.session import Session
-from cadkg.usecases.iema.derive.cabinet import CellModel, derive_cell
-from cadkg.usecases.iema.derive.extract import Placements, extract, placements
 
 __all__ = ["CadkgNode", "Loaded", "default_namespace", "load", "main", "sparql_text", "srv_type"]
 
@@ -59,10 +58,6 @@ def default_namespace(profile: str) -> str:
         return registry.use_case(profile).ros_namespace or DEFAULT_NAMESPACE
     except KeyError:
         return DEFAULT_NAMESPACE
-
-
-# The services that change the graph in place (the others read it or move a cursor).
-_GRAPH_CHANGING = frozenset({"load_files"})
 
 
 def srv_type(name: str) -> Any:
@@ -87,52 +82,6 @@ def _resolve(type_name: str) -> Any:
     if "/" in name:  # "pkg/msg/Name"
         name = name.rsplit("/", 1)[-1]
     return getattr(importlib.import_module(f"{package}.msg"), name)
-
-
-@dataclass
-class Loaded:
-    """One generation of what the node serves: graph, derived model, cursors, profile."""
-
-    kg: KnowledgeGraph
-    placements: Placements
-    model: CellModel
-    session: Session
-    profile: str
-
-
-def load(source: str, approach_distance: float | None = None, *, writable: bool = False) -> Loaded:
-    """Open a store directory (read-only unless ``writable``: then assignments are kept in it),
-    build a manifest in memory, or read a remote SPARQL endpoint (an http(s) URL; credentials
-    from CADKG_STORE_AUTH[_DIGEST]), and derive the model.
-
-    Raises
-    ------
-    CadkgError
-        When the source cannot be read.
-    """
-    path = Path(source)
-    if source.lower().startswith(("http://", "https://")):
-        from cadkg.remote import RemoteGraph, auth_from_env
-
-        kg: KnowledgeGraph = RemoteGraph(source, auth=auth_from_env())
-    elif path.is_dir():
-        kg = KnowledgeGraph.open(path, read_only=not writable)
-    elif path.is_file():
-        kg = KnowledgeGraph.build(path)
-    else:
-        raise CadkgError(f"{source!r} is neither a store directory nor a manifest file")
-    if approach_distance is not None and approach_distance >= 0:
-        inputs = extract(kg)
-        inputs.approach_distance = approach_distance
-        model = derive_cell(inputs)
-        placed = Placements(inputs.frames, inputs.meshes)
-    else:
-        # The store keeps the model; only the frames and meshes are read from the graph.
-        model = kg.cell_model()
-        placed = placements(kg)
-    rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
-    profile = str(rows[0]["p"]) if rows else ""
-    return Loaded(kg, placed, model, Session(model, kg=kg), profile)
 
 
 def _latched(depth: int = 1) -> QoSProfile:
@@ -192,6 +141,7 @@ class CadkgNode:
             ("reload", self._reload),
             ("assign", self._assign),
             ("label_frames", self._label_frames),
+            ("plan", self._plan),
         ):
             self._services.append(
                 node.create_service(srv_type(name), self.name_of(name), handler, callback_group=group)
@@ -239,7 +189,7 @@ class CadkgNode:
                     result = services.call(
                         self.loaded.session, name, params, client=convert.client_of(request)
                     )
-                if name in _GRAPH_CHANGING and getattr(result, "success", False):
+                if service.effect.changes_graph and getattr(result, "success", False):
                     self.changes.changed(self.loaded.kg, self._revision())
                 data = (
                     convert.response(result)
@@ -342,6 +292,29 @@ class CadkgNode:
         response.success = True
         response.message = f"{request.kind} {request.id} → {request.performer}{kept}"
         return response
+
+    def _plan(self, request: Any, response: Any) -> Any:
+        with self._lock:
+            kg = self.loaded.kg
+            stored = read_plan(kg, cell_base(kg))
+        if stored is None:
+            response.success, response.message = (
+                False,
+                "the store holds no plan: make one with cadkg plan STORE",
+            )
+            return response
+        data = as_json(stored)
+        keep = ("step", "task", "kind", "performer", "tool", "reason", "placement")
+        return convert.fill(
+            response,
+            {
+                "success": True,
+                "message": summary(stored),
+                "steps": [{k: step[k] for k in keep} for step in data["steps"]],
+                "precedence": data["precedence"],
+            },
+            _resolve,
+        )
 
     def _label_frames(self, request: Any, response: Any) -> Any:
         try:

@@ -141,6 +141,7 @@ async def index(request: Request) -> Response:
                 "graph_view": "/api/graph?component=LABEL or ?node=IRI",
                 "bound_query": "/api/queries/<name>/bound?param=value",
                 "terms": "/api/terms",
+                "plan": "/api/plan",
                 "scene": "/api/scene",
                 "mesh": "/api/mesh/<ck:meshUri>",
             },

@@ -25,6 +25,7 @@ from starlette.staticfiles import StaticFiles
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import cadkg.server.api as api
+import cadkg.server.plan_api as plan_api
 import cadkg.server.workbench.page as page
 import cadkg.server.workbench.routes as workbench
 from cadkg.errors import StoreError
@@ -228,6 +229,7 @@ def create_app(
             Route("/api/mesh/{path:path}", workbench.mesh, methods=["GET"]),
             Route("/api/assign", api.assign, methods=["GET", "POST"]),
             Route("/api/changes", changes_feed, methods=["GET"]),
+            Route("/api/plan", plan_api.plan, methods=methods),
             Route("/api/{service}", api.service, methods=methods),
             Route("/reload", api.reload, methods=["POST"]),
             Mount("/static", StaticFiles(directory=STATIC), name="static"),

@@ -122,3 +122,21 @@ def test_the_gaps_are_found_at_their_lines(cell: tuple[str, KnowledgeGraph]) -> 
         assert errors == ["WH_configuration.xml:19", "WH_configuration.xml:3", "WH_configuration.xml:36"]
     else:
         assert errors == [f"Assembly_sequence.csv:{line}" for line in (6, 7, 8)] + trays
+
+
+def test_the_real_sequences_are_checked_and_planned(cell: tuple[str, KnowledgeGraph]) -> None:
+    from cadkg.plan.cell import plan_cell
+
+    case, kg = cell
+    order = [f for f in validate(kg, shacl=False) if f.check == "elvez-order"]
+    plan = plan_cell(kg)
+    assert [f for f in order if f.severity == "error"] == [] and plan.measure.violations == 0
+    people = [s.task.label for s in plan.steps if s.decision.performer == "human"]
+    if case == "data_case1":
+        assert order == [] and people == []
+        assert plan.files.tool_changes == plan.measure.tool_changes == plan.lower_bound == 0
+    else:
+        # WH3 is in no harness of the configuration, and WH2's branch is never routed
+        assert people == ["EC WH3", "PC WH3", "RC WH3"]
+        assert [f.message for f in order] == ["branch GR21 of WH2 is not routed by the sequence"]
+        assert plan.files.tool_changes == plan.measure.tool_changes == plan.lower_bound == 1

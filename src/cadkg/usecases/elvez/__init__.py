@@ -13,7 +13,7 @@ from __future__ import annotations
 from importlib import resources
 
 from cadkg.ingest.reader import Reader
-from cadkg.usecase import UseCase
+from cadkg.usecase import Planner, UseCase
 from cadkg.usecases.elvez import mapping as _mapping  # noqa: F401  (registers the record mappings)
 from cadkg.usecases.elvez.checks import findings
 from cadkg.usecases.elvez.files.components import looks_like_components, read_components
@@ -21,6 +21,7 @@ from cadkg.usecases.elvez.files.definitions import looks_like_element_definition
 from cadkg.usecases.elvez.files.harnesses import looks_like_harness_configuration, read_harness_configuration
 from cadkg.usecases.elvez.files.platforms import read_platform_ids, read_platform_mesh, read_platform_scene
 from cadkg.usecases.elvez.files.sequence import looks_like_sequence, read_sequence
+from cadkg.usecases.elvez.plan_tasks import DEFAULT_RULES, elvez_problem
 from cadkg.usecases.elvez.services import SERVICES, element_meshes, platform_frames
 
 __all__ = ["USE_CASE"]
@@ -84,4 +85,5 @@ USE_CASE = UseCase(
     frames=platform_frames,
     markers=element_meshes,
     checks=findings,
+    planner=Planner(DEFAULT_RULES, elvez_problem),
 )

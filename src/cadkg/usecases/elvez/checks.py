@@ -14,18 +14,11 @@ from cadkg.errors import CadkgError
 from cadkg.query.validate import Finding
 from cadkg.usecases.elvez.files.harnesses import split_tray
 from cadkg.usecases.elvez.model import ElvezModel, build_model, unresolved
+from cadkg.usecases.elvez.plan_tasks import order_findings, source_path
 
 __all__ = ["findings"]
 
 _CHECK = "elvez"
-
-
-def _path(kg: Any, kind: str) -> str:
-    rows = kg.query(
-        "SELECT ?path WHERE { ?g ck:readerKind ?kind ; ck:sourcePath ?path } ORDER BY ?path LIMIT 1",
-        kind=kind,
-    ).rows
-    return str(rows[0]["path"]) if rows else kind
 
 
 def findings(kg: Any) -> list[Finding]:
@@ -37,9 +30,10 @@ def findings(kg: Any) -> list[Finding]:
     found = []
     for step, where in zip(model.sequence, model.step_where, strict=True):
         found += [Finding(where, "error", _CHECK, note) for note in unresolved(model, step)]
+    found += order_findings(kg, model)
     found += _harness_findings(kg, model)
     found += _element_findings(kg, model)
-    components = _path(kg, "elvez-components")
+    components = source_path(kg, "elvez-components")
     for component in model.components.values():
         if component.colour and component.rgb is None:
             found.append(
@@ -54,7 +48,7 @@ def findings(kg: Any) -> list[Finding]:
 
 
 def _harness_findings(kg: Any, model: ElvezModel) -> list[Finding]:
-    path = _path(kg, "elvez-harnesses")
+    path = source_path(kg, "elvez-harnesses")
     found = []
     for harness in model.harnesses:
         where = f"{path}:{harness.line}"
@@ -133,7 +127,7 @@ def _element_findings(kg: Any, model: ElvezModel) -> list[Finding]:
             )
         elif element.type == "jig" and definition.centre is None:
             uncentred.setdefault(definition.model, []).append(element.label)
-    path = _path(kg, "elvez-definitions")
+    path = source_path(kg, "elvez-definitions")
     for code, labels in uncentred.items():
         found.append(
             Finding(

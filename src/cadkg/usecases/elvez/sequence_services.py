@@ -7,12 +7,16 @@ last operation and the cursor starts again; ``index_operation`` (from 0) moves t
 operation and answers as ``next_operation`` with the new cursor as ``index``;
 ``all_operations`` rewinds it, as the reference does. Every answer gives spots in one form:
 element (``jig``), guide (``id``) and, for EC and PC, ``side``.
+
+When the store holds a plan (``cadkg plan``), the cursor walks the plan's robot operations in
+the plan's order; operations are still named by their index in the sequence.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+from cadkg.plan.graph import robot_positions
 from cadkg.services.session import Session, cursor_rebase, follow
 from cadkg.usecases.elvez.files.sequence import SequenceStep
 from cadkg.usecases.elvez.model import PROFILE, ElvezModel, model_of, unresolved
@@ -108,10 +112,21 @@ def _describe(model: ElvezModel, position: int) -> str:
     return text + ("; " + "; ".join(notes) if notes else "")
 
 
-def _hand_out(model: ElvezModel, cursor: SequenceCursor, position: int) -> tuple[OperationItem, bool, str]:
+def _order(session: Session, model: ElvezModel) -> list[int]:
+    """The sequence indices the cursor walks: the stored plan's robot operations, else all."""
+    planned = session.memo("elvez-plan-order", lambda: robot_positions(session.kg))
+    if planned is not None and all(0 <= p < len(model.sequence) for p in planned):
+        return planned
+    return list(range(len(model.sequence)))
+
+
+def _hand_out(
+    model: ElvezModel, order: list[int], cursor: SequenceCursor, position: int
+) -> tuple[OperationItem, bool, str]:
     item, message = _item(model.sequence[position]), _describe(model, position)
-    cursor.position = position + 1
-    end = cursor.position >= len(model.sequence)
+    if position in order:
+        cursor.position = order.index(position) + 1
+    end = cursor.position >= len(order)
     if end:
         cursor.position = 0
         message += "; end of the sequence"
@@ -121,12 +136,13 @@ def _hand_out(model: ElvezModel, cursor: SequenceCursor, position: int) -> tuple
 def next_operation(session: Session, client: str = "default") -> NextOperationResult:
     """The operation at the client's cursor; the cursor moves on (to 0 after the last)."""
     model = model_of(session)
-    if not model.sequence:
-        return NextOperationResult(False, "the cell has no assembly sequence")
+    order = _order(session, model)
+    if not order:
+        return NextOperationResult(False, "the cell has no assembly sequence with robot operations")
     cursor = _cursor(session, client)
-    if cursor.position >= len(model.sequence):
+    if cursor.position >= len(order):
         cursor.position = 0
-    item, end, message = _hand_out(model, cursor, cursor.position)
+    item, end, message = _hand_out(model, order, cursor, order[cursor.position])
     return NextOperationResult(True, message, item.type, item.label, item.spot, end)
 
 
@@ -140,7 +156,7 @@ def index_operation(session: Session, index: int, client: str = "default") -> In
             False, f"no operation {index}; the sequence has operations 0 to {count - 1}"
         )
     cursor = _cursor(session, client)
-    item, end, message = _hand_out(model, cursor, index)
+    item, end, message = _hand_out(model, _order(session, model), cursor, index)
     return IndexOperationResult(True, message, cursor.position, item.type, item.label, item.spot, end)
 
 
@@ -152,12 +168,15 @@ def reset_sequence_list(session: Session, client: str = "default") -> SequenceRe
 
 def reset_sequence_list_to(session: Session, index: int, client: str = "default") -> SequenceResetResult:
     """Move the client's cursor to operation ``index`` (from 0)."""
-    count = len(model_of(session).sequence)
+    model = model_of(session)
+    count, order = len(model.sequence), _order(session, model)
     if not 0 <= index < count:
         return SequenceResetResult(
             False, f"no operation {index}; the sequence has operations 0 to {count - 1}"
         )
-    _cursor(session, client).position = index
+    if index not in order:
+        return SequenceResetResult(False, f"operation {index} is a person's in the plan")
+    _cursor(session, client).position = order.index(index)
     return SequenceResetResult(True, f"next: operation {index}")
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 from importlib import resources
 
 from cadkg.ingest.reader import Reader
-from cadkg.usecase import Derivation, UseCase
+from cadkg.usecase import Derivation, Planner, UseCase
 from cadkg.usecases.iema import mapping as _mapping  # noqa: F401  (registers the record mappings)
 from cadkg.usecases.iema.checks import cabinet_checks
 from cadkg.usecases.iema.component_list import looks_like_component_list, read_component_list
@@ -24,6 +24,7 @@ from cadkg.usecases.iema.derive.emit import derived_graph, derived_ntriples
 from cadkg.usecases.iema.derive.extract import extract
 from cadkg.usecases.iema.derive.persist import dump_model, load_model
 from cadkg.usecases.iema.marker_table import looks_like_marker_table, read_marker_table
+from cadkg.usecases.iema.plan_tasks import DEFAULT_RULES, iema_problem, order_check
 from cadkg.usecases.iema.services import SERVICES, cabinet_frames
 from cadkg.usecases.iema.terminal_diagram import looks_like_terminal_diagram, read_terminal_diagram
 from cadkg.usecases.iema.terminal_schema import looks_like_terminal_schema, read_terminal_schema
@@ -87,5 +88,6 @@ USE_CASE = UseCase(
     ros_namespace="/gearbox_handler",
     derivation=CABINET,
     frames=cabinet_frames,
-    checks=cabinet_checks,
+    checks=lambda kg: [*cabinet_checks(kg), *order_check(kg)],
+    planner=Planner(DEFAULT_RULES, iema_problem),
 )

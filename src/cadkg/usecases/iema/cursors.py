@@ -1,7 +1,8 @@
 """The cursor services of Table 1: connection providers and the rail scanner.
 
 A cursor is per client (a ROS node, a CLI user) and walks only the work assigned to
-the robot: wires, operations and components assigned to a human are skipped.
+the robot: wires, operations and components assigned to a human are skipped. When the store
+holds a plan (``cadkg plan``), the cursor walks the plan's robot wires in its order instead.
 
 ``full_connection_provider()`` hands out wire *ends*, as the cell's software does: the
 origin of the current wire (``source="orig"``), then its destination (``"dest"``), then the
@@ -19,6 +20,7 @@ from decimal import Decimal, InvalidOperation
 
 from cadkg.geometry.poses import Pose, Vec3
 from cadkg.mapping.writer import node_iri
+from cadkg.plan.graph import robot_positions
 from cadkg.services.session import Session, cursor_rebase, follow
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
 
@@ -110,9 +112,13 @@ class CursorState:
 class _Work:
     """The robot's share of a cabinet model, worked out once per session."""
 
-    def __init__(self, model: CellModel) -> None:
+    def __init__(self, model: CellModel, planned: list[int] | None = None) -> None:
         self.model = model
-        self.steps = [s for s in model.steps if s.performer == "robot"]
+        # A stored plan (cadkg plan) gives the robot's wires and their order; else the lists do.
+        if planned is not None and all(0 <= p < len(model.steps) for p in planned):
+            self.steps = [model.steps[p] for p in planned]
+        else:
+            self.steps = [s for s in model.steps if s.performer == "robot"]
         # Per ``source`` argument of reset_to_connection_list: the first robot step of each
         # wire number and of each list position, built on first use.
         self.lookup: dict[str, tuple[dict[Decimal, int], dict[int, int]]] = {}
@@ -124,7 +130,7 @@ class _Work:
 
 
 def _work(session: Session) -> _Work:
-    return session.memo("iema-work", lambda: _Work(session.model))
+    return session.memo("iema-work", lambda: _Work(session.model, robot_positions(session.kg)))
 
 
 def state(session: Session, client: str) -> CursorState:

@@ -1,0 +1,72 @@
+"""The plan of a cell: its use case's tasks under a rules file, ordered.
+
+The rules are, first found: the file given, the manifest's ``[plan] rules``, the use case's
+default (``plan-rules.toml`` in its folder).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import cadkg.registry as registry
+from cadkg.errors import QueryError
+from cadkg.plan.graph import StoredPlan, cell_base, read_plan, write_plan
+from cadkg.plan.order import Plan, make_plan
+from cadkg.plan.rules import Rules, load_rules, parse_rules
+
+__all__ = ["cell_base", "cell_profile", "plan_cell", "rules_of", "store_plan"]
+
+
+def cell_profile(kg: Any) -> str:
+    rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
+    return str(rows[0]["p"]) if rows else ""
+
+
+def rules_of(kg: Any, rules: Path | None = None) -> Rules:
+    """The rules a plan of ``kg`` is made under (see the module doc).
+
+    Raises
+    ------
+    QueryError
+        When the cell's use case makes no plans.
+    RulesError
+        When the rules file is malformed.
+    """
+    profile = cell_profile(kg)
+    planner = registry.use_case(profile).planner
+    if planner is None:
+        raise QueryError(f"the {profile or 'default'} use case makes no task list")
+    if rules is not None:
+        return load_rules(rules)
+    given = kg.query(
+        "SELECT ?name ?text WHERE { ?c a ck:Cell ; ck:planRules ?name ; ck:planRulesText ?text }"
+    )
+    if given.rows:
+        row = given.rows[0]
+        return parse_rules(str(row["text"]), f"{row['name']} (the manifest's [plan] rules)")
+    return load_rules(planner.rules, f"the {profile} default rules")
+
+
+def plan_cell(kg: Any, rules: Path | None = None) -> Plan:
+    """The plan of the cell in ``kg`` (not written; see :func:`store_plan`)."""
+    return _planned(kg, rules_of(kg, rules))
+
+
+def _planned(kg: Any, rules: Rules) -> Plan:
+    planner = registry.use_case(cell_profile(kg)).planner
+    assert planner is not None  # rules_of raised otherwise
+    return make_plan(planner.tasks(kg, rules))
+
+
+def store_plan(kg: Any, rules: Path | None = None) -> StoredPlan:
+    """Make the plan of the cell in ``kg``, replace its plan graph with it, and read it back.
+
+    Raises what :func:`rules_of` raises, and StoreError on a read-only store.
+    """
+    chosen = rules_of(kg, rules)
+    base = cell_base(kg)
+    write_plan(kg, _planned(kg, chosen), base, chosen.source)
+    stored = read_plan(kg, base)
+    assert stored is not None  # just written
+    return stored

@@ -1,0 +1,119 @@
+"""The rules file: what the cell's robot can do, in TOML.
+
+::
+
+    [robot]                    # settings the use case's tasks read (see docs/plan.md)
+    zones = ["Q", "QE"]
+    clearance_m = 0.004
+
+    [[tool]]                   # a tool, and the task classes it serves
+    name = "screwdriver"
+    serves = ["PUNTALINO_vite", "CAPICORDA_vite"]
+
+Every use case ships a default (``plan-rules.toml`` in its folder); a manifest names its own
+with ``[plan] rules = "FILE"``, and ``cadkg plan --rules FILE`` overrides both. What a task
+class is (a wire end's termination, an operation's code) is the use case's to say.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from importlib.resources.abc import Traversable
+from pathlib import Path
+from typing import Any
+
+from cadkg.errors import CadkgError
+
+__all__ = ["Rules", "RulesError", "Tool", "load_rules", "parse_rules"]
+
+
+class RulesError(CadkgError):
+    """A rules file that is not TOML or not of the expected shape (names the file and key)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Tool:
+    name: str
+    serves: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Rules:
+    """``robot`` holds the ``[robot]`` settings; ``tools`` the ``[[tool]]`` entries in file order."""
+
+    source: str
+    robot: dict[str, Any] = field(default_factory=dict)
+    tools: tuple[Tool, ...] = ()
+
+    def tool_for(self, task_class: str) -> str | None:
+        """The first tool serving ``task_class``; None when no tool does."""
+        return next((t.name for t in self.tools if task_class in t.serves), None)
+
+    def number(self, key: str, default: float) -> float:
+        value = self.robot.get(key, default)
+        if isinstance(value, bool) or not isinstance(value, int | float) or value < 0:
+            raise RulesError(f"{self.source}: [robot] {key} must be a non-negative number, not {value!r}")
+        return float(value)
+
+    def names(self, key: str, default: Sequence[str] = ()) -> tuple[str, ...]:
+        value = self.robot.get(key, list(default))
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+            raise RulesError(f"{self.source}: [robot] {key} must be a list of strings, not {value!r}")
+        return tuple(value)
+
+    def choice(self, key: str, default: str, allowed: Sequence[str]) -> str:
+        value = self.robot.get(key, default)
+        if value not in allowed:
+            raise RulesError(
+                f"{self.source}: [robot] {key} must be one of {', '.join(allowed)}, not {value!r}"
+            )
+        return str(value)
+
+
+def parse_rules(text: str, source: str) -> Rules:
+    """Rules from TOML ``text``; ``source`` names it in errors and reasons.
+
+    Raises
+    ------
+    RulesError
+        On a TOML syntax error (with its line) or an entry of the wrong shape.
+    """
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise RulesError(f"{source}: {err}") from None
+    unknown = sorted(set(data) - {"robot", "tool"})
+    if unknown:
+        raise RulesError(f"{source}: unknown table [{unknown[0]}]; expected [robot] and [[tool]]")
+    robot = data.get("robot", {})
+    if not isinstance(robot, dict):
+        raise RulesError(f"{source}: 'robot' must be a table [robot]")
+    tools = []
+    entries = data.get("tool", [])
+    if not isinstance(entries, list):
+        raise RulesError(f"{source}: 'tool' must be an array of tables [[tool]]")
+    for n, entry in enumerate(entries, 1):
+        name, serves = entry.get("name"), entry.get("serves", [])
+        if not isinstance(name, str) or not name:
+            raise RulesError(f'{source}: [[tool]] number {n} has no name = "..."')
+        if not isinstance(serves, list) or not all(isinstance(s, str) for s in serves):
+            raise RulesError(f"{source}: [[tool]] {name}: serves must be a list of strings")
+        tools.append(Tool(name, tuple(serves)))
+    return Rules(source, robot, tuple(tools))
+
+
+def load_rules(path: Path | Traversable, name: str | None = None) -> Rules:
+    """Read a rules file (see :func:`parse_rules`); ``name`` says what it is in reasons.
+
+    Raises
+    ------
+    RulesError
+        When the file cannot be read or is malformed.
+    """
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as err:
+        raise RulesError(f"{path}: cannot read the rules file ({err})") from None
+    return parse_rules(text, name or str(path))
