@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 import cadkg
+from cadkg.generations import read_pointer
 from cadkg.usecases.iema.derive.cabinet import CellModel, derive_cell
 from cadkg.usecases.iema.derive.extract import extract
 from cadkg.usecases.iema.derive.persist import dump_model, load_model
@@ -30,8 +31,10 @@ def _derived(kg: cadkg.KnowledgeGraph) -> CellModel:
 
 
 def _model_file(store: Path) -> Path:
-    (found,) = store.glob("gen-*/cell-model.json")
-    return found
+    # The live generation's (the store also keeps the one before, for 'cadkg diff STORE').
+    live = read_pointer(store)
+    assert live is not None
+    return store / live / "cell-model.json"
 
 
 @pytest.mark.parametrize("manifest", CELLS, ids=lambda p: f"{p.parent.name}/{p.name}")
