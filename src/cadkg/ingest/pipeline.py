@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
+from cadkg.ingest.bounded import read_bounded
 from cadkg.ingest.manifest import Manifest, SourceSpec
 from cadkg.mapping import eplan as _eplan  # noqa: F401  (registers the EPLAN exports' mappings)
 from cadkg.mapping import harness as _harness  # noqa: F401  (registers the harness records' mappings)
@@ -69,7 +70,8 @@ def read_source(
     Raises
     ------
     IngestError
-        Located errors of the reader; an unknown kind.
+        Located errors of the reader; an unknown kind; ``needs more than N MiB to read`` (see
+        :mod:`cadkg.ingest.bounded`).
     """
     started = time.perf_counter()
     kind = kind or sniff_kind(path, profile=profile)
@@ -84,9 +86,10 @@ def read_source(
     count = 0
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", IngestWarning)
-        # Without a stream the whole file is read before anything of it is written.
-        stream = reader.stream if sink is not None else None
-        incoming = stream(path) if stream is not None else reader.read(path)
+        # Without a stream the whole file is read before anything of it is written. Either
+        # way the file is read in a child process under the read limit.
+        read = (reader.stream if sink is not None else None) or reader.read
+        incoming = read_bounded(path, read, path)
         if sink is not None:
             writer.stream_to(lambda chunk: sink(graph, chunk))
         map_provenance(writer, graph, rel_path, sha256_of(path), kind)
