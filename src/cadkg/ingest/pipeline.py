@@ -86,10 +86,10 @@ def read_source(
     count = 0
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", IngestWarning)
-        # Without a stream the whole file is read before anything of it is written. Either
-        # way the file is read in a child process under the read limit.
-        read = (reader.stream if sink is not None else None) or reader.read
-        incoming = read_bounded(path, read, path)
+        # Read in a child process under the read limit, one by one where the reader can: the
+        # child then never holds every record. Without a sink nothing is written before the
+        # last record is mapped, so a later row's error still leaves nothing behind.
+        incoming = read_bounded(path, reader.stream or reader.read, path)
         if sink is not None:
             writer.stream_to(lambda chunk: sink(graph, chunk))
         map_provenance(writer, graph, rel_path, sha256_of(path), kind)
