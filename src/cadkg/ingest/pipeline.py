@@ -7,6 +7,7 @@ a bad file never leaves half of itself behind.
 from __future__ import annotations
 
 import time
+from itertools import chain, islice
 import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -90,10 +91,12 @@ def read_source(
         # child then never holds every record. Without a sink nothing is written before the
         # last record is mapped, so a later row's error still leaves nothing behind.
         incoming = read_bounded(path, reader.stream or reader.read, path)
+        # The first records (or the file's refusal) before the checksum, which reads every byte.
+        first = list(islice(incoming, 1))
         if sink is not None:
             writer.stream_to(lambda chunk: sink(graph, chunk))
         map_provenance(writer, graph, rel_path, sha256_of(path), kind)
-        for record in incoming:
+        for record in chain(first, incoming):
             count += 1
             mapper(type(record))(record, writer, slug)
             writer.maybe_flush()
