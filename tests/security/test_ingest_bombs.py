@@ -10,14 +10,13 @@ from __future__ import annotations
 import json
 import os
 import random
-import signal
-import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
-from tests.conftest import ROOT, synthetic_manifest
+from tests.conftest import synthetic_manifest
+from tests.ingest.workbooks import run_child
 from tests.security.ingest_bombs import BOMBS
 
 # Low, so that the variants cost the shared machine little; the default is 1024.
@@ -46,22 +45,9 @@ def measure(
     path: Path, kind: str | None, profile: str, limit: int = LIMIT, timeout: float = 300
 ) -> dict[str, object]:
     """What reading ``path`` in a fresh process gave: its message and peaks in MiB."""
-    process = subprocess.Popen(
-        [sys.executable, "-c", _MEASURE, str(path), kind or "", profile],
-        cwd=ROOT,
-        env={**os.environ, "CADKG_READ_LIMIT_MIB": str(limit)},
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
-    try:
-        out, err = process.communicate(timeout=timeout)
-    except subprocess.TimeoutExpired:
-        os.killpg(process.pid, signal.SIGKILL)
-        process.communicate()
-        raise AssertionError(f"reading {path.name} took over {timeout} s") from None
-    assert process.returncode == 0, err[-2000:]
+    command = [sys.executable, "-c", _MEASURE, str(path), kind or "", profile]
+    env = {**os.environ, "CADKG_READ_LIMIT_MIB": str(limit)}
+    out = run_child(command, timeout, f"reading {path.name}", env)
     found: dict[str, object] = json.loads(out.splitlines()[-1])
     return found
 

@@ -18,6 +18,7 @@ process.
 from __future__ import annotations
 
 import contextlib
+import faulthandler
 import os
 import pickle
 import resource
@@ -124,6 +125,12 @@ def _child(fd: int, limit: int, read: Callable[..., Iterable[object]], args: tup
 
 def _serve(stream: Any, limit: int, read: Callable[..., Iterable[object]], args: tuple[Any, ...]) -> int:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
+    # What the child has to say comes through the pipe: a native library's words on its way
+    # down (an allocation that failed, a backtrace) would break the caller's one line.
+    faulthandler.disable()
+    quiet = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(quiet, 2)
+    os.close(quiet)
     inherited = _data_size()
     resource.setrlimit(resource.RLIMIT_DATA, (inherited + (limit << 20), resource.RLIM_INFINITY))
     with warnings.catch_warnings(record=True) as caught:
