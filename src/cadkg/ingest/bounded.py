@@ -25,7 +25,7 @@ import resource
 import signal
 import struct
 import warnings
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Generator, Iterable
 from itertools import islice
 from pathlib import Path
 from typing import Any
@@ -60,7 +60,9 @@ def read_limit_mib() -> int:
     return int(text)
 
 
-def read_bounded(path: str | Path, read: Callable[..., Iterable[object]], *args: Any) -> Iterator[object]:
+def read_bounded(
+    path: str | Path, read: Callable[..., Iterable[object]], *args: Any
+) -> Generator[object, None, None]:
     """The items of ``read(*args)``, computed in a child process under the read limit.
 
     Warnings the reader gives are given again here, after its last item; its exceptions are

@@ -7,10 +7,11 @@ a bad file never leaves half of itself behind.
 from __future__ import annotations
 
 import time
-from itertools import chain, islice
 import warnings
 from collections.abc import Callable, Iterator
+from contextlib import closing
 from dataclasses import dataclass, field
+from itertools import chain, islice
 from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
@@ -90,18 +91,19 @@ def read_source(
         # Read in a child process under the read limit, one by one where the reader can: the
         # child then never holds every record. Without a sink nothing is written before the
         # last record is mapped, so a later row's error still leaves nothing behind.
-        incoming = read_bounded(path, reader.stream or reader.read, path)
-        # The first records (or the file's refusal) before the checksum, which reads every byte.
-        first = list(islice(incoming, 1))
-        if sink is not None:
-            writer.stream_to(lambda chunk: sink(graph, chunk))
-        map_provenance(writer, graph, rel_path, sha256_of(path), kind)
-        for record in chain(first, incoming):
-            count += 1
-            mapper(type(record))(record, writer, slug)
-            writer.maybe_flush()
-            if on_record is not None:
-                on_record(record)
+        # Closed on an error in the mapping too, which stops the child at once.
+        with closing(read_bounded(path, reader.stream or reader.read, path)) as incoming:
+            # The first records (or the file's refusal) before the checksum, which reads every byte.
+            first = list(islice(incoming, 1))
+            if sink is not None:
+                writer.stream_to(lambda chunk: sink(graph, chunk))
+            map_provenance(writer, graph, rel_path, sha256_of(path), kind)
+            for record in chain(first, incoming):
+                count += 1
+                mapper(type(record))(record, writer, slug)
+                writer.maybe_flush()
+                if on_record is not None:
+                    on_record(record)
     report = SourceReport(
         rel_path=rel_path,
         kind=kind,
