@@ -88,7 +88,7 @@ def read_bounded(
         os.close(readable)
         _child(writable, limit, read, args)
     os.close(writable)
-    finished = False
+    ended = reaped = False  # whether the child said all it had to say; whether it is reaped
     try:
         with os.fdopen(readable, "rb") as stream:
             while (message := _receive(stream)) is not None:
@@ -99,16 +99,21 @@ def read_bounded(
                     for category, text in value:
                         warnings.warn(text, category, stacklevel=2)
                 elif what == "error":
+                    ended = True
                     raise value
                 else:
-                    finished = True
+                    ended = True
                     return
         status = _reap(pid)
+        reaped = True
         raise _died(path, status, limit)
     finally:
-        if not finished:
-            _stop(pid)
-        else:
+        # A child that has not ended (the caller stopped early) is killed. Reaped once only:
+        # the pid is ours until then, and may be another read's child after.
+        if not reaped:
+            if not ended:
+                with contextlib.suppress(ProcessLookupError):
+                    os.kill(pid, signal.SIGKILL)
             _reap(pid)
 
 
@@ -190,19 +195,11 @@ def _receive(stream: Any) -> Any:
 
 
 def _reap(pid: int) -> int:
-    while True:
-        try:
-            return os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])
-        except ChildProcessError:
-            return 0
-        except InterruptedError:
-            continue
-
-
-def _stop(pid: int) -> None:
-    with contextlib.suppress(ProcessLookupError):
-        os.kill(pid, signal.SIGKILL)
-    _reap(pid)
+    """The child's exit code (a negative signal number); 0 once it has been reaped."""
+    try:
+        return os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])
+    except ChildProcessError:
+        return 0
 
 
 def _died(path: str | Path, status: int, limit: int) -> IngestError:
