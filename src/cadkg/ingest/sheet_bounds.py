@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import re
 import zipfile
+from array import array
 from collections.abc import Callable, Iterator
 from pathlib import Path, PurePosixPath
 
@@ -164,7 +165,7 @@ def _tags(
 
 
 def _scan_sheet(
-    archive: zipfile.ZipFile, member: str, limits: _Limits, strings: list[int]
+    archive: zipfile.ZipFile, member: str, limits: _Limits, strings: array[int]
 ) -> dict[tuple[int, int], str]:
     """Check one sheet part; the formula errors it holds, by (1-based row, 0-based column).
 
@@ -186,8 +187,8 @@ def _scan_sheet(
                 index = text.strip()
                 size = strings[int(index)] if index.isdigit() and int(index) < len(strings) else 0
             if not limits.budget.spend(size):
-                reason, expected = TextBudget.refusal()
-                raise limits.refuse(reason, row, column, expected)
+                reason, wanted = TextBudget.refusal()
+                raise limits.refuse(reason, row, column, wanted)
         if in_value and name == b"v" and closing:
             errors[(row, column)] = text.decode("utf-8", "replace").strip()[:16]
         if closing:
@@ -251,7 +252,7 @@ def _check_dimension(attributes: bytes, limits: _Limits, expected: str) -> None:
         )
 
 
-def _scan_strings(archive: zipfile.ZipFile, member: str, path: str | Path, lengths: list[int]) -> None:
+def _scan_strings(archive: zipfile.ZipFile, member: str, path: str | Path, lengths: array[int]) -> None:
     """Check a shared-strings part; the bytes of text of each string go on ``lengths``."""
     count = 0
 
@@ -348,7 +349,7 @@ def scan_xlsx(path: str | Path) -> dict[str, dict[tuple[int, int], str]]:
     """
     with zipfile.ZipFile(path) as archive:
         sheets, parts = _parts(archive, path)
-        lengths: list[int] = []
+        lengths = array("Q")  # up to MAX_CELLS strings: 8 bytes each, not a Python int's 32
         for member in parts:
             _scan_strings(archive, member, path, lengths)
         budget = TextBudget()

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import os
 import struct
+from array import array
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -171,7 +172,7 @@ class _Continued:
 
 
 def _check_strings(
-    data: bytes, records: Iterator[tuple[int, bytes]], path: str | Path, lengths: list[int]
+    data: bytes, records: Iterator[tuple[int, bytes]], path: str | Path, lengths: array[int]
 ) -> tuple[int, bytes] | None:
     """Count the shared strings and measure each (its length goes on ``lengths``); the record
     after them, already read."""
@@ -211,7 +212,7 @@ def _check_strings(
 class _Sheet:
     """Raises the located error of a sheet over a limit."""
 
-    def __init__(self, path: str | Path, name: str, strings: list[int], budget: TextBudget) -> None:
+    def __init__(self, path: str | Path, name: str, strings: array[int], budget: TextBudget) -> None:
         self.path, self.name = path, name
         self.strings, self.budget = strings, budget
 
@@ -331,7 +332,7 @@ def _scan_stream(
     position = [0]
     records = _records(stream, 0, position)
     sheets: list[tuple[str, int]] = []
-    strings: list[int] = []
+    strings = array("Q")  # the length of each shared string, as the XLSX scan keeps them
     biff8 = True
     item = next(records, None)
     while item is not None:
