@@ -10,7 +10,6 @@ another file.
 from __future__ import annotations
 
 import csv
-import io
 import os
 import re
 import warnings
@@ -240,13 +239,23 @@ def read_text(path: str | Path, *, expected: str) -> str:
     return decode_text(path, data, expected=expected)
 
 
+# A line and its end, as io.StringIO(text, newline="") splits them: CR, LF or CRLF.
+_LINE = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+\Z")
+
+
+def _lines(text: str) -> Iterator[str]:
+    """The lines of ``text`` with their ends; io.StringIO would first copy the whole text, at
+    four bytes a character."""
+    return (match.group() for match in _LINE.finditer(text))
+
+
 def iter_rows(text: str, delimiter: str, path: str | Path | None = None) -> Iterator[Row]:
     """Rows of delimited text with the line each starts on (quoted cells may span lines).
 
     Only CR and LF end lines: ``str.splitlines`` would also split at U+2028 and other
     separators that may sit inside a cell.
     """
-    reader = csv.reader(io.StringIO(text, newline=""), delimiter=delimiter, strict=False)
+    reader = csv.reader(_lines(text), delimiter=delimiter, strict=False)
     start = 1
     while True:
         try:
@@ -319,7 +328,7 @@ def find_header(
     IngestError
         When no delimiter gives an acceptable header row.
     """
-    head = "".join(islice(io.StringIO(text, newline=""), scan_rows))
+    head = "".join(islice(_lines(text), scan_rows))
     best: tuple[int, str, int, dict[str, int]] | None = None
     for delimiter in ("\t", ";", ","):
         for position, row in enumerate(iter_rows(head, delimiter, path)):
