@@ -233,7 +233,7 @@ def read_text(path: str | Path, *, expected: str) -> str:
                     f"the file is {size / (1 << 20):,.0f} MiB, more than cadkg reads of a text export",
                     expected=f"at most {MAX_TEXT_FILE >> 20} MiB",
                 )
-            data = handle.read(MAX_TEXT_FILE + 1)
+            data = handle.read()
     except OSError as err:
         raise IngestError(path, f"cannot read the file: {err.strerror}") from err
     return decode_text(path, data, expected=expected)
