@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import contextlib
 import faulthandler
+import gc
 import os
 import pickle
 import resource
@@ -132,6 +133,9 @@ def _child(fd: int, limit: int, read: Callable[..., Iterable[object]], args: tup
 
 def _serve(stream: Any, limit: int, read: Callable[..., Iterable[object]], args: tuple[Any, ...]) -> int:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
+    # The collector would walk (and, writing to them, copy) every object the child inherited,
+    # again and again as the reader allocates: they are left out of its reach.
+    gc.freeze()
     # What the child has to say comes through the pipe: a native library's words on its way
     # down (an allocation that failed, a backtrace) would break the caller's one line.
     faulthandler.disable()
