@@ -44,6 +44,13 @@ class CadkgError(Exception):
     """Root of every error cadkg raises on purpose."""
 
 
+def _restore(cls: type[BaseException], args: tuple[object, ...], state: dict[str, object]) -> BaseException:
+    made = cls.__new__(cls, *args)
+    made.args = args
+    made.__dict__.update(state)
+    return made
+
+
 class _Located:
     """Mixin formatting ``file:line: message (found ..., expected ...)``."""
 
@@ -82,6 +89,10 @@ class _Located:
             text += " (" + ", ".join(details) + ")"
         where = format_location(self.path, line, cell)
         return f"{where}: {text}" if where else text
+
+    def __reduce__(self) -> tuple[object, ...]:
+        # Pickled as made, not through __init__: files are read in a child process.
+        return (_restore, (type(self), getattr(self, "args", ()), dict(self.__dict__)))
 
 
 class IngestError(_Located, CadkgError):

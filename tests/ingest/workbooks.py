@@ -150,19 +150,27 @@ with open("/proc/self/status") as status:
 def read_in_child(path: Path, timeout: float = 120) -> tuple[str, float, int]:
     """(the error line or ``read``, seconds, peak RSS in MB) of reading ``path`` in a child
     process; a child past ``timeout`` is killed with its process group and the test fails."""
+    out = run_child([sys.executable, "-c", _MEASURE, str(path)], timeout, f"reading {path.name}")
+    message, seconds, megabytes = out.splitlines()[-3:]
+    return message, float(seconds), int(megabytes)
+
+
+def run_child(command: Sequence[str], timeout: float, what: str, env: dict[str, str] | None = None) -> str:
+    """The output of ``command`` run in a process group of its own, which must exit with 0;
+    a process past ``timeout`` is killed with its group and the test fails."""
     process = subprocess.Popen(
-        [sys.executable, "-c", _MEASURE, str(path)],
+        command,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,
+        env=env,
     )
     try:
         out, err = process.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
         os.killpg(process.pid, signal.SIGKILL)
         process.communicate()
-        raise AssertionError(f"reading {path.name} took over {timeout} s") from None
+        raise AssertionError(f"{what} took over {timeout} s") from None
     assert process.returncode == 0, err[-2000:]
-    message, seconds, megabytes = out.splitlines()[-3:]
-    return message, float(seconds), int(megabytes)
+    return out

@@ -88,7 +88,12 @@ def _one_line(err: BaseException) -> str:
         # As the readers' errors: the file first, then what went wrong ("[Errno 2] ..." is noise).
         return f"{err.filename}: {err.strerror}"
     # A message quoting a library over several lines is still printed as one.
-    return " ".join(line.strip() for line in str(err).splitlines() if line.strip())
+    text = " ".join(line.strip() for line in str(err).splitlines() if line.strip())
+    if isinstance(err, MemoryError):
+        # Python's own says nothing ("MemoryError()"), and the command must not print a bare prefix.
+        detail = f": {text}" if text else ""
+        return f"out of memory{detail} (a file or an answer larger than this process may hold)"
+    return text or type(err).__name__
 
 
 def store_auth(auth: str | None = None, auth_digest: str | None = None) -> Any:

@@ -9,10 +9,13 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Callable, Iterator
+from contextlib import closing
 from dataclasses import dataclass, field
+from itertools import chain, islice
 from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
+from cadkg.ingest.bounded import read_bounded
 from cadkg.ingest.manifest import Manifest, SourceSpec
 from cadkg.mapping import eplan as _eplan  # noqa: F401  (registers the EPLAN exports' mappings)
 from cadkg.mapping import harness as _harness  # noqa: F401  (registers the harness records' mappings)
@@ -69,7 +72,8 @@ def read_source(
     Raises
     ------
     IngestError
-        Located errors of the reader; an unknown kind.
+        Located errors of the reader; an unknown kind; ``needs more than N MiB to read`` (see
+        :mod:`cadkg.ingest.bounded`).
     """
     started = time.perf_counter()
     kind = kind or sniff_kind(path, profile=profile)
@@ -84,18 +88,22 @@ def read_source(
     count = 0
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", IngestWarning)
-        # Without a stream the whole file is read before anything of it is written.
-        stream = reader.stream if sink is not None else None
-        incoming = stream(path) if stream is not None else reader.read(path)
-        if sink is not None:
-            writer.stream_to(lambda chunk: sink(graph, chunk))
-        map_provenance(writer, graph, rel_path, sha256_of(path), kind)
-        for record in incoming:
-            count += 1
-            mapper(type(record))(record, writer, slug)
-            writer.maybe_flush()
-            if on_record is not None:
-                on_record(record)
+        # Read in a child process under the read limit, one by one where the reader can: the
+        # child then never holds every record. Without a sink nothing is written before the
+        # last record is mapped, so a later row's error still leaves nothing behind.
+        # Closed on an error in the mapping too, which stops the child at once.
+        with closing(read_bounded(path, reader.stream or reader.read, path)) as incoming:
+            # The first records (or the file's refusal) before the checksum, which reads every byte.
+            first = list(islice(incoming, 1))
+            if sink is not None:
+                writer.stream_to(lambda chunk: sink(graph, chunk))
+            map_provenance(writer, graph, rel_path, sha256_of(path), kind)
+            for record in chain(first, incoming):
+                count += 1
+                mapper(type(record))(record, writer, slug)
+                writer.maybe_flush()
+                if on_record is not None:
+                    on_record(record)
     report = SourceReport(
         rel_path=rel_path,
         kind=kind,

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
+from cadkg.ingest.bounded import read_bounded
 from cadkg.ingest.sheet_bounds import (
     MAX_CELLS,
     MAX_ROWS,
@@ -280,15 +281,20 @@ def sniff_head(path: str | Path, head: bytes) -> bytes:
     if not is_workbook(head):
         return head
     try:
-        book = read_workbook(path)
+        # Read as the readers read it: in a child process under the read limit.
+        lines = [str(line) for line in read_bounded(path, _first_rows, path)]
     except (IngestError, OSError, ValueError):
         return head
+    return head + _SHEET_TEXT + "\n".join(lines).encode("utf-8", "replace")
+
+
+def _first_rows(path: str | Path) -> list[str]:
     lines = []
-    for sheet in book.sheets:
+    for sheet in read_workbook(path).sheets:
         for row in sheet.rows[:_SNIFF_ROWS]:
             cells = (re.sub(r"\s+", " ", cell_text(c)[:_SNIFF_CELL]) for c in row.cells)
             lines.append("\t".join(cells))
-    return head + _SHEET_TEXT + "\n".join(lines).encode("utf-8", "replace")
+    return lines
 
 
 def sheet_text(head: bytes) -> str | None:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import re
 import zipfile
+from array import array
 from collections.abc import Callable, Iterator
 from pathlib import Path, PurePosixPath
 
@@ -25,6 +26,8 @@ __all__ = [
     "MAX_COLUMNS",
     "MAX_ROWS",
     "MAX_TEXT",
+    "MAX_WORKBOOK_TEXT",
+    "TextBudget",
     "cell_address",
     "check_ods_extent",
     "column_letter",
@@ -39,6 +42,11 @@ MAX_COLUMNS = 16_384
 MAX_CELLS = 1 << 21
 # Characters a cell can hold in Excel; a run of XML text may be up to six bytes a character.
 MAX_TEXT = 32_767
+# The text of a workbook as the library builds it, each shared string counted at every cell
+# that shows it and each repeated cell as often as it is repeated (in bytes of UTF-8, never
+# fewer than its characters): 64 Mi is over 30 characters in each of MAX_CELLS cells, and one
+# string of 32,767 characters shown in 30,000 cells (a 83 KB file) would be 980 Mi.
+MAX_WORKBOOK_TEXT = 1 << 26
 _MAX_TEXT_BYTES = 6 * MAX_TEXT
 _MAX_STRINGS = MAX_CELLS
 _MAX_TAG = 1 << 16
@@ -50,14 +58,13 @@ _TAG = re.compile(rb"<(/?)(?:[A-Za-z_][\w.-]*:)?([A-Za-z_][\w.-]*)((?:[^<>\"']|\
 _REF = re.compile(rb"""\br\s*=\s*["']\s*([A-Za-z]*)(\d*)\s*["']""")
 _ROW_NUMBER = re.compile(rb"""\br\s*=\s*["']\s*(\d+)\s*["']""")
 _ERROR = re.compile(rb"""\bt\s*=\s*["']e["']""")
+_SHARED = re.compile(rb"""\bt\s*=\s*["']s["']""")
 _DIMENSION = re.compile(rb"""\bref\s*=\s*["']\s*([A-Za-z]+)(\d+)(?::([A-Za-z]+)(\d+))?\s*["']""")
 _COUNT = re.compile(rb"""\buniqueCount\s*=\s*["']\s*(\d+)\s*["']""")
-_RELS = "{http://schemas.openxmlformats.org/package/2006/relationships}Relationship"
-_MAIN = "{http://schemas.openxmlformats.org/spreadsheetml/2006/main}"
-_R_ID = "{http://schemas.openxmlformats.org/officeDocument/2006/relationships}id"
-_TABLE = "{urn:oasis:names:tc:opendocument:xmlns:table:1.0}"
-_OFFICE = "{urn:oasis:names:tc:opendocument:xmlns:office:1.0}"
-_CELLS = (_TABLE + "table-cell", _TABLE + "covered-table-cell")
+# Elements and attributes are told by their local names, whatever namespace their prefix is
+# bound to: the library reads transitional and Strict OOXML alike, and a prefix bound to
+# another namespace must not hide a part or a repeat count from the scan.
+_CELLS = frozenset({"table-cell", "covered-table-cell"})
 
 
 def column_letter(index: int) -> str:
@@ -90,12 +97,35 @@ def _number(digits: bytes, limit: int) -> int:
     return int(digits) if len(digits) <= 8 else limit + 1
 
 
+class TextBudget:
+    """The text a workbook's sheets add up to as the library builds them, held to
+    :data:`MAX_WORKBOOK_TEXT`."""
+
+    def __init__(self) -> None:
+        self.used = 0
+
+    def spend(self, size: int) -> bool:
+        """Count ``size`` more; whether the workbook is still within the limit."""
+        self.used += size
+        return self.used <= MAX_WORKBOOK_TEXT
+
+    @staticmethod
+    def refusal() -> tuple[str, str]:
+        """(reason, expected) of the error of a workbook over the limit."""
+        return (
+            "the sheets' text, each shared string and repeated cell counted where it is shown,"
+            " is more than cadkg reads of a workbook",
+            f"at most {MAX_WORKBOOK_TEXT:,} bytes of text in a workbook",
+        )
+
+
 class _Limits:
     """Raises the located error of a workbook over a limit."""
 
-    def __init__(self, path: str | Path, sheet: str) -> None:
+    def __init__(self, path: str | Path, sheet: str, budget: TextBudget | None = None) -> None:
         self.path = path
         self.sheet = sheet
+        self.budget = budget or TextBudget()
 
     def refuse(self, reason: str, row: int, column: int, expected: str) -> IngestError:
         row = min(max(row, 1), MAX_ROWS + 1)
@@ -134,17 +164,31 @@ def _tags(
                 raise too_long("an element's tag is longer than 64 KiB")
 
 
-def _scan_sheet(archive: zipfile.ZipFile, member: str, limits: _Limits) -> dict[tuple[int, int], str]:
-    """Check one sheet part; the formula errors it holds, by (1-based row, 0-based column)."""
+def _scan_sheet(
+    archive: zipfile.ZipFile, member: str, limits: _Limits, strings: array[int]
+) -> dict[tuple[int, int], str]:
+    """Check one sheet part; the formula errors it holds, by (1-based row, 0-based column).
+
+    ``strings`` holds the length of each shared string, for the text the cells that show
+    them add up to.
+    """
     errors: dict[tuple[int, int], str] = {}
     row = column = last_row = last_column = cells = 0
-    in_error = in_value = False
+    in_error = in_value = shared = False
     expected = f"at most {MAX_ROWS:,} rows, {MAX_COLUMNS:,} columns and {MAX_CELLS:,} cells from A1"
 
     def too_long(reason: str) -> IngestError:
         return limits.refuse(reason, row, column, f"at most {MAX_TEXT:,} characters a cell")
 
     for closing, name, attributes, empty, text in _tags(archive, member, _MAX_PART, too_long):
+        if closing and name in (b"v", b"t"):
+            size = len(text)
+            if shared and name == b"v":
+                index = text.strip()
+                size = strings[int(index)] if index.isdigit() and int(index) < len(strings) else 0
+            if not limits.budget.spend(size):
+                reason, wanted = TextBudget.refusal()
+                raise limits.refuse(reason, row, column, wanted)
         if in_value and name == b"v" and closing:
             errors[(row, column)] = text.decode("utf-8", "replace").strip()[:16]
         if closing:
@@ -177,6 +221,7 @@ def _scan_sheet(archive: zipfile.ZipFile, member: str, limits: _Limits) -> dict[
                     expected,
                 )
             in_error = bool(_ERROR.search(attributes))
+            shared = bool(_SHARED.search(attributes))
             if not empty:
                 last_row, last_column = max(last_row, row), max(last_column, column)
                 if last_row * (last_column + 1) > MAX_CELLS or cells > MAX_CELLS:
@@ -207,7 +252,8 @@ def _check_dimension(attributes: bytes, limits: _Limits, expected: str) -> None:
         )
 
 
-def _scan_strings(archive: zipfile.ZipFile, member: str, path: str | Path) -> None:
+def _scan_strings(archive: zipfile.ZipFile, member: str, path: str | Path, lengths: array[int]) -> None:
+    """Check a shared-strings part; the bytes of text of each string go on ``lengths``."""
     count = 0
 
     def refuse(reason: str) -> IngestError:
@@ -217,10 +263,13 @@ def _scan_strings(archive: zipfile.ZipFile, member: str, path: str | Path) -> No
             expected=f"at most {_MAX_STRINGS:,} shared strings of at most {MAX_TEXT:,} characters",
         )
 
-    for closing, name, attributes, _, _ in _tags(archive, member, _MAX_PART, refuse):
+    for closing, name, attributes, _, text in _tags(archive, member, _MAX_PART, refuse):
         if closing:
+            if name == b"t" and lengths:
+                lengths[-1] += len(text)
             continue
         if name == b"si":
+            lengths.append(0)
             count += 1
             if count > _MAX_STRINGS:
                 raise refuse("more shared strings than cadkg reads of a workbook")
@@ -238,27 +287,55 @@ def _small_xml(archive: zipfile.ZipFile, member: str, path: str | Path) -> etree
     return etree.fromstring(archive.read(member), parser)
 
 
+def _local(name: object) -> str:
+    """The local name of an element's or attribute's tag, whatever its namespace."""
+    return etree.QName(name).localname if isinstance(name, str) else ""
+
+
+def _attribute(element: etree._Element, local: str, default: str = "") -> str:
+    """The value of the attribute with local name ``local``, in whichever namespace; unprefixed first."""
+    found = element.get(local)
+    if found is not None:
+        return str(found)
+    return next((str(v) for k, v in element.attrib.items() if _local(k) == local), default)
+
+
 def _parts(archive: zipfile.ZipFile, path: str | Path) -> tuple[list[tuple[str, str]], list[str]]:
-    """(sheet name, part) of each worksheet in tab order, and the shared-strings parts."""
+    """(sheet name, part) of each worksheet, in tab order and then any other worksheet part of
+    the archive, and the shared-strings parts."""
     workbook = _small_xml(archive, "xl/workbook.xml", path)
     rels_name = "xl/_rels/workbook.xml.rels"
     targets: dict[str, str] = {}
     strings: list[str] = []
+    worksheets: list[str] = []
     if rels_name in archive.NameToInfo:
-        for rel in _small_xml(archive, rels_name, path).iter(_RELS):
-            target = rel.get("Target", "")
+        for rel in _small_xml(archive, rels_name, path).iter():
+            if _local(rel.tag) != "Relationship":
+                continue
+            target = _attribute(rel, "Target")
             part = target.lstrip("/") if target.startswith("/") else str(PurePosixPath("xl", target))
-            targets[rel.get("Id", "")] = part
-            if rel.get("Type", "").endswith("/sharedStrings"):
+            targets[_attribute(rel, "Id")] = part
+            kind = _attribute(rel, "Type").rsplit("/", 1)[-1]
+            if kind == "sharedStrings":
                 strings.append(part)
+            elif kind == "worksheet":
+                worksheets.append(part)
     sheets = []
-    for sheet in workbook.iter(_MAIN + "sheet"):
-        part = targets.get(sheet.get(_R_ID, ""), "")
+    for sheet in workbook.iter():
+        if _local(sheet.tag) != "sheet":
+            continue
+        part = targets.get(_attribute(sheet, "id"), "")
         if part in archive.NameToInfo:
-            sheets.append((sheet.get("name", "Sheet"), part))
-    if not strings and "xl/sharedStrings.xml" in archive.NameToInfo:
-        strings.append("xl/sharedStrings.xml")
-    return sheets, [s for s in strings if s in archive.NameToInfo]
+            sheets.append((_attribute(sheet, "name", "Sheet"), part))
+    named = {part for _, part in sheets}
+    # A worksheet part that no sheet names is scanned too, by its part name: what the library
+    # finds must not depend on the workbook naming it as the scan expects.
+    others = worksheets + sorted(n for n in archive.NameToInfo if n.startswith("xl/worksheets/"))
+    for part in dict.fromkeys(others):
+        if part not in named and part.endswith(".xml") and part in archive.NameToInfo:
+            sheets.append((PurePosixPath(part).stem, part))
+    strings += [n for n in archive.NameToInfo if PurePosixPath(n).name.lower() == "sharedstrings.xml"]
+    return sheets, [s for s in dict.fromkeys(strings) if s in archive.NameToInfo]
 
 
 def scan_xlsx(path: str | Path) -> dict[str, dict[tuple[int, int], str]]:
@@ -271,41 +348,70 @@ def scan_xlsx(path: str | Path) -> dict[str, dict[tuple[int, int], str]]:
         archive, which the caller turns into its "corrupt workbook" error.
     """
     with zipfile.ZipFile(path) as archive:
-        sheets, strings = _parts(archive, path)
-        for member in strings:
-            _scan_strings(archive, member, path)
-        return {name: _scan_sheet(archive, part, _Limits(path, name)) for name, part in sheets}
+        sheets, parts = _parts(archive, path)
+        lengths = array("Q")  # up to MAX_CELLS strings: 8 bytes each, not a Python int's 32
+        for member in parts:
+            _scan_strings(archive, member, path, lengths)
+        budget = TextBudget()
+        return {
+            name: _scan_sheet(archive, part, _Limits(path, name, budget), lengths) for name, part in sheets
+        }
 
 
 def check_ods_extent(path: str | Path) -> None:
-    """Refuse repeat counts that expand a sheet past its size, and over-long texts."""
+    """Refuse repeat counts that expand a sheet past its size, and text that the repeats
+    expand past :data:`MAX_WORKBOOK_TEXT`."""
+    budget = TextBudget()
     with zipfile.ZipFile(path) as archive, archive.open("content.xml") as content:
         rows = last = width = 0
         events = etree.iterparse(
             content, events=("end",), resolve_entities=False, no_network=True, load_dtd=False
         )
         for _, element in events:
-            if element.tag == _TABLE + "table":
+            name = _local(element.tag)
+            if name == "table":
                 rows = last = width = 0
                 element.clear()
-            elif element.tag == _TABLE + "table-row":
-                columns = filled = 0
+            elif name == "table-row":
+                repeated = _count(element, "number-rows-repeated")
+                columns = filled = text = 0
                 for cell in element:
-                    if cell.tag in _CELLS:
-                        columns += int(cell.get(_TABLE + "number-columns-repeated", "1"))
-                        if cell.get(_OFFICE + "value-type") is not None or len(cell):
+                    if _local(cell.tag) in _CELLS:
+                        times = _count(cell, "number-columns-repeated")
+                        columns += times
+                        if _attribute(cell, "value-type") or len(cell):
                             filled = columns
-                rows += int(element.get(_TABLE + "number-rows-repeated", "1"))
+                        text += _cell_text(cell) * times
+                rows += repeated
                 if filled:
                     last, width = rows, max(width, filled)
                 if rows > MAX_ROWS or columns > MAX_COLUMNS or last * width > MAX_CELLS:
                     raise _oversized(path, _table_name(element), rows, columns)
+                if not budget.spend(text * repeated):
+                    reason, expected = TextBudget.refusal()
+                    at = cell_address(_table_name(element), rows - repeated + 1, max(filled, 1) - 1)
+                    raise IngestError(path, reason, cell=at, expected=expected)
                 element.clear()
 
 
+def _count(element: etree._Element, local: str) -> int:
+    return int(_attribute(element, local, "1"))
+
+
+def _cell_text(cell: etree._Element) -> int:
+    """The characters a cell's value may become: its text, its value attributes (a string or
+    date given there), and the spaces of ``<text:s text:c="n">``."""
+    size = sum(len(value) for name, value in cell.attrib.items() if _local(name).endswith("value"))
+    for node in cell.iter():
+        size += len(node.text or "") + len(node.tail or "") if node is not cell else len(node.text or "")
+        if node is not cell and _local(node.tag) == "s":
+            size += int(_attribute(node, "c", "1"))
+    return size
+
+
 def _table_name(row: etree._Element) -> str:
-    table = next(row.iterancestors(_TABLE + "table"), None)
-    return "Sheet" if table is None else str(table.get(_TABLE + "name", "Sheet"))
+    table = next((t for t in row.iterancestors() if _local(t.tag) == "table"), None)
+    return "Sheet" if table is None else _attribute(table, "name", "Sheet")
 
 
 def _oversized(path: str | Path, sheet: str, rows: int, columns: int) -> IngestError:

@@ -10,7 +10,7 @@ another file.
 from __future__ import annotations
 
 import csv
-import io
+import os
 import re
 import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -22,6 +22,7 @@ from pathlib import Path
 from cadkg.errors import IngestError, IngestWarning
 
 __all__ = [
+    "MAX_TEXT_FILE",
     "Row",
     "check_columns",
     "decode_text",
@@ -43,6 +44,10 @@ _UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
 # Printable ASCII with a NUL beside every character: UTF-16 written without its BOM.
 _UTF16_WITHOUT_BOM = re.compile(rb"((?:[\t\n\r\x20-\x7e]\x00){8})|(?:\x00[\t\n\r\x20-\x7e]){8}")
 _CONTROL_OK = {"\t", "\n", "\r", "\f"}
+# The largest text export read: a file is held whole while its rows are read one by one (its
+# bytes, then its text, up to four bytes a character), and that must fit the read limit of
+# cadkg.ingest.bounded. A connection list of a million wires is about 130 MiB.
+MAX_TEXT_FILE = 256 << 20
 
 
 @dataclass(frozen=True, slots=True)
@@ -212,12 +217,36 @@ def read_head(path: str | Path, size: int = 4096, *, expected: str) -> bytes:
 
 
 def read_text(path: str | Path, *, expected: str) -> str:
-    """Read and decode a whole text file (see :func:`decode_text`)."""
+    """Read and decode a whole text file (see :func:`decode_text`).
+
+    Raises
+    ------
+    IngestError
+        When the file cannot be read, is over :data:`MAX_TEXT_FILE`, is empty or binary.
+    """
     try:
-        data = Path(path).read_bytes()
+        with Path(path).open("rb") as handle:
+            size = os.fstat(handle.fileno()).st_size
+            if size > MAX_TEXT_FILE:
+                raise IngestError(
+                    path,
+                    f"the file is {size / (1 << 20):,.0f} MiB, more than cadkg reads of a text export",
+                    expected=f"at most {MAX_TEXT_FILE >> 20} MiB",
+                )
+            data = handle.read()
     except OSError as err:
         raise IngestError(path, f"cannot read the file: {err.strerror}") from err
     return decode_text(path, data, expected=expected)
+
+
+# A line and its end, as io.StringIO(text, newline="") splits them: CR, LF or CRLF.
+_LINE = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+\Z")
+
+
+def _lines(text: str) -> Iterator[str]:
+    """The lines of ``text`` with their ends; io.StringIO would first copy the whole text, at
+    four bytes a character."""
+    return (match.group() for match in _LINE.finditer(text))
 
 
 def iter_rows(text: str, delimiter: str, path: str | Path | None = None) -> Iterator[Row]:
@@ -226,7 +255,7 @@ def iter_rows(text: str, delimiter: str, path: str | Path | None = None) -> Iter
     Only CR and LF end lines: ``str.splitlines`` would also split at U+2028 and other
     separators that may sit inside a cell.
     """
-    reader = csv.reader(io.StringIO(text, newline=""), delimiter=delimiter, strict=False)
+    reader = csv.reader(_lines(text), delimiter=delimiter, strict=False)
     start = 1
     while True:
         try:
@@ -285,19 +314,21 @@ def find_header(
     accept: Callable[[dict[str, int]], bool],
     expected: str,
     scan_rows: int = 40,
-) -> tuple[list[Row], int, dict[str, int]]:
-    """The rows of a delimited export and where its header is: (rows, header index, columns).
+) -> tuple[list[Row], Iterator[Row], int, dict[str, int]]:
+    """Where the header of a delimited export is: (rows up to the header, the rows after it,
+    header index, columns).
 
     Tab, semicolon and comma are tried on the first ``scan_rows`` lines only; in each, the
     first row whose column meanings ``accept`` is a candidate and the delimiter whose header
-    names the most columns wins. Then the whole file is split once.
+    names the most columns wins. Then the file is split once, the rows after the header as
+    they are iterated: a file of a million rows is never a million rows in memory.
 
     Raises
     ------
     IngestError
         When no delimiter gives an acceptable header row.
     """
-    head = "".join(islice(io.StringIO(text, newline=""), scan_rows))
+    head = "".join(islice(_lines(text), scan_rows))
     best: tuple[int, str, int, dict[str, int]] | None = None
     for delimiter in ("\t", ";", ","):
         for position, row in enumerate(iter_rows(head, delimiter, path)):
@@ -309,7 +340,8 @@ def find_header(
     if best is None:
         raise IngestError(path, "no header row found in the first lines", line=1, expected=expected)
     _, delimiter, position, columns = best
-    return list(iter_rows(text, delimiter, path)), position, columns
+    rows = iter_rows(text, delimiter, path)
+    return list(islice(rows, position + 1)), rows, position, columns
 
 
 _SNIFF_DELIMITERS = re.compile(r"[\t;,]")

@@ -20,12 +20,13 @@ from __future__ import annotations
 
 import os
 import struct
+from array import array
 from collections.abc import Iterator
 from pathlib import Path
 
 from cadkg.errors import IngestError
 from cadkg.ingest.compound_file import CompoundFile, DamagedWorkbookError, Stream
-from cadkg.ingest.sheet_bounds import MAX_CELLS, MAX_COLUMNS, MAX_ROWS, MAX_TEXT, cell_address
+from cadkg.ingest.sheet_bounds import MAX_CELLS, MAX_COLUMNS, MAX_ROWS, MAX_TEXT, TextBudget, cell_address
 
 __all__ = ["DamagedWorkbookError", "scan_xls"]
 
@@ -37,7 +38,7 @@ _EXTENT = f"at most {MAX_ROWS:,} rows, {MAX_COLUMNS:,} columns and {MAX_CELLS:,}
 
 _BOF, _EOF, _CONTINUE = 0x0809, 0x000A, 0x003C
 _BOUNDSHEET, _SST, _DIMENSIONS, _MERGECELLS = 0x0085, 0x00FC, 0x0200, 0x00E5
-_FORMULA, _STRING, _BOOLERR, _LABEL, _RSTRING = 0x0006, 0x0207, 0x0205, 0x0204, 0x00D6
+_FORMULA, _STRING, _BOOLERR, _LABEL, _RSTRING, _LABELSST = 0x0006, 0x0207, 0x0205, 0x0204, 0x00D6, 0x00FD
 _MULRK, _MULBLANK = 0x00BD, 0x00BE
 # The records the library makes a cell of (checked by trying every record type on it); blanks
 # it leaves out, so they are held to the sheet's size but do not widen the block. ROW records
@@ -171,9 +172,10 @@ class _Continued:
 
 
 def _check_strings(
-    data: bytes, records: Iterator[tuple[int, bytes]], path: str | Path
+    data: bytes, records: Iterator[tuple[int, bytes]], path: str | Path, lengths: array[int]
 ) -> tuple[int, bytes] | None:
-    """Count the shared strings and measure each; the record after them, already read."""
+    """Count the shared strings and measure each (its length goes on ``lengths``); the record
+    after them, already read."""
     number = 0
 
     def refuse(reason: str) -> IngestError:
@@ -195,6 +197,7 @@ def _check_strings(
         length, flags = struct.unpack("<HB", head)
         if length > MAX_TEXT:
             raise refuse("a cell's text is longer than a cell can hold")
+        lengths.append(length)
         runs = cursor.take(2) if flags & 0x08 else b"\x00\x00"
         extra = cursor.take(4) if flags & 0x04 else bytes(4)
         if runs is None or extra is None or not cursor.characters(length, bool(flags & 1)):
@@ -209,8 +212,14 @@ def _check_strings(
 class _Sheet:
     """Raises the located error of a sheet over a limit."""
 
-    def __init__(self, path: str | Path, name: str) -> None:
+    def __init__(self, path: str | Path, name: str, strings: array[int], budget: TextBudget) -> None:
         self.path, self.name = path, name
+        self.strings, self.budget = strings, budget
+
+    def spend(self, size: int, row: int, column: int) -> None:
+        if not self.budget.spend(size):
+            reason, expected = TextBudget.refusal()
+            raise self.refuse(reason, row, column, expected)
 
     def refuse(self, reason: str, row: int, column: int, expected: str = _EXTENT) -> IngestError:
         row, column = min(max(row, 1), MAX_ROWS + 1), min(max(column, 0), MAX_COLUMNS)
@@ -274,12 +283,20 @@ def _scan_sheet(records: Iterator[tuple[int, bytes]], sheet: _Sheet) -> dict[tup
                 errors[(row, column)] = _ERRORS.get(data[6], "#VALUE!")
             elif kind == _FORMULA and data[6] == 2 and data[12:14] == b"\xff\xff":
                 errors[(row, column)] = _ERRORS.get(data[8], "#VALUE!")
-            elif kind in (_LABEL, _RSTRING) and int.from_bytes(data[6:8], "little") > MAX_TEXT:
-                raise sheet.refuse("a cell's text is longer than a cell can hold", row, column, text)
+            elif kind in (_LABEL, _RSTRING):
+                length = int.from_bytes(data[6:8], "little")
+                if length > MAX_TEXT:
+                    raise sheet.refuse("a cell's text is longer than a cell can hold", row, column, text)
+                sheet.spend(length, row, column)
+            elif kind == _LABELSST:
+                index = struct.unpack_from("<I", data, 6)[0]
+                sheet.spend(sheet.strings[index] if index < len(sheet.strings) else 0, row, column)
         elif kind == _STRING:
             # A formula's text result, for the FORMULA cell just before it.
-            if len(data) >= 2 and struct.unpack_from("<H", data)[0] > MAX_TEXT:
+            length = struct.unpack_from("<H", data)[0] if len(data) >= 2 else 0
+            if length > MAX_TEXT:
                 raise sheet.refuse("a cell's text is longer than a cell can hold", row, column, text)
+            sheet.spend(length, row, column)
         elif kind in (_BLANK, _MULBLANK):
             blank_row, first = struct.unpack_from("<HH", data)
             last = first + (len(data) - 6) // 2 - 1 if kind == _MULBLANK else first
@@ -309,10 +326,13 @@ def _sheet_name(data: bytes, biff8: bool) -> str:
     return data[8 : 8 + length].decode("latin-1")
 
 
-def _scan_stream(stream: Stream, path: str | Path) -> dict[str, dict[tuple[int, int], str]]:
+def _scan_stream(
+    stream: Stream, path: str | Path, budget: TextBudget
+) -> dict[str, dict[tuple[int, int], str]]:
     position = [0]
     records = _records(stream, 0, position)
     sheets: list[tuple[str, int]] = []
+    strings = array("Q")  # the length of each shared string, as the XLSX scan keeps them
     biff8 = True
     item = next(records, None)
     while item is not None:
@@ -326,7 +346,7 @@ def _scan_stream(stream: Stream, path: str | Path) -> dict[str, dict[tuple[int, 
         elif kind == _BOUNDSHEET:
             sheets.append((_sheet_name(data, biff8), struct.unpack_from("<I", data)[0]))
         elif kind == _SST:
-            item = _check_strings(data, records, path)
+            item = _check_strings(data, records, path, strings)
             continue
         elif kind == _EOF:
             break
@@ -341,7 +361,7 @@ def _scan_stream(stream: Stream, path: str | Path) -> dict[str, dict[tuple[int, 
         # file's bytes: checked before the scan and, for a sheet starting further on, after it.
         if any(start <= offset < end for start, end in spans):
             raise DamagedWorkbookError(f"sheet {name} starts within another sheet's records")
-        found = _scan_sheet(_records(stream, offset, position), _Sheet(path, name))
+        found = _scan_sheet(_records(stream, offset, position), _Sheet(path, name, strings, budget))
         if any(offset <= start < position[0] for start, _ in spans):
             raise DamagedWorkbookError(f"sheet {name} holds another sheet's records")
         spans.append((offset, position[0]))
@@ -364,7 +384,8 @@ def scan_xls(path: str | Path) -> dict[str, dict[tuple[int, int], str]]:
     with Path(path).open("rb") as handle:
         container = CompoundFile(handle, os.fstat(handle.fileno()).st_size)
         errors: dict[str, dict[tuple[int, int], str]] = {}
+        budget = TextBudget()
         for stream in container.streams(_STREAMS, _MAX_STREAMS):
-            for name, found in _scan_stream(stream, path).items():
+            for name, found in _scan_stream(stream, path, budget).items():
                 errors.setdefault(name, {}).update(found)
         return errors

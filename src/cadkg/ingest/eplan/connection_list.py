@@ -13,9 +13,10 @@ from __future__ import annotations
 
 import re
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from decimal import Decimal
+from itertools import chain, islice
 from pathlib import Path
 from typing import Any
 
@@ -150,10 +151,10 @@ def _columns(row: Row) -> dict[str, int]:
     return columns
 
 
-def _find_header(text: str, path: str | Path) -> tuple[list[Row], int, dict[str, int]]:
+def _find_header(text: str, path: str | Path) -> tuple[list[Row], Iterator[Row], int, dict[str, int]]:
     # One pin column is enough to take the row for the header, so that a missing twin
     # is reported as a missing column rather than as no header at all.
-    rows, position, columns = find_header(
+    rows, after, position, columns = find_header(
         text,
         path,
         _columns,
@@ -171,7 +172,7 @@ def _find_header(text: str, path: str | Path) -> tuple[list[Row], int, dict[str,
             == "tipo"
         ):
             columns["length_mm"] = columns.pop("potential_name")
-    return rows, position, columns
+    return rows, after, position, columns
 
 
 def _preamble_value(rows: list[Row], label: str) -> str | None:
@@ -202,8 +203,9 @@ def iter_connection_list(path: str | Path) -> Iterator[ConnectionListInfo | Conn
     The header is checked before the first record; a malformed row raises when it is reached.
     """
     text = read_text(path, expected=_EXPECTED)
-    rows, header_at, columns = _find_header(text, path)
-    yield from connection_records(path, rows, header_at, columns, None)
+    rows, after, header_at, columns = _find_header(text, path)
+    del text  # the rows after the header hold it still, as long as they are read
+    yield from connection_records(path, chain(rows, after), header_at, columns, None)
 
 
 def header_in(rows: list[Row], scan_rows: int = _HEADER_SCAN_ROWS) -> tuple[int, dict[str, int]] | None:
@@ -217,7 +219,7 @@ def header_in(rows: list[Row], scan_rows: int = _HEADER_SCAN_ROWS) -> tuple[int,
 
 def connection_records(
     path: str | Path,
-    rows: list[Row],
+    rows: Iterable[Row],
     header_at: int,
     columns: dict[str, int],
     sheet: str | None,
@@ -225,9 +227,11 @@ def connection_records(
 ) -> Iterator[ConnectionListInfo | Connection]:
     """The records of a connection list whose header is ``rows[header_at]``; ``sheet`` names
     the workbook sheet the rows come from (errors then name cells, ``Sheet!C7``), ``locate``
-    how else to say where a row is."""
-    header = rows[header_at]
-    columns = {**_grouped(header, rows[header_at - 1] if header_at else None), **columns}
+    how else to say where a row is. ``rows`` are read once, in order."""
+    rows = iter(rows)
+    preamble = list(islice(rows, header_at))
+    header = next(rows)
+    columns = {**_grouped(header, preamble[-1] if preamble else None), **columns}
     locate = locate or _Locator(path, sheet)
     missing = [name for key, name in _REQUIRED.items() if key not in columns]
     if missing:
@@ -240,7 +244,6 @@ def connection_records(
             **locate(header.line, 0),
         )
     header_names = {key: re.sub(r"\s+", " ", header.cells[i].strip()) for key, i in columns.items()}
-    preamble = rows[:header_at]
     yield ConnectionListInfo(
         project=_preamble_value(preamble, "nome progetto:") or _preamble_value(preamble, "programma"),
         job=_preamble_value(preamble, "commessa:"),
@@ -248,7 +251,7 @@ def connection_records(
     )
     convert = _RowConverter(path, columns, header_names, locate, sheet is not None)
     index = 0
-    for row in rows[header_at + 1 :]:
+    for row in rows:
         if row.is_blank:
             continue
         connection = convert(row, index + 1)

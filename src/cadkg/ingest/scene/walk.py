@@ -44,9 +44,13 @@ from cadkg.ingest.scene.records import (
     transform_matrix,
 )
 
-__all__ = ["STRICT", "WalkOptions", "read_scene"]
+__all__ = ["MAX_EXPANDED", "STRICT", "WalkOptions", "read_scene"]
 
 _MAX_WALK_DEPTH = 300
+# The scene as the walk expands it: every node visited (a USE at each use) and every vertex
+# placed. DEF and USE let a few KB say more: each level using the one below twice doubles it,
+# and eighteen levels of spheres were 2.4 GB. No CAD export comes near this.
+MAX_EXPANDED = 1 << 22
 
 _GROUPS = frozenset(
     {"Group", "Transform", "Collision", "Anchor", "Switch", "LOD", "Billboard", "StaticGroup"}
@@ -128,6 +132,17 @@ class _Walk:
         self.inlined: dict[int, tuple[Path, ParsedFile]] = {}
         self.meshes: dict[int, Part | None] = {}
         self.loose: dict[str, list[int]] = {}
+        self.expanded = 0
+
+    def grow(self, size: int, node: Node) -> None:
+        self.expanded += size
+        if self.expanded > MAX_EXPANDED:
+            raise IngestError(
+                node.source,
+                "the scene expands to more than cadkg reads (each USE counted where it is used)",
+                line=node.line,
+                expected=f"at most {MAX_EXPANDED:,} nodes and mesh vertices placed",
+            )
 
     def add_file(self, path: Path, parsed: ParsedFile) -> None:
         for name, line in parsed.defs.items():
@@ -148,6 +163,7 @@ class _Walk:
             raise IngestError(
                 node.source, f"the scene nests deeper than {_MAX_WALK_DEPTH} levels", line=node.line
             )
+        self.grow(1, use or node)
         if node.use_of is not None:
             use = use or node
             node = node.use_of
@@ -235,6 +251,7 @@ class _Walk:
                 self.loose.setdefault(node.source, []).append(node.line)
                 continue
             vertices, faces = part
+            self.grow(len(vertices), node)
             item.parts.append((apply_affine(item.inverse @ world, vertices), faces))
 
     def mesh(self, node: Node, item: _Item | None = None) -> Part | None:

@@ -8,6 +8,7 @@ the component model reader and its errors point at the physical line inside the 
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -70,7 +71,7 @@ def _columns(row: Row) -> dict[str, int]:
     return columns
 
 
-def _find_header(text: str, path: str | Path) -> tuple[list[Row], int, dict[str, int]]:
+def _find_header(text: str, path: str | Path) -> tuple[list[Row], Iterator[Row], int, dict[str, int]]:
     return find_header(text, path, _columns, lambda columns: "label" in columns, _EXPECTED, _HEADER_SCAN_ROWS)
 
 
@@ -85,7 +86,7 @@ def read_component_list(path: str | Path) -> list[ComponentListEntry]:
         there are no data rows; located at file:line.
     """
     text = read_text(path, expected=_EXPECTED)
-    rows, header_at, columns = _find_header(text, path)
+    rows, after, header_at, columns = _find_header(text, path)
     header = rows[header_at]
     if "part_number" not in columns and "xml" not in columns:
         raise IngestError(
@@ -96,7 +97,7 @@ def read_component_list(path: str | Path) -> list[ComponentListEntry]:
             expected=_EXPECTED,
         )
     names = {key: re.sub(r"\s+", " ", header.cells[i].strip()) for key, i in columns.items()}
-    entries = [_entry(path, row, columns, names) for row in rows[header_at + 1 :] if not row.is_blank]
+    entries = [_entry(path, row, columns, names) for row in after if not row.is_blank]
     if not entries:
         raise IngestError(path, "no rows after the header", line=header.line, expected="at least one part")
     return entries
