@@ -7,6 +7,7 @@ and info (see :mod:`cadkg.server.api`), completion terms, the 3D scene and its m
 In front of them a guard refuses requests meant for another host (DNS rebinding) and
 requests a web page of another origin makes, unless the operator named that origin
 (``--cors``): those get CORS headers, so a page elsewhere (YASGUI) can query the endpoint.
+Behind it text is sent gzip-compressed, with the cache headers of :mod:`cadkg.server.caching`.
 """
 
 from __future__ import annotations
@@ -19,6 +20,8 @@ from collections.abc import AsyncIterator, Callable
 from typing import Any
 
 from starlette.applications import Starlette
+from starlette.middleware import Middleware
+from starlette.middleware.gzip import GZipMiddleware
 from starlette.responses import Response
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
@@ -29,6 +32,7 @@ import cadkg.server.workbench.page as page
 import cadkg.server.workbench.routes as workbench
 from cadkg.errors import StoreError
 from cadkg.server.api import CLIENT_HEADER
+from cadkg.server.caching import HttpCaching
 from cadkg.server.context import Endpoint, Settings
 from cadkg.server.holder import GraphHolder
 from cadkg.server.isolation import pool_maker
@@ -222,6 +226,9 @@ def create_app(
             Mount("/static", StaticFiles(directory=STATIC), name="static"),
         ],
         lifespan=lifespan,
+        # Text (the page's code, JSON, SPARQL results) goes compressed to a client that accepts
+        # it; cache headers and ETags are set on the answer before it is compressed.
+        middleware=[Middleware(GZipMiddleware, minimum_size=1024), Middleware(HttpCaching)],
     )
     app.state.endpoint = endpoint
     return _Guard(app, loopback_hosts_only, settings.cors)
