@@ -58,6 +58,7 @@ export class ResultView {
     $("result-tools").hidden = true;
     $("downloads").hidden = true;
     $("error").hidden = true;
+    $("no-results").hidden = true;
     $("chart").replaceChildren();
   }
 
@@ -83,6 +84,14 @@ export class ResultView {
     }
     const what = answer.kind === "graph" ? "triple(s)" : "row(s)";
     this.summary = `${answer.rows.length.toLocaleString()} ${what} in ${seconds} s${note}`;
+    if (!answer.rows.length) {
+      $("status").textContent = this.summary;
+      $("no-results").textContent = answer.kind === "graph"
+        ? "No results: the query made no triples."
+        : "No results: nothing in the graph matches the query.";
+      $("no-results").hidden = false;
+      return;
+    }
     $("result-tools").hidden = false;
     $("show-chart").disabled = numericColumns(answer).length === 0;
     if (this.mode === "chart" && $("show-chart").disabled) this.mode = "table";

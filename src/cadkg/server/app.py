@@ -218,6 +218,7 @@ def create_app(
             Route("/api/queries/{name}", api.named, methods=["GET"]),
             Route("/api/queries/{name}/bound", workbench.bound, methods=["GET"]),
             Route("/api/terms", workbench.terms, methods=["GET"]),
+            Route("/api/cell", workbench.cell, methods=["GET"]),
             Route("/api/scene", workbench.scene, methods=["GET"]),
             Route("/api/mesh/{path:path}", workbench.mesh, methods=["GET"]),
             Route("/api/assign", api.assign, methods=["GET", "POST"]),

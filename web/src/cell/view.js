@@ -13,6 +13,7 @@ import { termText } from "../terms.js";
 import { COLOURS, axes, balls, buildHarness, buildRoutes, tube, worldMatrices } from "./build.js";
 import { Labels } from "./labels.js";
 import { Objects } from "./objects.js";
+import { sceneThings } from "./things.js";
 
 const $ = (id) => document.getElementById(id);
 const CLIENT = "web-3d";
@@ -133,6 +134,10 @@ export class CellView {
     this.axes = axes(data.frames.map((f) => this.matrixOf(f.name)), this.size * 0.02);
     this.axes.visible = $("layer-axes").checked;
     this.root.add(this.axes);
+    this.things = sceneThings(data, this.points, this.harnesses, this.routes.paths);
+    const names = this.things.labels();
+    $("cell-labels").replaceChildren(...names.map((name) => new Option(name)));
+    $("cell-component").placeholder = names.length ? `e.g. ${names[0]}` : "nothing drawn";
     this.setLabels();
   }
 
@@ -202,6 +207,28 @@ export class CellView {
     const problems = [...d.problems];
     if (this.meshFailures) problems.push(`${this.meshFailures} mesh(es) could not be loaded`);
     $("cell-status").textContent = parts.join(" · ") + (problems.length ? ` — ${problems.join("; ")}` : "");
+    const empty = !d.objects.length && !d.routes.length && !d.points.length && !d.harnesses.length;
+    if (empty) {
+      $("cell-status").textContent = `${d.profile || "this"} cell: nothing to draw`
+        + (problems.length ? ` — ${problems.join("; ")}` : "");
+    }
+    this.showEmpty(empty ? `Nothing to draw: the ${d.profile || ""} cell's graph places no objects, wires, `
+      + "points or harnesses in 3D. Its facts are in the graph: query them, or open them in the graph view." : null);
+  }
+
+  /** A message over the view in place of a blank canvas (null: none). */
+  showEmpty(message) {
+    let note = this.container.querySelector(".cell-empty");
+    if (!message) {
+      if (note) note.remove();
+      return;
+    }
+    if (!note) {
+      note = document.createElement("div");
+      note.className = "cell-empty";
+      this.container.appendChild(note);
+    }
+    note.textContent = message;
   }
 
   // -- drawing -----------------------------------------------------------------------------
@@ -382,11 +409,11 @@ export class CellView {
     const object = hit.object;
     if (object === this.routes.lines) {
       const route = this.data.routes[this.routes.pick(hit.index)];
-      return route && { kind: "wire", label: `wire ${route.label}`, iri: route.iri, route };
+      return route && this.things.of(route);
     }
     if (object.userData.points) {
       const p = object.userData.points[hit.instanceId];
-      return p && { kind: p.kind, label: p.label, iri: p.iri };
+      return p && { kind: p.kind, label: p.label, iri: p.iri, position: p.position };
     }
     if (object.userData.pinList) {
       const p = object.userData.pinList[hit.instanceId];
@@ -396,7 +423,7 @@ export class CellView {
       const harness = this.data.harnesses[i];
       if (object === h.nodes) {
         const node = harness.nodes[hit.instanceId];
-        return node && { kind: "harness node", label: `${node.label}${node.connectors.length ? ` (${node.connectors.join(", ")})` : ""}`, iri: node.iri };
+        return node && this.things.of(node);
       }
       if (object === h.lines) {
         const segment = harness.segments[Math.floor(hit.index / 2)];
@@ -412,6 +439,7 @@ export class CellView {
       label: component ? component.label : item.label,
       iri: component ? component.iri : item.iri,
       item: item.iri,
+      objects: component ? component.objects : [index],
       component,
     };
   }
@@ -426,12 +454,12 @@ export class CellView {
     }
     panel.hidden = false;
     this.picked = what;
-    $("pick-zoom").hidden = !what.component;
+    $("pick-zoom").hidden = !this.whereIs(what);
     $("pick-title").textContent = `${what.label}`;
     $("pick-iri").textContent = what.iri || "";
     panel.dataset.iri = what.iri || "";
     panel.dataset.kind = what.kind;
-    this.highlight(what.component || null, what.route || null);
+    this.highlight(what);
     if (what.component) await this.showPins(what.component.label);
     await this.describe(what.iri);
   }
@@ -463,13 +491,21 @@ export class CellView {
     }
   }
 
-  /** Colour a component's objects (and thicken a wire), all else as it was. */
-  highlight(component, route = null) {
+  /** Show what was picked, all else as it was: its objects coloured, a wire as a tube, a point
+   * or a harness node ringed by a ball drawn over everything. */
+  highlight(what) {
     const colours = new Map();
-    if (component) for (const index of component.objects) colours.set(index, COLOURS.highlight);
+    for (const index of (what && what.objects) || []) colours.set(index, COLOURS.highlight);
     this.objects.paint(colours);
     this.clearExtras();
-    if (route) this.addRoute(this.routes.paths[this.data.routes.indexOf(route)]);
+    if (what && what.route) this.addRoute(this.routes.paths[this.data.routes.indexOf(what.route)]);
+    if (what && what.position) {
+      const marker = balls([{ position: what.position, colour: COLOURS.picked }], Math.max(this.size * 0.012, 0.004), "picked");
+      Object.assign(marker.material, { depthTest: false, transparent: true, opacity: 0.55 });
+      marker.renderOrder = 9;
+      this.extras.add(marker);
+    }
+    this.container.dataset.highlighted = what ? what.iri || what.label : "";
     this.requestRender();
   }
 
@@ -515,31 +551,42 @@ export class CellView {
     this.setLabels();
   }
 
-  /** Show a component a result row names: colour it, look at it, show its pins and facts. */
+  /** Show what a search or a result row names (a label or an IRI of anything drawn): highlight
+   * it, look at it, show its facts (and a component's pins). */
   async locate(named) {
-    const component = this.data.components.find((c) => c.label === named.label || c.iri === named.iri);
-    if (!component) {
-      $("cell-status").textContent = `${named.label} is not placed in the 3D scene`;
+    const thing = this.things.find(named.label) || this.things.find(named.iri);
+    if (!thing) {
+      $("cell-status").textContent = `${named.label || named.iri} is not drawn in the 3D view; `
+        + "search offers everything that is";
       return;
     }
-    this.zoomTo(component);
-    await this.select({ kind: "component", label: component.label, iri: component.iri, component });
+    this.zoomTo(thing);
+    await this.select(thing);
   }
 
-  /** Bring the camera close to a component, with some of its neighbourhood around it. */
-  zoomTo(component) {
+  /** Where a thing is, as a box in the root's frame (null when it is nowhere). */
+  whereIs(thing) {
     const box = new THREE.Box3();
     const corner = new THREE.Vector3();
-    for (const index of component.objects) {
+    if (thing.position) box.expandByPoint(thing.position);
+    for (const p of thing.path || []) box.expandByPoint(p);
+    for (const index of thing.objects || []) {
       const object = this.data.objects[index];
       const m = this.matrixOf(object.frame);
       if (!m) continue;
       const [x0, y0, z0, x1, y1, z1] = object.box || [0, 0, 0, 0, 0, 0];
       for (const x of [x0, x1]) for (const y of [y0, y1]) for (const z of [z0, z1]) box.expandByPoint(corner.set(x, y, z).applyMatrix4(m));
     }
-    if (box.isEmpty()) return;
+    return box.isEmpty() ? null : box;
+  }
+
+  /** Bring the camera close to a thing, with some of its neighbourhood around it. */
+  zoomTo(thing) {
+    const box = this.whereIs(thing);
+    if (!box) return;
     const size = box.getSize(new THREE.Vector3()).length();
-    box.expandByScalar(Math.max(size * 0.3, this.size * 0.01));
+    // A point (a key, a pin, a node) is shown with a twentieth of the cell around it.
+    box.expandByScalar(size > 0 ? Math.max(size * 0.3, this.size * 0.01) : this.size * 0.05);
     box.applyMatrix4(this.root.matrixWorld);
     this.fit(box);
   }
@@ -582,7 +629,7 @@ export class CellView {
     layer("layer-labels", () => this.setLabels());
     $("cell-fit").addEventListener("click", () => this.fit());
     $("pick-zoom").addEventListener("click", () => {
-      if (this.picked && this.picked.component) this.zoomTo(this.picked.component);
+      if (this.picked) this.zoomTo(this.picked);
     });
     $("cell-show").addEventListener("click", () => {
       const label = $("cell-component").value.trim();
@@ -609,11 +656,13 @@ export class CellView {
       }
       centre.applyMatrix4(this.matrixOf(object.frame));
     } else {
-      const found = this.harnesses.flatMap((h, i) => this.data.harnesses[i].nodes.map((n, j) => [n, h.positions[j]]))
-        .find(([n]) => n.label === label || n.connectors.includes(label));
-      const point = this.points.find((p) => p.label === label);
-      if (!found && !point) return null;
-      centre.copy(found ? found[1] : point.position);
+      // Anything else drawn: a point or a node where it is, an item at its box's middle, a
+      // wire at its middle keypoint (on the line, where a click finds it).
+      const thing = this.things.find(label);
+      const box = thing && this.whereIs(thing);
+      if (!box) return null;
+      if (thing.path) centre.copy(thing.path[Math.floor(thing.path.length / 2)]);
+      else box.getCenter(centre);
     }
     this.root.localToWorld(centre);
     centre.project(this.camera);

@@ -1,0 +1,204 @@
+"""The page on every example cell in headless Chromium, as a new user meets it: the header names
+the cell and its profile; the named queries offered are the cell's own and cadkg's (those of
+other profiles behind a box); the IEMA cabinet's controls show on IEMA only; an empty scene
+(ENKI) and an answer without rows say so in words; every kind of thing the 3D view draws
+(components, jigs and tools, guides' keys, taping spots, bench pins, harness nodes by
+connector, wires) is found by search, zoomed to and highlighted, and picked by a click; the
+graph view offers only labels it can show and says why when it cannot.
+
+Expected values: the examples' manifests name the cells; ``/api/cell`` and the query folders
+(``src/cadkg/usecases/<profile>/queries``) give which queries are whose; the labels and IRIs
+are the examples' (see tests/server/test_workbench.py).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+from selenium.webdriver.common.by import By
+
+from tests.conftest import EXAMPLES
+from tests.server.browser import health, open_page, set_editor, settled, text_of, wait
+from tests.server.cell_view import click_on, open_cell, picked
+from tests.server.serving import cadkg_serve
+
+CORE = {
+    "components",
+    "pins-of-component",
+    "sources",
+    "wire-endpoints",
+    "wires-by-colour-section",
+    "wires-of-component",
+}
+OWN = {
+    "iema": {"connections-in-order"},
+    "elvez": {
+        "elvez-cable-length-per-harness",
+        "elvez-harness-cables",
+        "elvez-operations-at-spot",
+        "elvez-plan",
+    },
+    "elimco": {"elimco-route", "elimco-wires-of-cable"},
+    "vw": {"harness-segment-lengths", "harness-wires-of-connector", "harness-wires-through-segment"},
+    "enki": set(),
+}
+ELVEZ = "https://example.org/cell/elvez/"
+# Per profile: what a search finds (label typed, title shown, IRI or "" for an object the graph
+# names by label only), and what a click on the view picks.
+SEARCHES = {
+    "iema": [
+        ("F1500.1", "F1500.1", "https://example.org/cell/iema-qe01/component/F1500.1"),
+        ("1500.51", "wire 1500.51", "https://example.org/cell/iema-qe01/wire/1500.51"),
+    ],
+    "elvez": [
+        ("J3", "J3", ""),
+        ("Agripper", "Agripper", ""),
+        ("J3 guide 2", "J3 guide 2", f"{ELVEZ}element/platform/ID0004"),
+        (
+            "J1.1: taping (operation 5)",
+            "J1.1: taping (operation 5)",
+            f"{ELVEZ}operation/Assembly_sequence/6/spot/1",
+        ),
+        ("CA1", "wire CA1", ""),
+    ],
+    "elimco": [
+        ("A918VC1A", "A918VC1A", "https://example.org/cell/elimco-f929a/bench-pin/A918VC1A"),
+        ("A4351-1669", "wire A4351-1669", "https://example.org/cell/elimco-f929a/cable/A4351-1669"),
+    ],
+    "vw": [
+        ("X1", "X1", "https://example.org/cell/vw-harness/node/DOOR-L/X1"),
+        ("TMR.2A1", "TMR.2A1", "https://example.org/cell/vw-harness/node/000971619/Node_1"),
+    ],
+    "enki": [],
+}
+CLICKS = {
+    "iema": [("Q1500.1", "https://example.org/cell/iema-qe01/component/Q1500.1")],
+    "elvez": [("J4 guide 1", f"{ELVEZ}element/platform/ID0005"), ("Agripper", "Agripper")],
+    "elimco": [("A350VC-A", "https://example.org/cell/elimco-f929a/bench-pin/A350VC-A")],
+    "vw": [("X2", "https://example.org/cell/vw-harness/node/DOOR-L/X2")],
+    "enki": [],
+}
+# Components without pins, which the graph view shows as nodes with their neighbours.
+GRAPH_LABELS = {"elvez": ("K1",), "vw": ("X1",)}
+CELLS = [
+    ("iema-switchgear", "IEMA switchgear QE01", "iema"),
+    ("elvez-cell", "ELVEZ harness assembly cell", "elvez"),
+    ("elimco-bench", "ELIMCO harness F929A on the pin workbench", "elimco"),
+    ("vw-harness", "Volkswagen harness detection", "vw"),
+    ("enki-hose", "ENKI hose handling", "enki"),
+]
+
+
+def offered(driver: Any) -> set[str]:
+    options = driver.find_elements(By.CSS_SELECTOR, "#examples option")
+    return {str(o.get_attribute("value")) for o in options} - {""}
+
+
+def shown(driver: Any, element_id: str) -> bool:
+    return bool(driver.find_element(By.ID, element_id).is_displayed())
+
+
+@pytest.mark.parametrize(("example", "name", "profile"), CELLS, ids=[c[2] for c in CELLS])
+def test_the_page_is_the_cells_own(browser: Any, example: str, name: str, profile: str) -> None:
+    driver = browser
+    with cadkg_serve(str(EXAMPLES / example / "manifest.toml")) as base:
+        open_page(driver, f"{base}/")
+        assert text_of(driver, "cell-name") == name
+        assert text_of(driver, "cell-profile") == profile
+        assert name in driver.title
+
+        others = set().union(*OWN.values()) - OWN[profile]
+        assert offered(driver) == CORE | OWN[profile]
+        driver.find_element(By.ID, "examples-all").click()
+        assert offered(driver) == CORE | set().union(*OWN.values())
+        driver.find_element(By.ID, "examples-all").click()
+        assert not offered(driver) & others
+
+        # A query that matches nothing says so, not just a bare header.
+        set_editor(driver, "SELECT ?s WHERE { ?s a <urn:nothing:here> }")
+        driver.find_element(By.ID, "run").click()
+        wait(driver, lambda d: shown(d, "no-results"), 60, "the no-results line")
+        assert "No results" in text_of(driver, "no-results")
+        assert "0 row(s)" in text_of(driver, "status")
+        assert not driver.find_elements(By.CSS_SELECTOR, "#results tbody tr")
+
+        # Every label the graph view offers, it shows; one it does not have, it says so.
+        labels = [
+            str(o.get_attribute("value"))
+            for o in driver.find_elements(By.CSS_SELECTOR, "#graph-labels option")
+        ]
+        assert labels, "the graph view offers no label"
+        for label in {labels[0], labels[len(labels) // 2], labels[-1], *GRAPH_LABELS.get(profile, ())}:
+            assert label in labels
+            show_graph(driver, label)
+            wait(driver, lambda d: graph_status(d) not in ("", "loading…"), 30, f"the graph of {label}")
+            status = graph_status(driver)
+            assert "nodes" in status and "failed" not in graph_class(driver), (label, status)
+            assert driver.find_elements(By.CSS_SELECTOR, "svg#graph .node")
+        show_graph(driver, "no such label")
+        wait(driver, lambda d: "failed" in graph_class(d), 30, "the graph view's refusal")
+        assert "Nothing in the graph is labelled “no such label”" in graph_status(driver)
+        assert not driver.find_elements(By.CSS_SELECTOR, "svg#graph .node")
+
+        open_cell(driver, base)
+        iema = profile == "iema"
+        assert shown(driver, "cell-next-wire") is iema
+        assert text_of(driver, "cell-show") == ("Show pins" if iema else "Show")
+        assert (
+            "F1500.1" not in str(driver.find_element(By.ID, "component").get_attribute("placeholder")) or iema
+        )
+        empty = driver.find_elements(By.CSS_SELECTOR, "#cell-view .cell-empty")
+        if profile == "enki":
+            assert empty and "Nothing to draw" in empty[0].text
+            assert "nothing to draw" in text_of(driver, "cell-status")
+        else:
+            assert not empty
+        for typed, title, iri in SEARCHES[profile]:
+            search(driver, typed)
+            wait(driver, lambda d, t=title: text_of(d, "pick-title") == t, 30, f"{typed} found")
+            assert highlighted(driver) == (iri or title)
+            assert picked(driver) == iri
+        offered_3d = driver.find_elements(By.CSS_SELECTOR, "#cell-labels option")
+        assert {t for t, _, _ in SEARCHES[profile]} <= {str(o.get_attribute("value")) for o in offered_3d}
+        search(driver, "no such thing")
+        wait(driver, lambda d: "is not drawn in the 3D view" in text_of(d, "cell-status"), 30, "not drawn")
+        for label, expected in CLICKS[profile]:
+            driver.find_element(By.ID, "cell-fit").click()
+            settled(driver)
+            click_on(driver, label)
+            wait(
+                driver,
+                lambda d, e=expected: highlighted(d) == e,
+                30,
+                f"{label} picked by a click, not {highlighted(driver)!r} {text_of(driver, 'pick-title')!r}",
+            )
+        assert health(driver, base) == []
+
+
+def show_graph(driver: Any, label: str) -> None:
+    driver.find_element(By.ID, "view-graph").click()
+    field = driver.find_element(By.ID, "component")
+    field.clear()
+    field.send_keys(label)
+    driver.execute_script("document.getElementById('graph-status').textContent = ''")
+    driver.find_element(By.ID, "show-graph").click()
+
+
+def graph_status(driver: Any) -> str:
+    return text_of(driver, "graph-status")
+
+
+def graph_class(driver: Any) -> str:
+    return str(driver.find_element(By.ID, "graph-status").get_attribute("class") or "")
+
+
+def search(driver: Any, label: str) -> None:
+    field = driver.find_element(By.ID, "cell-component")
+    field.clear()
+    field.send_keys(label)
+    driver.find_element(By.ID, "cell-show").click()
+
+
+def highlighted(driver: Any) -> str:
+    return str(driver.find_element(By.ID, "cell-view").get_attribute("data-highlighted") or "")
