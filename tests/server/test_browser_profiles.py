@@ -13,6 +13,7 @@ are the examples' (see tests/server/test_workbench.py).
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import pytest
@@ -71,6 +72,17 @@ SEARCHES = {
         ("TMR.2A1", "TMR.2A1", "https://example.org/cell/vw-harness/node/000971619/Node_1"),
     ],
     "enki": [],
+}
+# Facts as read: each once (F1500.1's label and type are stated by four files), numbers rounded
+# (the derived rail position is 0.009999999999999995), with the unit the ontology gives.
+FACTS = {
+    "F1500.1": {
+        "ck:railPosition": "0.01 m",
+        "ck:xDim": "0.054 m",
+        "ck:label": "F1500.1",
+        "@stated by several graphs": "ck:label",
+    },
+    "1500.51": {"ck:crossSectionMm2": "0.75 mm²", "ck:lengthM": "0.746 m", "ck:sequenceIndex": "1"},
 }
 CLICKS = {
     "iema": [("Q1500.1", "https://example.org/cell/iema-qe01/component/Q1500.1")],
@@ -159,6 +171,8 @@ def test_the_page_is_the_cells_own(browser: Any, example: str, name: str, profil
             wait(driver, lambda d, t=title: text_of(d, "pick-title") == t, 30, f"{typed} found")
             assert highlighted(driver) == (iri or title)
             assert picked(driver) == iri
+            if typed in FACTS:
+                check_facts(driver, FACTS[typed])
         offered_3d = driver.find_elements(By.CSS_SELECTOR, "#cell-labels option")
         assert {t for t, _, _ in SEARCHES[profile]} <= {str(o.get_attribute("value")) for o in offered_3d}
         search(driver, "no such thing")
@@ -191,6 +205,35 @@ def graph_status(driver: Any) -> str:
 
 def graph_class(driver: Any) -> str:
     return str(driver.find_element(By.ID, "graph-status").get_attribute("class") or "")
+
+
+def fact_rows(driver: Any) -> list[list[str]]:
+    rows = driver.find_elements(By.CSS_SELECTOR, "#pick-facts tbody tr")
+    return [[str(td.get_attribute("textContent")) for td in r.find_elements(By.TAG_NAME, "td")] for r in rows]
+
+
+def check_facts(driver: Any, expected: dict[str, str]) -> None:
+    wait(driver, lambda d: len(fact_rows(d)) > len(expected), 30, "the facts")
+    rows = fact_rows(driver)
+    pairs = [(r[0], r[1]) for r in rows]
+    assert len(pairs) == len(set(pairs)), pairs
+    names = [p for p, _ in pairs]
+    first = [p for p in names if p in ("rdf:type", "ck:label")]
+    assert names[: len(first)] == first and first[0] == "rdf:type", names
+    rest = names[len(first) :]
+    assert rest == sorted(rest, key=str.lower), rest
+    values = dict(pairs)
+    for name, value in expected.items():
+        assert name.startswith("@") or values[name] == value, (name, values.get(name))
+    assert not [v for _, v in pairs if re.search(r"\d\.\d{9,}", v)], pairs
+    driver.find_element(By.ID, "pick-graphs").click()
+    graphs = fact_rows(driver)
+    assert all(len(r) == 3 and r[2].startswith("cell:") for r in graphs), graphs
+    several = expected.get("@stated by several graphs")
+    if several:
+        assert len(next(r for r in graphs if r[0] == several)[2].split(", ")) >= 2, graphs
+    driver.find_element(By.ID, "pick-graphs").click()
+    assert all(len(r) == 2 for r in fact_rows(driver))
 
 
 def search(driver: Any, label: str) -> None:

@@ -6,6 +6,7 @@ import "./style.css";
 import { EndpointError, getJson, postQuery } from "./api.js";
 import { setTerms, sparqlCompletion } from "./completion.js";
 import { createEditor, setText } from "./editor.js";
+import { setUnits } from "./facts.js";
 import { GraphView } from "./graphview.js";
 import { NamedQueries } from "./named.js";
 import { prologue, setPrefixes } from "./prefixes.js";
@@ -184,6 +185,7 @@ async function loadTerms() {
     const terms = await getJson("/api/terms");
     setPrefixes(terms.prefixes);
     setTerms(terms);
+    setUnits(terms.properties);
     const list = $("component-labels");
     list.replaceChildren(...terms.components.map((label) => new Option(label)));
     named.labels = terms.components;

@@ -6,10 +6,10 @@
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { STLLoader } from "three/examples/jsm/loaders/STLLoader.js";
-import { EndpointError, getJson, postQuery } from "../api.js";
+import { EndpointError, getJson } from "../api.js";
 import { shorten } from "../prefixes.js";
-import { readAnswer } from "../results.js";
-import { termText } from "../terms.js";
+import { factsOf, valueText } from "../facts.js";
+import { isNumeric, termTitle } from "../terms.js";
 import { COLOURS, axes, balls, buildHarness, buildRoutes, tube, worldMatrices } from "./build.js";
 import { Labels } from "./labels.js";
 import { Objects } from "./objects.js";
@@ -467,28 +467,46 @@ export class CellView {
   async describe(iri) {
     const body = $("pick-facts").tBodies[0];
     body.replaceChildren();
-    if (!iri) return;
+    this.facts = [];
+    if (!iri || iri.startsWith("_:")) return;
     try {
-      const answer = await readAnswer(await postQuery(`DESCRIBE <${iri}>`));
-      const rows = answer.rows.filter(([s]) => s.type === "uri" && s.value === iri);
-      for (const [, p, o] of rows.slice(0, 80)) {
-        const tr = document.createElement("tr");
-        const name = document.createElement("td");
-        name.textContent = shorten(p.value);
-        const value = document.createElement("td");
-        value.textContent = termText(o);
-        if (o.type === "uri") {
-          value.className = "iri";
-          value.addEventListener("click", () => this.onIri(o.value));
-        }
-        tr.append(name, value);
-        body.appendChild(tr);
-      }
+      this.facts = await factsOf(iri);
+      this.showFacts();
     } catch (err) {
       const tr = document.createElement("tr");
       tr.textContent = err.message;
       body.appendChild(tr);
     }
+  }
+
+  /** The picked thing's facts, one row each; the named graphs stating it with "graphs" ticked. */
+  showFacts() {
+    const body = $("pick-facts").tBodies[0];
+    const graphs = $("pick-graphs").checked;
+    body.replaceChildren();
+    for (const { p, o, graphs: stated } of this.facts || []) {
+      const tr = document.createElement("tr");
+      const name = document.createElement("td");
+      name.textContent = shorten(p.value);
+      const value = document.createElement("td");
+      value.textContent = valueText(p.value, o);
+      value.title = termTitle(o);
+      if (o.type === "uri") {
+        value.className = "iri";
+        value.addEventListener("click", () => this.onIri(o.value));
+      } else if (isNumeric(o)) {
+        value.className = "num";
+      }
+      tr.append(name, value);
+      if (graphs) {
+        const where = document.createElement("td");
+        where.className = "graphs";
+        where.textContent = stated.map(shorten).join(", ");
+        tr.appendChild(where);
+      }
+      body.appendChild(tr);
+    }
+    $("pick-facts").dataset.count = String((this.facts || []).length);
   }
 
   /** Show what was picked, all else as it was: its objects coloured, a wire as a tube, a point
@@ -628,6 +646,7 @@ export class CellView {
     layer("layer-axes", (on) => { this.axes.visible = on; });
     layer("layer-labels", () => this.setLabels());
     $("cell-fit").addEventListener("click", () => this.fit());
+    $("pick-graphs").addEventListener("change", () => this.showFacts());
     $("pick-zoom").addEventListener("click", () => {
       if (this.picked) this.zoomTo(this.picked);
     });
