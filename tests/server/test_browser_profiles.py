@@ -18,9 +18,10 @@ from typing import Any
 
 import pytest
 from selenium.webdriver.common.by import By
+from selenium.webdriver.support.ui import Select
 
 from tests.conftest import EXAMPLES
-from tests.server.browser import health, open_page, set_editor, settled, text_of, wait
+from tests.server.browser import editor_text, health, open_page, set_editor, settled, text_of, wait
 from tests.server.cell_view import click_on, open_cell, picked
 from tests.server.serving import cadkg_serve
 
@@ -91,6 +92,32 @@ CLICKS = {
     "vw": [("X2", "https://example.org/cell/vw-harness/node/DOOR-L/X2")],
     "enki": [],
 }
+COUNT = "(count of rows)"
+DEFAULT_Y = {
+    "components": "pins",
+    "connections-in-order": "lengthM",
+    "pins-of-component": "wires",
+    "sources": "triples",
+    "wire-endpoints": COUNT,
+    "wires-by-colour-section": "wires",
+    "wires-of-component": COUNT,
+    "elvez-cable-length-per-harness": "cables",
+    "elvez-harness-cables": "lengthM",
+    "elvez-operations-at-spot": COUNT,
+    "elvez-plan": COUNT,
+    "elimco-route": "y",
+    "elimco-wires-of-cable": "lengthM",
+    "harness-segment-lengths": "length",
+    "harness-wires-of-connector": "length",
+    "harness-wires-through-segment": COUNT,
+}
+# Columns of identifiers that look like numbers: text, not right-aligned numbers.
+IDENTIFIERS = {
+    "wires-of-component": ("wireNumber",),
+    "connections-in-order": ("wireNumber",),
+    "harness-segment-lengths": ("harness",),
+    "elvez-cable-length-per-harness": ("harness",),
+}
 # Components without pins, which the graph view shows as nodes with their neighbours.
 GRAPH_LABELS = {"elvez": ("K1",), "vw": ("X1",)}
 CELLS = [
@@ -134,6 +161,34 @@ def test_the_page_is_the_cells_own(browser: Any, example: str, name: str, profil
         assert "No results" in text_of(driver, "no-results")
         assert "0 row(s)" in text_of(driver, "status")
         assert not driver.find_elements(By.CSS_SELECTOR, "#results tbody tr")
+
+        # The default chart of each of the cell's named queries (those with rows) is a measure,
+        # never an identifier, over a column that tells the rows apart or groups them.
+        for query in sorted(CORE | OWN[profile]):
+            Select(driver.find_element(By.ID, "examples")).select_by_value(query)
+            wait(driver, lambda d, q=query: f"{q}:" in editor_text(d) or q in editor_text(d), 30, query)
+            driver.execute_script("document.getElementById('status').textContent = ''")
+            driver.find_element(By.ID, "run").click()
+            wait(driver, lambda d: "row(s)" in text_of(d, "status"), 60, f"{query} answered")
+            if text_of(driver, "status").startswith("0 row(s)"):
+                assert shown(driver, "no-results"), query
+                continue
+            driver.find_element(By.ID, "show-chart").click()
+            y = Select(driver.find_element(By.ID, "chart-y")).first_selected_option.text
+            assert y == DEFAULT_Y[query], (query, y)
+            marks = driver.find_elements(By.CSS_SELECTOR, "#chart rect.bar, #chart polyline.line")
+            assert marks and driver.find_elements(By.CSS_SELECTOR, "#chart .legend-text"), query
+            driver.find_element(By.ID, "show-table").click()
+            for name in IDENTIFIERS.get(query, ()):
+                index = [th.text for th in driver.find_elements(By.CSS_SELECTOR, "#results thead th")].index(
+                    name
+                )
+                cells = driver.find_elements(By.CSS_SELECTOR, f"#results tbody td:nth-child({index + 1})")
+                assert cells and not [c for c in cells if "num" in str(c.get_attribute("class"))], (
+                    query,
+                    name,
+                )
+        driver.find_element(By.ID, "tab-add").click()
 
         # Every label the graph view offers, it shows; one it does not have, it says so.
         labels = [

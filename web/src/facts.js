@@ -6,7 +6,7 @@
 import { postQuery } from "./api.js";
 import { shorten } from "./prefixes.js";
 import { readAnswer } from "./results.js";
-import { isNumeric, termText } from "./terms.js";
+import { isTypedNumber, termText } from "./terms.js";
 
 const LIMIT = 200;
 // A unit as the ontology's comments name it: its symbol and the decimals worth showing (a
@@ -38,7 +38,7 @@ export function roundNumber(value, decimals = null) {
 
 /** The text of a fact's value: a number rounded with its unit, anything else as the table shows it. */
 export function valueText(property, term) {
-  if (!isNumeric(term)) return termText(term);
+  if (!isTypedNumber(term)) return termText(term);
   const [symbol, decimals] = units.get(property) || ["", null];
   // An integer as written: an id of many digits must keep every one.
   const text = /^[+-]?\d+$/.test(term.value.trim()) ? term.value.trim() : roundNumber(Number(term.value), decimals);

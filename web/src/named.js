@@ -124,8 +124,15 @@ export class NamedQueries {
     for (const input of $("params").querySelectorAll("input")) input.disabled = !attached;
   }
 
-  /** Bind the fields' values anew: the old VALUES block in the text becomes the new one. */
-  async rebind() {
+  /** Bind the fields' values anew, one binding after the other (a field's change and a run's
+   * settle may both ask; the later must not be overwritten by the earlier). */
+  rebind() {
+    this.binding = (this.binding || Promise.resolve()).then(() => this.rebindNow(), () => this.rebindNow());
+    return this.binding;
+  }
+
+  /** The old VALUES block in the text becomes the new one. */
+  async rebindNow() {
     const named = this.named;
     if (!named) return;
     const params = {};
@@ -147,5 +154,6 @@ export class NamedQueries {
   /** Before a run: fields typed into but not yet bound are bound now. */
   async settle() {
     if (this.named && this.dirty) await this.rebind();
+    else if (this.binding) await this.binding;
   }
 }

@@ -9,7 +9,7 @@ import { STLLoader } from "three/examples/jsm/loaders/STLLoader.js";
 import { EndpointError, getJson } from "../api.js";
 import { shorten } from "../prefixes.js";
 import { factsOf, valueText } from "../facts.js";
-import { isNumeric, termTitle } from "../terms.js";
+import { isTypedNumber, termTitle } from "../terms.js";
 import { COLOURS, axes, balls, buildHarness, buildRoutes, tube, worldMatrices } from "./build.js";
 import { Labels } from "./labels.js";
 import { Objects } from "./objects.js";
@@ -494,7 +494,7 @@ export class CellView {
       if (o.type === "uri") {
         value.className = "iri";
         value.addEventListener("click", () => this.onIri(o.value));
-      } else if (isNumeric(o)) {
+      } else if (isTypedNumber(o)) {
         value.className = "num";
       }
       tr.append(name, value);
