@@ -17,6 +17,7 @@ import re
 from typing import Any
 
 import pytest
+from PIL import Image
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import Select
 
@@ -242,7 +243,55 @@ def test_the_page_is_the_cells_own(browser: Any, example: str, name: str, profil
                 30,
                 f"{label} picked by a click, not {highlighted(driver)!r} {text_of(driver, 'pick-title')!r}",
             )
+        check_presets_ortho_and_screenshot(driver, profile)
         assert health(driver, base) == []
+
+
+EYE = (
+    "const v = document.getElementById('cell-view').cellView;"
+    "return v.camera.position.clone().sub(v.controls.target).normalize().toArray()"
+)
+
+
+def check_presets_ortho_and_screenshot(driver: Any, profile: str) -> None:
+    """Front, top and side look along three perpendicular axes and iso between them; the
+    orthographic camera still picks; the screenshot is the view's PNG."""
+    eyes = {}
+    for preset in ("front", "top", "side", "iso"):
+        driver.find_element(By.ID, f"view-{preset}").click()
+        settled(driver)
+        assert driver.find_element(By.ID, "cell-view").get_attribute("data-preset") == preset
+        eyes[preset] = driver.execute_script(EYE)
+
+    def dot(a: str, b: str) -> float:
+        return float(sum(x * y for x, y in zip(eyes[a], eyes[b], strict=True)))
+
+    if not SEARCHES[profile]:  # nothing drawn: nothing to look at
+        eyes = {"front": [0, 0, 1], "top": [0, 1, 0], "side": [1, 0, 0], "iso": [3**-0.5] * 3}
+    for a, b in [("front", "top"), ("front", "side"), ("top", "side")]:
+        assert abs(dot(a, b)) < 1e-6, (a, b, eyes)
+    for a in ("front", "top", "side"):
+        assert abs(dot("iso", a) - 3**-0.5) < 1e-6, (a, eyes)
+    driver.find_element(By.ID, "view-front").click()  # from a corner, things hide each other
+    driver.find_element(By.ID, "view-ortho").click()
+    settled(driver)
+    script = "return document.getElementById('cell-view').cellView.camera.isOrthographicCamera === true"
+    assert driver.execute_script(script)
+    for label, expected in CLICKS[profile][:1]:
+        click_on(driver, label)
+        wait(
+            driver, lambda d, e=expected: highlighted(d) == e, 30, f"{label} picked in the orthographic view"
+        )
+    driver.find_element(By.ID, "view-ortho").click()
+    settled(driver)
+    assert not driver.execute_script(script)
+    saved = driver.downloads / f"cell-{profile}.png"
+    saved.unlink(missing_ok=True)
+    driver.find_element(By.ID, "cell-screenshot").click()
+    wait(driver, lambda d: saved.is_file() and saved.stat().st_size > 1000, 30, "the screenshot")
+    canvas = driver.find_element(By.CSS_SELECTOR, "#cell-view canvas")
+    with Image.open(saved) as picture:
+        assert picture.size == (canvas.size["width"], canvas.size["height"])
 
 
 def show_graph(driver: Any, label: str) -> None:

@@ -259,3 +259,11 @@ def test_the_cell_and_whose_queries(url: str) -> None:
     assert queries["connections-in-order"] == "iema" and queries["elvez-plan"] == "elvez"
     assert queries["wires-of-component"] == "" and queries["harness-segment-lengths"] == "vw"
     assert set(queries) == {q["name"] for q in httpx.get(f"{url}/api/queries").json()}
+
+
+def test_wires_carry_their_colour(scene: dict) -> None:
+    # lista-cablaggio.csv: every wire has a colour code, seven of them in all.
+    colours = [route.get("colour") for route in scene["routes"]]
+    assert None not in colours and set(colours) == {"BK", "BN", "BU", "GNYE", "GY", "RD", "WH"}
+    first = next(r for r in scene["routes"] if r["label"] == "1500.51")
+    assert first["colour"] == "BU"

@@ -35,6 +35,15 @@ function softwareRenderer() {
   return /swiftshader|llvmpipe|software/i.test(name);
 }
 
+// The view presets, in the axes of the frame most objects hang from (a cabinet's plate: x to
+// the right, y up, z out of it): face on, from above, from the right, and from a corner.
+const PRESETS = {
+  front: (b) => ({ eye: b.z.clone(), up: b.y.clone() }),
+  top: (b) => ({ eye: b.y.clone(), up: b.z.clone().negate() }),
+  side: (b) => ({ eye: b.x.clone(), up: b.y.clone() }),
+  iso: (b) => ({ eye: b.x.clone().add(b.y).add(b.z).normalize(), up: b.y.clone() }),
+};
+
 function vector(p) {
   return new THREE.Vector3(p.position.x, p.position.y, p.position.z);
 }
@@ -262,8 +271,47 @@ export class CellView {
     if (!width || !height) return;
     this.renderer.setSize(width, height);
     this.camera.aspect = width / height;
+    if (this.camera.isOrthographicCamera) this.frustum();
     this.camera.updateProjectionMatrix();
     this.requestRender();
+  }
+
+  /** The orthographic camera's box: `half` high each way, as wide as the view is. */
+  frustum() {
+    const half = this.half || 1;
+    const aspect = this.camera.aspect || 1;
+    Object.assign(this.camera, { left: -half * aspect, right: half * aspect, top: half, bottom: -half, zoom: 1 });
+    this.camera.updateProjectionMatrix();
+  }
+
+  /** Look from a preset direction (front, top, side, iso; null: the first view) at everything. */
+  view(preset) {
+    this.preset = PRESETS[preset] ? preset : null;
+    this.container.dataset.preset = this.preset || "";
+    this.fit();
+  }
+
+  /** An orthographic camera (no perspective: parallel edges stay parallel, sizes compare), or not. */
+  setOrthographic(on) {
+    const aspect = this.camera.aspect || 1;
+    this.camera = on ? new THREE.OrthographicCamera(-1, 1, 1, -1, 0.001, 1000) : new THREE.PerspectiveCamera(40, aspect, 0.001, 1000);
+    this.camera.aspect = aspect;
+    this.controls.dispose();
+    this.makeControls();
+    this.controlsUp = null;
+    this.container.dataset.projection = on ? "orthographic" : "perspective";
+    this.fit();
+  }
+
+  /** The view as a PNG file of the user's (the drawing; the HTML labels are not in it). */
+  screenshot() {
+    this.render();
+    const link = document.createElement("a");
+    link.href = this.renderer.domElement.toDataURL("image/png");
+    link.download = `cell-${this.data.profile || "view"}.png`;
+    document.body.appendChild(link);
+    link.click();
+    link.remove();
   }
 
   requestRender() {
@@ -324,7 +372,11 @@ export class CellView {
       const y = new THREE.Vector3();
       const z = new THREE.Vector3();
       matrix.extractBasis(x, y, z);
+      if (this.preset) return PRESETS[this.preset]({ x, y, z });
       return { eye: z.clone().addScaledVector(y, 0.3).addScaledVector(x, 0.25).normalize(), up: y };
+    }
+    if (this.preset) {
+      return PRESETS[this.preset]({ x: new THREE.Vector3(1, 0, 0), y: new THREE.Vector3(0, 1, 0), z: new THREE.Vector3(0, 0, 1) });
     }
     const thinnest = size.x <= size.y && size.x <= size.z ? 0 : size.y <= size.z ? 1 : 2;
     const eye = [new THREE.Vector3(1, 0.3, 0.25), new THREE.Vector3(0.2, 1, 0.45), new THREE.Vector3(0.25, 0.3, 1)][thinnest];
@@ -339,7 +391,13 @@ export class CellView {
     const size = target.getSize(new THREE.Vector3());
     const radius = Math.max(size.length() / 2, 0.02);
     const { eye, up } = this.viewAxes(size);
-    const distance = (radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2))) * 1.05;
+    let distance = (radius / Math.sin(THREE.MathUtils.degToRad(40 / 2))) * 1.05;
+    if (this.camera.isOrthographicCamera) {
+      // The same part of the cell in view as the perspective camera shows at the fitted distance.
+      this.half = radius * 1.05;
+      this.frustum();
+      distance = radius * 4;
+    }
     this.camera.up.copy(up);
     this.camera.position.copy(centre).addScaledVector(eye, distance);
     this.camera.near = distance / 1000;
@@ -646,6 +704,9 @@ export class CellView {
     layer("layer-axes", (on) => { this.axes.visible = on; });
     layer("layer-labels", () => this.setLabels());
     $("cell-fit").addEventListener("click", () => this.fit());
+    for (const preset of Object.keys(PRESETS)) $(`view-${preset}`).addEventListener("click", () => this.view(preset));
+    $("view-ortho").addEventListener("change", () => this.setOrthographic($("view-ortho").checked));
+    $("cell-screenshot").addEventListener("click", () => this.screenshot());
     $("pick-graphs").addEventListener("change", () => this.showFacts());
     $("pick-zoom").addEventListener("click", () => {
       if (this.picked) this.zoomTo(this.picked);
