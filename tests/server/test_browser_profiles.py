@@ -13,9 +13,11 @@ are the examples' (see tests/server/test_workbench.py).
 
 from __future__ import annotations
 
+import math
 import re
 from typing import Any
 
+import httpx
 import pytest
 from PIL import Image
 from selenium.webdriver.common.by import By
@@ -244,7 +246,40 @@ def test_the_page_is_the_cells_own(browser: Any, example: str, name: str, profil
                 f"{label} picked by a click, not {highlighted(driver)!r} {text_of(driver, 'pick-title')!r}",
             )
         check_presets_ortho_and_screenshot(driver, profile)
+        if profile in MEASURES:
+            check_measure(driver, base, *MEASURES[profile])
         assert health(driver, base) == []
+
+
+# Two things picked for a distance: pins at their poses (exact), components where the click
+# meets them (a distance within the cabinet).
+MEASURES = {"elimco": ("A918VC1A", "A350VC-A"), "iema": ("F1500.1", "Q1500.1")}
+
+
+def check_measure(driver: Any, base: str, first: str, second: str) -> None:
+    driver.find_element(By.ID, "view-front").click()
+    settled(driver)
+    driver.find_element(By.ID, "cell-measure").click()
+    click_on(driver, first)
+    wait(driver, lambda d: "pick the second point" in text_of(d, "cell-status"), 30, "the first point")
+    click_on(driver, second)
+    wait(
+        driver, lambda d: d.find_element(By.ID, "cell-view").get_attribute("data-distance"), 30, "a distance"
+    )
+    distance = float(driver.find_element(By.ID, "cell-view").get_attribute("data-distance"))
+    status = text_of(driver, "cell-status")
+    assert f"from {first}" in status and f"to {second}" in status, status
+    frames = {f["name"]: f for f in httpx.get(f"{base}/api/scene", timeout=60).json()["frames"]}
+    a, b = frames.get(f"pin_{first}"), frames.get(f"pin_{second}")
+    if a and b:  # bench pins of one parent frame: the distance of their poses
+        assert a["parent"] == b["parent"]
+        assert distance == pytest.approx(math.dist(a["t"], b["t"]), abs=1e-6)
+        shown_text = f"{distance:.4f} m" if distance >= 1 else f"{distance * 1000:.1f} mm"
+        assert shown_text in status
+    else:
+        assert 0.005 < distance < 2.0, distance
+    driver.find_element(By.ID, "cell-measure").click()
+    assert driver.find_element(By.ID, "cell-view").get_attribute("data-distance") is None
 
 
 EYE = (

@@ -11,6 +11,7 @@ export const COLOURS = {
   screw: new THREE.Color("#dc2626"),
   hole: new THREE.Color("#1d4ed8"),
   picked: new THREE.Color("#e0457b"),
+  measure: new THREE.Color("#0f766e"),
   robot: new THREE.Color("#d97706"),
   human: new THREE.Color("#7c8799"),
   key: new THREE.Color("#2457c5"),

@@ -13,6 +13,7 @@ import { isTypedNumber, termTitle } from "../terms.js";
 import { COLOURS, axes, balls, buildHarness, buildRoutes, tube, worldMatrices } from "./build.js";
 import { Labels } from "./labels.js";
 import { Objects } from "./objects.js";
+import { Measure } from "./measure.js";
 import { sceneThings } from "./things.js";
 
 const $ = (id) => document.getElementById(id);
@@ -144,6 +145,8 @@ export class CellView {
     this.axes.visible = $("layer-axes").checked;
     this.root.add(this.axes);
     this.things = sceneThings(data, this.points, this.harnesses, this.routes.paths);
+    this.measure = new Measure(this);
+    this.root.add(this.measure.group);
     const names = this.things.labels();
     $("cell-labels").replaceChildren(...names.map((name) => new Option(name)));
     $("cell-component").placeholder = names.length ? `e.g. ${names[0]}` : "nothing drawn";
@@ -432,6 +435,7 @@ export class CellView {
       }
       for (const p of this.points) if (p.kind === "key" || p.kind === "bench-pin") entries.push({ text: p.label, position: p.position });
       entries.push(...(this.extraLabels || []));
+      entries.push(...(this.measure ? this.measure.labels : []));
     }
     this.labels.set(entries.slice(0, 400));
     this.requestRender();
@@ -458,8 +462,21 @@ export class CellView {
       if (hit && hit.object.userData.halo && hits[1] && hits[1].distance - hit.distance < 2 * hit.object.userData.halo) {
         hit = hits[1];
       }
+      if ($("cell-measure").checked) {
+        // A pose the graph gives (a pin, a key, a node) before a wire or a surface in front of it.
+        const exact = hits.find((h) => this.whatIs(h)?.position) || hits[0];
+        this.measure.add(exact ? this.measured(exact) : null);
+        return;
+      }
       this.select(hit ? this.whatIs(hit) : null);
     });
+  }
+
+  /** Where a pick for a measure is: a point or a node at its pose, else where the ray met. */
+  measured(hit) {
+    const what = this.whatIs(hit);
+    if (what && what.position) return { position: what.position.clone(), label: what.label };
+    return { position: this.root.worldToLocal(hit.point.clone()), label: what ? what.label : "a point" };
   }
 
   /** What a ray hit: {label, iri, kind, component?}. */
@@ -707,6 +724,7 @@ export class CellView {
     for (const preset of Object.keys(PRESETS)) $(`view-${preset}`).addEventListener("click", () => this.view(preset));
     $("view-ortho").addEventListener("change", () => this.setOrthographic($("view-ortho").checked));
     $("cell-screenshot").addEventListener("click", () => this.screenshot());
+    $("cell-measure").addEventListener("change", () => this.measure.clear());
     $("pick-graphs").addEventListener("change", () => this.showFacts());
     $("pick-zoom").addEventListener("click", () => {
       if (this.picked) this.zoomTo(this.picked);
