@@ -191,6 +191,15 @@ def test_the_page_is_the_cells_own(browser: Any, example: str, name: str, profil
                     query,
                     name,
                 )
+        # The editor keeps its height whatever the query's length (the results stay in view),
+        # and is resized by its corner.
+        editor_box = driver.find_element(By.ID, "query")
+        assert editor_box.size["height"] <= 300 and editor_box.value_of_css_property("resize") == "vertical"
+        assert driver.find_element(By.ID, "results-pane").location["y"] < 900
+        driver.execute_script("document.getElementById('query').style.height = '480px'")
+        inner = "return document.getElementById('query').shadowRoot.querySelector('.cm-editor').offsetHeight"
+        wait(driver, lambda d: abs(d.execute_script(inner) - 480) <= 2, 10, "the editor resized")
+        driver.execute_script("document.getElementById('query').style.height = ''")
         driver.find_element(By.ID, "tab-add").click()
 
         # Every label the graph view offers, it shows; one it does not have, it says so.
