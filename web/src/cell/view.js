@@ -145,8 +145,8 @@ export class CellView {
     this.axes.visible = $("layer-axes").checked;
     this.root.add(this.axes);
     this.things = sceneThings(data, this.points, this.harnesses, this.routes.paths);
-    this.measure = new Measure(this);
-    this.root.add(this.measure.group);
+    this.ruler = new Measure(this);
+    this.root.add(this.ruler.group);
     const names = this.things.labels();
     $("cell-labels").replaceChildren(...names.map((name) => new Option(name)));
     $("cell-component").placeholder = names.length ? `e.g. ${names[0]}` : "nothing drawn";
@@ -435,7 +435,7 @@ export class CellView {
       }
       for (const p of this.points) if (p.kind === "key" || p.kind === "bench-pin") entries.push({ text: p.label, position: p.position });
       entries.push(...(this.extraLabels || []));
-      entries.push(...(this.measure ? this.measure.labels : []));
+      entries.push(...(this.ruler ? this.ruler.labels : []));
     }
     this.labels.set(entries.slice(0, 400));
     this.requestRender();
@@ -465,7 +465,7 @@ export class CellView {
       if ($("cell-measure").checked) {
         // A pose the graph gives (a pin, a key, a node) before a wire or a surface in front of it.
         const exact = hits.find((h) => this.whatIs(h)?.position) || hits[0];
-        this.measure.add(exact ? this.measured(exact) : null);
+        this.ruler.add(exact ? this.measured(exact) : null);
         return;
       }
       this.select(hit ? this.whatIs(hit) : null);
@@ -724,7 +724,7 @@ export class CellView {
     for (const preset of Object.keys(PRESETS)) $(`view-${preset}`).addEventListener("click", () => this.view(preset));
     $("view-ortho").addEventListener("change", () => this.setOrthographic($("view-ortho").checked));
     $("cell-screenshot").addEventListener("click", () => this.screenshot());
-    $("cell-measure").addEventListener("change", () => this.measure.clear());
+    $("cell-measure").addEventListener("change", () => this.ruler.clear());
     $("pick-graphs").addEventListener("change", () => this.showFacts());
     $("pick-zoom").addEventListener("click", () => {
       if (this.picked) this.zoomTo(this.picked);
