@@ -249,3 +249,21 @@ def test_the_workbench_routes_on_a_remote_store(remote: tuple[str, str], scene: 
     assert all(o["box"] and o["mesh"] is None for o in far["objects"])
     assert "drawn as boxes" in far["problems"][0]
     assert httpx.get(f"{base}/api/mesh/meshes/ID000012.stl").status_code == 404
+
+
+def test_the_cell_and_whose_queries(url: str) -> None:
+    cell = httpx.get(f"{url}/api/cell").json()
+    assert cell["name"] == "IEMA switchgear QE01" and cell["profile"] == "iema"
+    assert cell["title"].startswith("switchgear cabinet wiring")
+    queries = cell["queries"]
+    assert queries["connections-in-order"] == "iema" and queries["elvez-plan"] == "elvez"
+    assert queries["wires-of-component"] == "" and queries["harness-segment-lengths"] == "vw"
+    assert set(queries) == {q["name"] for q in httpx.get(f"{url}/api/queries").json()}
+
+
+def test_wires_carry_their_colour(scene: dict) -> None:
+    # lista-cablaggio.csv: every wire has a colour code, seven of them in all.
+    colours = [route.get("colour") for route in scene["routes"]]
+    assert None not in colours and set(colours) == {"BK", "BN", "BU", "GNYE", "GY", "RD", "WH"}
+    first = next(r for r in scene["routes"] if r["label"] == "1500.51")
+    assert first["colour"] == "BU"

@@ -1,7 +1,7 @@
 // A chart of a numeric column in SVG: bars over a label column, or points (joined in x order)
 // over a numeric one. Plain SVG: the results are the engineer's own, a few hundred marks at most.
 
-import { isNumeric, termText } from "./terms.js";
+import { isTypedNumber, termText } from "./terms.js";
 
 const SVG = "http://www.w3.org/2000/svg";
 const MAX_BARS = 150;
@@ -15,11 +15,37 @@ function el(tag, attributes, parent, text) {
   return node;
 }
 
-/** The indices of the columns whose every bound value is a number (and that have one). */
+/** The indices of the columns that hold numbers: every bound value a typed number (xsd:integer,
+ * xsd:decimal ...), decided for the whole column, never cell by cell, so identifiers that look
+ * like numbers (wire numbers, harness ids as strings) stay text. */
 export function numericColumns(answer) {
   return answer.vars
     .map((_, i) => i)
-    .filter((i) => answer.rows.some((r) => r[i]) && answer.rows.every((r) => !r[i] || isNumeric(r[i])));
+    .filter((i) => answer.rows.some((r) => r[i]) && answer.rows.every((r) => !r[i] || isTypedNumber(r[i])));
+}
+
+// Numbers that name, order or class rather than measure (an id, a list position, a grid row,
+// a nominal cross-section that wires are grouped by): not a default y.
+const ORDINAL = /(^|[^a-z])(id|index|idx|position|pos|line|page|no|number|seq|sequence|step|stop|order|rank|row|column|cavity|section)$|(Id|Index|Position|Line|Page|Number|Sequence|Step|Order)$/;
+const MEASURE = /count|total|sum|length|mm2|area|size|weight|diameter|radius|dim|distance|^n$|wires|cables|pins/i;
+
+/** The numeric columns that measure something, those named like a measure first. */
+export function measureColumns(answer) {
+  const measures = numericColumns(answer).filter((i) => !ORDINAL.test(answer.vars[i]));
+  return [...measures.filter((i) => MEASURE.test(answer.vars[i])), ...measures.filter((i) => !MEASURE.test(answer.vars[i]))];
+}
+
+/** Rows counted per value of column `xi`: [{x, y}] in order of first appearance. */
+function counted(rows, xi) {
+  const groups = new Map();
+  for (const row of rows) {
+    const term = row[xi];
+    if (!term) continue;
+    const key = termText(term);
+    if (!groups.has(key)) groups.set(key, { row, x: term, count: 0 });
+    groups.get(key).count += 1;
+  }
+  return [...groups.values()].map((g) => ({ row: g.row, x: g.x, y: { value: String(g.count) } }));
 }
 
 function ticks(min, max, count = 5) {
@@ -36,15 +62,21 @@ function short(text, length = 14) {
   return text.length > length ? `${text.slice(0, length - 1)}…` : text;
 }
 
-/** Draw column `yi` against column `xi` (-1: row number); returns a note for the user. */
+export const COUNT = -1; // y: how many rows have each x
+
+/** Draw column `yi` (COUNT: the rows per x) against column `xi` (-1: row number); returns a
+ * note for the user. */
 export function drawChart(svg, rows, vars, xi, yi) {
   svg.replaceChildren();
   const width = Math.max(svg.clientWidth || 640, 320);
   const height = 320;
   svg.setAttribute("viewBox", `0 0 ${width} ${height}`);
   const pad = { left: 64, right: 16, top: 14, bottom: 72 };
-  const numericX = xi >= 0 && rows.every((r) => !r[xi] || isNumeric(r[xi]));
-  const points = rows
+  const count = yi === COUNT;
+  const numericX = !count && xi >= 0 && rows.some((r) => r[xi]) && rows.every((r) => !r[xi] || isTypedNumber(r[xi]));
+  const yName = count ? "rows" : vars[yi];
+  if (count && xi < 0) return "a count needs an x column: pick one";
+  const points = count ? counted(rows, xi) : rows
     .map((row, index) => ({ row, x: xi < 0 ? index + 1 : row[xi], y: row[yi] }))
     .filter((p) => p.y && (xi < 0 || p.x));
   if (!points.length) return "nothing to draw: no row has both values";
@@ -62,7 +94,7 @@ export function drawChart(svg, rows, vars, xi, yi) {
     el("text", { x: pad.left - 6, y: yScale(t) + 4, "text-anchor": "end" }, axes, t.toLocaleString());
   }
   el("text", { x: 12, y: pad.top + plotH / 2, transform: `rotate(-90 12 ${pad.top + plotH / 2})`,
-    "text-anchor": "middle", class: "axis-title" }, axes, vars[yi]);
+    "text-anchor": "middle", class: "axis-title" }, axes, yName);
   const marks = el("g", { class: "marks" }, svg);
   if (bars) {
     const step = plotW / shown.length;
@@ -95,5 +127,12 @@ export function drawChart(svg, rows, vars, xi, yi) {
   el("text", { x: pad.left + plotW / 2, y: height - 6, "text-anchor": "middle", class: "axis-title" }, axes,
     xi < 0 ? "row" : vars[xi]);
   const cut = points.length > shown.length ? `, the first ${shown.length.toLocaleString()} of ${points.length.toLocaleString()}` : "";
-  return `${vars[yi]} of ${shown.length.toLocaleString()} row(s)${cut}`;
+  const xName = xi < 0 ? "row" : vars[xi];
+  // The legend: what a mark is.
+  const legend = el("g", { class: "legend" }, svg);
+  el("rect", { x: width - pad.right - 150, y: 2, width: 10, height: 10, class: bars ? "swatch" : "swatch point-swatch" }, legend);
+  el("text", { x: width - pad.right - 135, y: 11, class: "legend-text" }, legend,
+    short(count ? `rows per ${xName}` : `${yName} by ${xName}`, 24));
+  if (count) return `rows per ${xName}: ${shown.length.toLocaleString()} value(s)${cut}`;
+  return `${yName} of ${shown.length.toLocaleString()} row(s)${cut}`;
 }

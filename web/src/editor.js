@@ -28,9 +28,11 @@ const style = HighlightStyle.define([
 ]);
 
 const theme = EditorView.theme({
-  "&": { fontSize: "13px", border: "1px solid var(--line)", borderRadius: "4px", background: "#fff" },
+  // As tall as its box (the page's #query: resizable, 18rem at first), scrolling inside it, so a
+  // long named query never pushes the results below the fold.
+  "&": { fontSize: "13px", border: "1px solid var(--line)", borderRadius: "4px", background: "#fff", height: "100%" },
   "&.cm-focused": { outline: "2px solid #b6c8f0" },
-  ".cm-scroller": { fontFamily: "ui-monospace, Menlo, Consolas, monospace", lineHeight: "1.45" },
+  ".cm-scroller": { fontFamily: "ui-monospace, Menlo, Consolas, monospace", lineHeight: "1.45", overflow: "auto" },
   ".cm-content": { minHeight: "15rem" },
   ".cm-gutters": { background: "#f7f8fa", color: "#98a2b3", border: "none" },
   ".cm-tooltip-autocomplete ul li[aria-selected]": { background: "#2457c5", color: "#fff" },

@@ -258,6 +258,8 @@ export class GraphView {
     this.fit();
   }
 
+  /** Draw the graph of `target` ({component} or {node}); true when it could. On a failure
+   * the old drawing goes (it would seem to answer) and the status says why. */
   async show(target, remember = true) {
     const search = new URLSearchParams(target);
     $("graph-status").textContent = "loading…";
@@ -269,11 +271,26 @@ export class GraphView {
       this.draw(data);
       const what = target.component ? `component ${target.component}` : shorten(target.node);
       $("graph-status").textContent = `${what}: ${data.nodes.length} nodes, ${data.edges.length} edges`;
+      $("graph-status").classList.remove("failed");
       if (target.component) $("component").value = target.component;
       this.onStatus(target);
+      return true;
     } catch (err) {
-      $("graph-status").textContent = err.message;
+      const what = target.component ? `component ${target.component}` : shorten(target.node);
+      // The endpoint's message without its status line ("404 Not Found").
+      const reason = err.message.split("\n").slice(1).join(" ").trim() || err.message;
+      this.nothing(`Cannot show ${what}: ${reason}`);
+      return false;
     }
+  }
+
+  /** No graph: the old drawing cleared, `message` in its place. */
+  nothing(message) {
+    this.canvas.replaceChildren();
+    $("properties").tBodies[0].replaceChildren();
+    this.key = null;
+    $("graph-status").textContent = message;
+    $("graph-status").classList.add("failed");
   }
 
   back() {

@@ -6,6 +6,7 @@ import "./style.css";
 import { EndpointError, getJson, postQuery } from "./api.js";
 import { setTerms, sparqlCompletion } from "./completion.js";
 import { createEditor, setText } from "./editor.js";
+import { setUnits } from "./facts.js";
 import { GraphView } from "./graphview.js";
 import { NamedQueries } from "./named.js";
 import { prologue, setPrefixes } from "./prefixes.js";
@@ -14,7 +15,7 @@ import { Tabs, permalink } from "./tabs.js";
 
 const $ = (id) => document.getElementById(id);
 const STARTER = "SELECT DISTINCT ?label ?component WHERE {\n  ?component a ck:Component ; ck:label ?label .\n}\nORDER BY ?label\nLIMIT 100\n";
-const state = { running: false, cell: null, cellLoading: null, labels: new Map(), pending: null };
+const state = { running: false, cell: null, cellLoading: null, labels: new Map(), graphLabels: new Map(), pending: null };
 
 // -- the 3D view, loaded on first use -----------------------------------------------------------
 
@@ -160,17 +161,68 @@ async function loadInfo() {
   }
 }
 
+async function loadCell() {
+  // The cell's name and profile: the header names them, and the page offers the profile's own
+  // queries and controls.
+  try {
+    const cell = await getJson("/api/cell");
+    $("cell-name").textContent = cell.name || "(unnamed cell)";
+    $("cell-profile").textContent = cell.profile || "no profile";
+    $("cell-profile").title = cell.title || "";
+    $("cell-title").title = cell.description || "";
+    $("cell-title").hidden = false;
+    document.title = `${cell.name || "cadkg"} · cadkg workbench`;
+    document.body.dataset.profile = cell.profile;
+    $("cell-show").textContent = cell.profile === "iema" ? "Show pins" : "Show";
+    return cell;
+  } catch (err) {
+    return { profile: "", queries: {} };
+  }
+}
+
 async function loadTerms() {
   try {
     const terms = await getJson("/api/terms");
     setPrefixes(terms.prefixes);
     setTerms(terms);
+    setUnits(terms.properties);
     const list = $("component-labels");
     list.replaceChildren(...terms.components.map((label) => new Option(label)));
+    named.labels = terms.components;
+    const example = terms.components.length ? `e.g. ${terms.components[0]}` : "no components";
+    $("component").placeholder = example;
     document.body.dataset.terms = "ready";
   } catch (err) {
     document.body.dataset.terms = "failed";
   }
+}
+
+async function loadGraphLabels() {
+  // What the graph view can show by name: everything with a label (a component with pins as
+  // its pins and wires, anything else as its neighbours), so its list offers nothing it cannot.
+  try {
+    const answer = await readAnswer(await postQuery(
+      "SELECT ?l (SAMPLE(?s) AS ?node) (MAX(?p) AS ?pins) WHERE { ?s ck:label ?l FILTER(isIRI(?s)) "
+      + "BIND(EXISTS { ?s a ck:Component . ?pin ck:pinOf ?s } AS ?p) } GROUP BY ?l ORDER BY ?l LIMIT 20000",
+    ));
+    for (const [label, node, pins] of answer.rows) {
+      if (label && node) state.graphLabels.set(label.value, { node: node.value, pins: pins && pins.value === "true" });
+    }
+    $("graph-labels").replaceChildren(...[...state.graphLabels.keys()].map((label) => new Option(label)));
+  } catch (err) {
+    /* the field still takes component labels */
+  }
+}
+
+/** The graph view of a label typed or picked: a component's pins and wires, else the node's
+ * neighbours; a label the graph does not have says so and clears the old drawing. */
+async function showLabel(label) {
+  const known = state.graphLabels.get(label);
+  if (!known) {
+    graph.nothing(`Nothing in the graph is labelled “${label}”; the list offers every label there is.`);
+    return;
+  }
+  await graph.show(known.pins ? { component: label } : { node: known.node });
 }
 
 async function loadLocatable() {
@@ -240,7 +292,7 @@ function start() {
   });
   $("show-graph").addEventListener("click", () => {
     const label = $("component").value.trim();
-    if (label) graph.show({ component: label });
+    if (label) showLabel(label);
   });
   $("component").addEventListener("keydown", (e) => { if (e.key === "Enter") $("show-graph").click(); });
   $("graph-back").addEventListener("click", () => graph.back());
@@ -248,7 +300,8 @@ function start() {
   $("view-3d").addEventListener("click", () => showPane("3d"));
   window.addEventListener("hashchange", openLink);
 
-  Promise.all([loadInfo(), loadTerms(), named.load().catch(() => {}), loadLocatable()]).then(() => {
+  const queries = loadCell().then((cell) => named.load(cell.profile, cell.queries)).catch(() => {});
+  Promise.all([loadInfo(), loadTerms(), queries, loadLocatable(), loadGraphLabels()]).then(() => {
     named.show(tabs.active.named);
     renderTabs();
     updatePermalink();

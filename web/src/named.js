@@ -17,19 +17,50 @@ export class NamedQueries {
     this.dirty = false;
   }
 
-  async load() {
-    const select = $("examples");
+  /** The named queries, the cell's own (and cadkg's, for any cell) first; those of other
+   * profiles only with the "other cells'" box ticked. `owners`: query name -> its profile. */
+  async load(profile = "", owners = {}) {
+    this.profile = profile;
+    this.owners = owners;
+    const own = [];
+    const others = [];
     for (const q of await getJson("/api/queries")) {
       this.queries[q.name] = q;
-      const option = new Option(q.name, q.name);
+      const owner = owners[q.name] || "";
+      const option = new Option(owner && owner !== profile ? `${q.name} (${owner})` : q.name, q.name);
       option.title = q.description;
-      select.appendChild(option);
+      (!profile || !owner || owner === profile ? own : others).push(option);
     }
+    $("examples").append(...own);
+    this.others = document.createElement("optgroup");
+    this.others.label = "other cells' queries";
+    this.others.append(...others);
+    $("examples-all-box").hidden = others.length === 0;
+    $("examples-all").addEventListener("change", () => this.showOthers($("examples-all").checked));
   }
 
-  example(param) {
+  /** Offer the other profiles' queries too, or not. */
+  showOthers(on) {
+    $("examples-all").checked = on;
+    if (on && !this.others.parentNode) $("examples").appendChild(this.others);
+    if (!on && this.others.parentNode) this.others.remove();
+  }
+
+  isOthers(name) {
+    const owner = (this.owners || {})[name] || "";
+    return Boolean(this.profile && owner && owner !== this.profile);
+  }
+
+  /** A parameter's example value: the one its description gives, unless a query of cadkg's
+   * own (for any cell) gives a component label this cell does not have (the examples are the
+   * IEMA cabinet's); then the first of this cell's component labels. */
+  example(param, name) {
     const match = /e\.g\.\s*([^\s,;)]+)/.exec(param.description || "");
-    return match ? match[1] : "";
+    const given = match ? match[1] : "";
+    const labels = this.labels || [];
+    const own = !(this.owners || {})[name];
+    if (param.name !== "label" || !own || !labels.length || labels.includes(given)) return given;
+    return labels[0];
   }
 
   /** Pick a named query: its text, bound with the example values, replaces the editor's. */
@@ -37,7 +68,7 @@ export class NamedQueries {
     const query = this.queries[name];
     if (!query) return this.show(null);
     const params = {};
-    for (const p of query.params) params[p.name] = this.example(p);
+    for (const p of query.params) params[p.name] = this.example(p, name);
     const bound = await this.bind(name, params);
     this.named = { name, params, values: bound.values };
     this.setText(bound.text);
@@ -55,6 +86,7 @@ export class NamedQueries {
     this.dirty = false;
     const box = $("params");
     box.replaceChildren();
+    if (named && this.isOthers(named.name)) this.showOthers(true); // a tab or link of another cell's query
     $("examples").value = named ? named.name : "";
     const query = named ? this.queries[named.name] : null;
     $("example-help").textContent = query ? query.description : "";
@@ -92,8 +124,15 @@ export class NamedQueries {
     for (const input of $("params").querySelectorAll("input")) input.disabled = !attached;
   }
 
-  /** Bind the fields' values anew: the old VALUES block in the text becomes the new one. */
-  async rebind() {
+  /** Bind the fields' values anew, one binding after the other (a field's change and a run's
+   * settle may both ask; the later must not be overwritten by the earlier). */
+  rebind() {
+    this.binding = (this.binding || Promise.resolve()).then(() => this.rebindNow(), () => this.rebindNow());
+    return this.binding;
+  }
+
+  /** The old VALUES block in the text becomes the new one. */
+  async rebindNow() {
     const named = this.named;
     if (!named) return;
     const params = {};
@@ -115,5 +154,6 @@ export class NamedQueries {
   /** Before a run: fields typed into but not yet bound are bound now. */
   async settle() {
     if (this.named && this.dirty) await this.rebind();
+    else if (this.binding) await this.binding;
   }
 }

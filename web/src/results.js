@@ -3,8 +3,8 @@
 // in every format the endpoint writes for this kind of answer.
 
 import { postQuery, saveResponse } from "./api.js";
-import { drawChart, numericColumns } from "./chart.js";
-import { isNumeric, readNTriples, termText, termTitle } from "./terms.js";
+import { COUNT, drawChart, measureColumns, numericColumns } from "./chart.js";
+import { readNTriples, termText, termTitle } from "./terms.js";
 
 const $ = (id) => document.getElementById(id);
 const FORMATS = {
@@ -58,6 +58,7 @@ export class ResultView {
     $("result-tools").hidden = true;
     $("downloads").hidden = true;
     $("error").hidden = true;
+    $("no-results").hidden = true;
     $("chart").replaceChildren();
   }
 
@@ -83,8 +84,18 @@ export class ResultView {
     }
     const what = answer.kind === "graph" ? "triple(s)" : "row(s)";
     this.summary = `${answer.rows.length.toLocaleString()} ${what} in ${seconds} s${note}`;
+    if (!answer.rows.length) {
+      $("status").textContent = this.summary;
+      $("no-results").textContent = answer.kind === "graph"
+        ? "No results: the query made no triples."
+        : "No results: nothing in the graph matches the query.";
+      $("no-results").hidden = false;
+      return;
+    }
     $("result-tools").hidden = false;
-    $("show-chart").disabled = numericColumns(answer).length === 0;
+    // Numbers by column, from their datatypes: a wire number is text in every row.
+    this.numeric = new Set(numericColumns(answer));
+    $("show-chart").disabled = answer.kind !== "select";
     if (this.mode === "chart" && $("show-chart").disabled) this.mode = "table";
     this.refilter();
     this.fillChartChoices();
@@ -122,7 +133,7 @@ export class ResultView {
 
   applySort() {
     const { index, direction } = this.sort;
-    const numeric = this.view.every((row) => !row[index] || isNumeric(row[index]));
+    const numeric = this.numeric.has(index);
     const sign = direction === "asc" ? 1 : -1;
     const collator = new Intl.Collator(undefined, { numeric: true });
     this.view.sort((x, y) => {
@@ -178,7 +189,7 @@ export class ResultView {
     for (const row of this.view.slice(this.page * size, (this.page + 1) * size)) {
       const tr = document.createElement("tr");
       let named = null;
-      for (const term of row) {
+      for (const [index, term] of row.entries()) {
         const td = document.createElement("td");
         td.textContent = termText(term);
         td.title = termTitle(term);
@@ -188,7 +199,7 @@ export class ResultView {
             event.stopPropagation();
             this.onIri(term.value);
           });
-        } else if (isNumeric(term)) {
+        } else if (term && this.numeric.has(index)) {
           td.className = "num";
         }
         named = named || this.locate(term);
@@ -218,23 +229,42 @@ export class ResultView {
     if (mode === "chart") this.renderChart();
   }
 
+  /** The chart's choices and its default: a measure (a numeric column that is not an id or a
+   * position, one named like a count or a length first) over the first text column that tells
+   * the rows apart; without a measure, the count of rows per value of the text column that
+   * groups them best (fewest values, more than one). */
   fillChartChoices() {
-    const { vars } = this.answer;
-    const numeric = numericColumns(this.answer);
+    const { vars, rows } = this.answer;
+    const numeric = [...this.numeric];
+    const measures = measureColumns(this.answer);
     const xs = $("chart-x");
     const ys = $("chart-y");
     xs.replaceChildren(new Option("(row number)", "-1"), ...vars.map((v, i) => new Option(v, String(i))));
-    ys.replaceChildren(...numeric.map((i) => new Option(vars[i], String(i))));
-    // x: the first text column whose values tell the rows apart (not one repeating a parameter).
-    const distinct = (i) => new Set(this.answer.rows.map((r) => (r[i] ? r[i].value : ""))).size;
-    const texts = vars.map((_, i) => i).filter((i) => !numeric.includes(i));
-    const label = texts.find((i) => distinct(i) > 1) ?? texts[0] ?? -1;
-    xs.value = String(label >= 0 ? label : -1);
-    if (numeric.length) ys.value = String(numeric[numeric.length > 1 && label < 0 ? 1 : 0]);
+    ys.replaceChildren(new Option("(count of rows)", String(COUNT)), ...numeric.map((i) => new Option(vars[i], String(i))));
+    const distinct = (i) => new Set(rows.map((r) => (r[i] ? r[i].value : ""))).size;
+    const texts = vars.map((_, i) => i).filter((i) => !this.numeric.has(i) && rows.some((r) => r[i] && r[i].type === "literal"));
+    const anyText = vars.map((_, i) => i).filter((i) => !this.numeric.has(i));
+    const [cx, cy] = ["x", "y"].map((name) => vars.indexOf(name));
+    if (this.numeric.has(cx) && this.numeric.has(cy)) { // coordinates: draw them as a path
+      xs.value = String(cx);
+      ys.value = String(cy);
+      return;
+    }
+    if (measures.length) {
+      const label = [...texts, ...anyText].find((i) => distinct(i) > 1) ?? anyText[0] ?? -1;
+      xs.value = String(label);
+      ys.value = String(measures[0]);
+      return;
+    }
+    const groups = [...texts, ...anyText].filter((i) => distinct(i) > 1 && distinct(i) < rows.length);
+    groups.sort((a, b) => distinct(a) - distinct(b));
+    const x = groups[0] ?? anyText.find((i) => distinct(i) > 1) ?? anyText[0];
+    xs.value = String(x ?? -1);
+    ys.value = String(COUNT);
   }
 
   renderChart() {
-    if (!this.answer || $("chart-y").value === "") return;
+    if (!this.answer || !this.answer.rows.length || $("chart-y").value === "") return;
     const note = drawChart($("chart"), this.view, this.answer.vars, Number($("chart-x").value), Number($("chart-y").value));
     $("chart-note").textContent = note;
   }

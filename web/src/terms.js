@@ -8,10 +8,10 @@ const NUMERIC = new Set(["integer", "decimal", "double", "float", "int", "long",
   "nonNegativeInteger", "positiveInteger", "negativeInteger", "nonPositiveInteger", "unsignedInt",
   "unsignedLong", "unsignedShort", "unsignedByte"].map((t) => XSD + t));
 
-export function isNumeric(term) {
-  if (!term || term.type !== "literal" || term.value === "") return false;
-  if (term.datatype) return NUMERIC.has(term.datatype) && !Number.isNaN(Number(term.value));
-  return /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/.test(term.value);
+/** A number by its datatype: a string that only looks like one (a wire number "1500.51", a
+ * harness id "000971619") is not. */
+export function isTypedNumber(term) {
+  return Boolean(term && term.type === "literal" && NUMERIC.has(term.datatype) && !Number.isNaN(Number(term.value)));
 }
 
 export function termText(term) {

@@ -7,6 +7,7 @@ and info (see :mod:`cadkg.server.api`), completion terms, the 3D scene and its m
 In front of them a guard refuses requests meant for another host (DNS rebinding) and
 requests a web page of another origin makes, unless the operator named that origin
 (``--cors``): those get CORS headers, so a page elsewhere (YASGUI) can query the endpoint.
+Behind it text is sent gzip-compressed, with the cache headers of :mod:`cadkg.server.caching`.
 """
 
 from __future__ import annotations
@@ -19,6 +20,8 @@ from collections.abc import AsyncIterator, Callable
 from typing import Any
 
 from starlette.applications import Starlette
+from starlette.middleware import Middleware
+from starlette.middleware.gzip import GZipMiddleware
 from starlette.responses import Response
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
@@ -30,6 +33,7 @@ import cadkg.server.workbench.page as page
 import cadkg.server.workbench.routes as workbench
 from cadkg.errors import StoreError
 from cadkg.server.api import CLIENT_HEADER
+from cadkg.server.caching import HttpCaching
 from cadkg.server.context import Endpoint, Settings
 from cadkg.server.feed import ServerFeed
 from cadkg.server.feed import changes as changes_feed
@@ -225,6 +229,7 @@ def create_app(
             Route("/api/queries/{name}", api.named, methods=["GET"]),
             Route("/api/queries/{name}/bound", workbench.bound, methods=["GET"]),
             Route("/api/terms", workbench.terms, methods=["GET"]),
+            Route("/api/cell", workbench.cell, methods=["GET"]),
             Route("/api/scene", workbench.scene, methods=["GET"]),
             Route("/api/mesh/{path:path}", workbench.mesh, methods=["GET"]),
             Route("/api/assign", api.assign, methods=["GET", "POST"]),
@@ -235,6 +240,9 @@ def create_app(
             Mount("/static", StaticFiles(directory=STATIC), name="static"),
         ],
         lifespan=lifespan,
+        # Text (the page's code, JSON, SPARQL results) goes compressed to a client that accepts
+        # it; cache headers and ETags are set on the answer before it is compressed.
+        middleware=[Middleware(GZipMiddleware, minimum_size=1024), Middleware(HttpCaching)],
     )
     app.state.endpoint = endpoint
     app.state.feed = feed

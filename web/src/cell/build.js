@@ -11,6 +11,7 @@ export const COLOURS = {
   screw: new THREE.Color("#dc2626"),
   hole: new THREE.Color("#1d4ed8"),
   picked: new THREE.Color("#e0457b"),
+  measure: new THREE.Color("#0f766e"),
   robot: new THREE.Color("#d97706"),
   human: new THREE.Color("#7c8799"),
   key: new THREE.Color("#2457c5"),
@@ -21,6 +22,25 @@ export const COLOURS = {
   connector: new THREE.Color("#d97706"),
   segment: new THREE.Color("#475467"),
 };
+
+// Wire colours by their codes: IEC 60757 (BK, BU, GNYE ...), as connection lists write them,
+// and the German ones of KBL and VEC files (sw, bl, gnge ...). A white wire is drawn light grey
+// on the light background.
+const WIRE = {
+  BK: "#1f1f1f", BN: "#8b4513", RD: "#d62828", OG: "#f77f00", YE: "#f2c500", GN: "#2a9d3a",
+  BU: "#1f5fd6", VT: "#7b2cbf", GY: "#8a8f98", WH: "#d4d4d4", PK: "#f48fb1", TQ: "#1abc9c",
+  GD: "#c9a227", SR: "#b0b7c3", GNYE: "#9acd32",
+  SW: "#1f1f1f", BR: "#8b4513", RT: "#d62828", OR: "#f77f00", GE: "#f2c500", BL: "#1f5fd6",
+  VI: "#7b2cbf", GR: "#8a8f98", WS: "#d4d4d4", RS: "#f48fb1", GNGE: "#9acd32",
+};
+
+/** The colour of a wire's code (its first colour when striped, "ws/rt"), or null when unknown. */
+export function wireColour(code) {
+  if (!code) return null;
+  const text = String(code).toUpperCase().replace(/[^A-Z/-]/g, "");
+  const found = WIRE[text] || WIRE[text.split(/[/-]/)[0]];
+  return found ? new THREE.Color(found) : null;
+}
 
 /** World matrices of every frame of the scene (a frame whose parent is unknown hangs from the origin). */
 export function worldMatrices(frames) {
@@ -62,7 +82,8 @@ export function buildRoutes(routes, matrixOf) {
   };
   const paths = routes.map(pathOf);
   paths.forEach((path, r) => {
-    const colour = routes[r].performer === "human" ? COLOURS.human : COLOURS.robot;
+    // A human's wire grey (the robot does not lay it); the robot's in their own colours.
+    const colour = routes[r].performer === "human" ? COLOURS.human : wireColour(routes[r].colour) || COLOURS.robot;
     for (let i = 0; i + 1 < path.length; i++) {
       positions.push(path[i].x, path[i].y, path[i].z, path[i + 1].x, path[i + 1].y, path[i + 1].z);
       colours.push(colour.r, colour.g, colour.b, colour.r, colour.g, colour.b);

@@ -6,13 +6,15 @@
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { STLLoader } from "three/examples/jsm/loaders/STLLoader.js";
-import { EndpointError, getJson, postQuery } from "../api.js";
+import { EndpointError, getJson } from "../api.js";
 import { shorten } from "../prefixes.js";
-import { readAnswer } from "../results.js";
-import { termText } from "../terms.js";
+import { factsOf, valueText } from "../facts.js";
+import { isTypedNumber, termTitle } from "../terms.js";
 import { COLOURS, axes, balls, buildHarness, buildRoutes, tube, worldMatrices } from "./build.js";
 import { Labels } from "./labels.js";
 import { Objects } from "./objects.js";
+import { Measure } from "./measure.js";
+import { sceneThings } from "./things.js";
 
 const $ = (id) => document.getElementById(id);
 const CLIENT = "web-3d";
@@ -33,6 +35,15 @@ function softwareRenderer() {
   if (gl) gl.getExtension("WEBGL_lose_context")?.loseContext();
   return /swiftshader|llvmpipe|software/i.test(name);
 }
+
+// The view presets, in the axes of the frame most objects hang from (a cabinet's plate: x to
+// the right, y up, z out of it): face on, from above, from the right, and from a corner.
+const PRESETS = {
+  front: (b) => ({ eye: b.z.clone(), up: b.y.clone() }),
+  top: (b) => ({ eye: b.y.clone(), up: b.z.clone().negate() }),
+  side: (b) => ({ eye: b.x.clone(), up: b.y.clone() }),
+  iso: (b) => ({ eye: b.x.clone().add(b.y).add(b.z).normalize(), up: b.y.clone() }),
+};
 
 function vector(p) {
   return new THREE.Vector3(p.position.x, p.position.y, p.position.z);
@@ -133,6 +144,12 @@ export class CellView {
     this.axes = axes(data.frames.map((f) => this.matrixOf(f.name)), this.size * 0.02);
     this.axes.visible = $("layer-axes").checked;
     this.root.add(this.axes);
+    this.things = sceneThings(data, this.points, this.harnesses, this.routes.paths);
+    this.ruler = new Measure(this);
+    this.root.add(this.ruler.group);
+    const names = this.things.labels();
+    $("cell-labels").replaceChildren(...names.map((name) => new Option(name)));
+    $("cell-component").placeholder = names.length ? `e.g. ${names[0]}` : "nothing drawn";
     this.setLabels();
   }
 
@@ -202,6 +219,28 @@ export class CellView {
     const problems = [...d.problems];
     if (this.meshFailures) problems.push(`${this.meshFailures} mesh(es) could not be loaded`);
     $("cell-status").textContent = parts.join(" · ") + (problems.length ? ` — ${problems.join("; ")}` : "");
+    const empty = !d.objects.length && !d.routes.length && !d.points.length && !d.harnesses.length;
+    if (empty) {
+      $("cell-status").textContent = `${d.profile || "this"} cell: nothing to draw`
+        + (problems.length ? ` — ${problems.join("; ")}` : "");
+    }
+    this.showEmpty(empty ? `Nothing to draw: the ${d.profile || ""} cell's graph places no objects, wires, `
+      + "points or harnesses in 3D. Its facts are in the graph: query them, or open them in the graph view." : null);
+  }
+
+  /** A message over the view in place of a blank canvas (null: none). */
+  showEmpty(message) {
+    let note = this.container.querySelector(".cell-empty");
+    if (!message) {
+      if (note) note.remove();
+      return;
+    }
+    if (!note) {
+      note = document.createElement("div");
+      note.className = "cell-empty";
+      this.container.appendChild(note);
+    }
+    note.textContent = message;
   }
 
   // -- drawing -----------------------------------------------------------------------------
@@ -235,8 +274,47 @@ export class CellView {
     if (!width || !height) return;
     this.renderer.setSize(width, height);
     this.camera.aspect = width / height;
+    if (this.camera.isOrthographicCamera) this.frustum();
     this.camera.updateProjectionMatrix();
     this.requestRender();
+  }
+
+  /** The orthographic camera's box: `half` high each way, as wide as the view is. */
+  frustum() {
+    const half = this.half || 1;
+    const aspect = this.camera.aspect || 1;
+    Object.assign(this.camera, { left: -half * aspect, right: half * aspect, top: half, bottom: -half, zoom: 1 });
+    this.camera.updateProjectionMatrix();
+  }
+
+  /** Look from a preset direction (front, top, side, iso; null: the first view) at everything. */
+  view(preset) {
+    this.preset = PRESETS[preset] ? preset : null;
+    this.container.dataset.preset = this.preset || "";
+    this.fit();
+  }
+
+  /** An orthographic camera (no perspective: parallel edges stay parallel, sizes compare), or not. */
+  setOrthographic(on) {
+    const aspect = this.camera.aspect || 1;
+    this.camera = on ? new THREE.OrthographicCamera(-1, 1, 1, -1, 0.001, 1000) : new THREE.PerspectiveCamera(40, aspect, 0.001, 1000);
+    this.camera.aspect = aspect;
+    this.controls.dispose();
+    this.makeControls();
+    this.controlsUp = null;
+    this.container.dataset.projection = on ? "orthographic" : "perspective";
+    this.fit();
+  }
+
+  /** The view as a PNG file of the user's (the drawing; the HTML labels are not in it). */
+  screenshot() {
+    this.render();
+    const link = document.createElement("a");
+    link.href = this.renderer.domElement.toDataURL("image/png");
+    link.download = `cell-${this.data.profile || "view"}.png`;
+    document.body.appendChild(link);
+    link.click();
+    link.remove();
   }
 
   requestRender() {
@@ -297,7 +375,11 @@ export class CellView {
       const y = new THREE.Vector3();
       const z = new THREE.Vector3();
       matrix.extractBasis(x, y, z);
+      if (this.preset) return PRESETS[this.preset]({ x, y, z });
       return { eye: z.clone().addScaledVector(y, 0.3).addScaledVector(x, 0.25).normalize(), up: y };
+    }
+    if (this.preset) {
+      return PRESETS[this.preset]({ x: new THREE.Vector3(1, 0, 0), y: new THREE.Vector3(0, 1, 0), z: new THREE.Vector3(0, 0, 1) });
     }
     const thinnest = size.x <= size.y && size.x <= size.z ? 0 : size.y <= size.z ? 1 : 2;
     const eye = [new THREE.Vector3(1, 0.3, 0.25), new THREE.Vector3(0.2, 1, 0.45), new THREE.Vector3(0.25, 0.3, 1)][thinnest];
@@ -312,7 +394,13 @@ export class CellView {
     const size = target.getSize(new THREE.Vector3());
     const radius = Math.max(size.length() / 2, 0.02);
     const { eye, up } = this.viewAxes(size);
-    const distance = (radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2))) * 1.05;
+    let distance = (radius / Math.sin(THREE.MathUtils.degToRad(40 / 2))) * 1.05;
+    if (this.camera.isOrthographicCamera) {
+      // The same part of the cell in view as the perspective camera shows at the fitted distance.
+      this.half = radius * 1.05;
+      this.frustum();
+      distance = radius * 4;
+    }
     this.camera.up.copy(up);
     this.camera.position.copy(centre).addScaledVector(eye, distance);
     this.camera.near = distance / 1000;
@@ -347,6 +435,7 @@ export class CellView {
       }
       for (const p of this.points) if (p.kind === "key" || p.kind === "bench-pin") entries.push({ text: p.label, position: p.position });
       entries.push(...(this.extraLabels || []));
+      entries.push(...(this.ruler ? this.ruler.labels : []));
     }
     this.labels.set(entries.slice(0, 400));
     this.requestRender();
@@ -373,8 +462,21 @@ export class CellView {
       if (hit && hit.object.userData.halo && hits[1] && hits[1].distance - hit.distance < 2 * hit.object.userData.halo) {
         hit = hits[1];
       }
+      if ($("cell-measure").checked) {
+        // A pose the graph gives (a pin, a key, a node) before a wire or a surface in front of it.
+        const exact = hits.find((h) => this.whatIs(h)?.position) || hits[0];
+        this.ruler.add(exact ? this.measured(exact) : null);
+        return;
+      }
       this.select(hit ? this.whatIs(hit) : null);
     });
+  }
+
+  /** Where a pick for a measure is: a point or a node at its pose, else where the ray met. */
+  measured(hit) {
+    const what = this.whatIs(hit);
+    if (what && what.position) return { position: what.position.clone(), label: what.label };
+    return { position: this.root.worldToLocal(hit.point.clone()), label: what ? what.label : "a point" };
   }
 
   /** What a ray hit: {label, iri, kind, component?}. */
@@ -382,11 +484,11 @@ export class CellView {
     const object = hit.object;
     if (object === this.routes.lines) {
       const route = this.data.routes[this.routes.pick(hit.index)];
-      return route && { kind: "wire", label: `wire ${route.label}`, iri: route.iri, route };
+      return route && this.things.of(route);
     }
     if (object.userData.points) {
       const p = object.userData.points[hit.instanceId];
-      return p && { kind: p.kind, label: p.label, iri: p.iri };
+      return p && { kind: p.kind, label: p.label, iri: p.iri, position: p.position };
     }
     if (object.userData.pinList) {
       const p = object.userData.pinList[hit.instanceId];
@@ -396,7 +498,7 @@ export class CellView {
       const harness = this.data.harnesses[i];
       if (object === h.nodes) {
         const node = harness.nodes[hit.instanceId];
-        return node && { kind: "harness node", label: `${node.label}${node.connectors.length ? ` (${node.connectors.join(", ")})` : ""}`, iri: node.iri };
+        return node && this.things.of(node);
       }
       if (object === h.lines) {
         const segment = harness.segments[Math.floor(hit.index / 2)];
@@ -412,6 +514,7 @@ export class CellView {
       label: component ? component.label : item.label,
       iri: component ? component.iri : item.iri,
       item: item.iri,
+      objects: component ? component.objects : [index],
       component,
     };
   }
@@ -426,12 +529,12 @@ export class CellView {
     }
     panel.hidden = false;
     this.picked = what;
-    $("pick-zoom").hidden = !what.component;
+    $("pick-zoom").hidden = !this.whereIs(what);
     $("pick-title").textContent = `${what.label}`;
     $("pick-iri").textContent = what.iri || "";
     panel.dataset.iri = what.iri || "";
     panel.dataset.kind = what.kind;
-    this.highlight(what.component || null, what.route || null);
+    this.highlight(what);
     if (what.component) await this.showPins(what.component.label);
     await this.describe(what.iri);
   }
@@ -439,23 +542,11 @@ export class CellView {
   async describe(iri) {
     const body = $("pick-facts").tBodies[0];
     body.replaceChildren();
-    if (!iri) return;
+    this.facts = [];
+    if (!iri || iri.startsWith("_:")) return;
     try {
-      const answer = await readAnswer(await postQuery(`DESCRIBE <${iri}>`));
-      const rows = answer.rows.filter(([s]) => s.type === "uri" && s.value === iri);
-      for (const [, p, o] of rows.slice(0, 80)) {
-        const tr = document.createElement("tr");
-        const name = document.createElement("td");
-        name.textContent = shorten(p.value);
-        const value = document.createElement("td");
-        value.textContent = termText(o);
-        if (o.type === "uri") {
-          value.className = "iri";
-          value.addEventListener("click", () => this.onIri(o.value));
-        }
-        tr.append(name, value);
-        body.appendChild(tr);
-      }
+      this.facts = await factsOf(iri);
+      this.showFacts();
     } catch (err) {
       const tr = document.createElement("tr");
       tr.textContent = err.message;
@@ -463,13 +554,51 @@ export class CellView {
     }
   }
 
-  /** Colour a component's objects (and thicken a wire), all else as it was. */
-  highlight(component, route = null) {
+  /** The picked thing's facts, one row each; the named graphs stating it with "graphs" ticked. */
+  showFacts() {
+    const body = $("pick-facts").tBodies[0];
+    const graphs = $("pick-graphs").checked;
+    body.replaceChildren();
+    for (const { p, o, graphs: stated } of this.facts || []) {
+      const tr = document.createElement("tr");
+      const name = document.createElement("td");
+      name.textContent = shorten(p.value);
+      const value = document.createElement("td");
+      value.textContent = valueText(p.value, o);
+      value.title = termTitle(o);
+      if (o.type === "uri") {
+        value.className = "iri";
+        value.addEventListener("click", () => this.onIri(o.value));
+      } else if (isTypedNumber(o)) {
+        value.className = "num";
+      }
+      tr.append(name, value);
+      if (graphs) {
+        const where = document.createElement("td");
+        where.className = "graphs";
+        where.textContent = stated.map(shorten).join(", ");
+        tr.appendChild(where);
+      }
+      body.appendChild(tr);
+    }
+    $("pick-facts").dataset.count = String((this.facts || []).length);
+  }
+
+  /** Show what was picked, all else as it was: its objects coloured, a wire as a tube, a point
+   * or a harness node ringed by a ball drawn over everything. */
+  highlight(what) {
     const colours = new Map();
-    if (component) for (const index of component.objects) colours.set(index, COLOURS.highlight);
+    for (const index of (what && what.objects) || []) colours.set(index, COLOURS.highlight);
     this.objects.paint(colours);
     this.clearExtras();
-    if (route) this.addRoute(this.routes.paths[this.data.routes.indexOf(route)]);
+    if (what && what.route) this.addRoute(this.routes.paths[this.data.routes.indexOf(what.route)]);
+    if (what && what.position) {
+      const marker = balls([{ position: what.position, colour: COLOURS.picked }], Math.max(this.size * 0.012, 0.004), "picked");
+      Object.assign(marker.material, { depthTest: false, transparent: true, opacity: 0.55 });
+      marker.renderOrder = 9;
+      this.extras.add(marker);
+    }
+    this.container.dataset.highlighted = what ? what.iri || what.label : "";
     this.requestRender();
   }
 
@@ -515,31 +644,42 @@ export class CellView {
     this.setLabels();
   }
 
-  /** Show a component a result row names: colour it, look at it, show its pins and facts. */
+  /** Show what a search or a result row names (a label or an IRI of anything drawn): highlight
+   * it, look at it, show its facts (and a component's pins). */
   async locate(named) {
-    const component = this.data.components.find((c) => c.label === named.label || c.iri === named.iri);
-    if (!component) {
-      $("cell-status").textContent = `${named.label} is not placed in the 3D scene`;
+    const thing = this.things.find(named.label) || this.things.find(named.iri);
+    if (!thing) {
+      $("cell-status").textContent = `${named.label || named.iri} is not drawn in the 3D view; `
+        + "search offers everything that is";
       return;
     }
-    this.zoomTo(component);
-    await this.select({ kind: "component", label: component.label, iri: component.iri, component });
+    this.zoomTo(thing);
+    await this.select(thing);
   }
 
-  /** Bring the camera close to a component, with some of its neighbourhood around it. */
-  zoomTo(component) {
+  /** Where a thing is, as a box in the root's frame (null when it is nowhere). */
+  whereIs(thing) {
     const box = new THREE.Box3();
     const corner = new THREE.Vector3();
-    for (const index of component.objects) {
+    if (thing.position) box.expandByPoint(thing.position);
+    for (const p of thing.path || []) box.expandByPoint(p);
+    for (const index of thing.objects || []) {
       const object = this.data.objects[index];
       const m = this.matrixOf(object.frame);
       if (!m) continue;
       const [x0, y0, z0, x1, y1, z1] = object.box || [0, 0, 0, 0, 0, 0];
       for (const x of [x0, x1]) for (const y of [y0, y1]) for (const z of [z0, z1]) box.expandByPoint(corner.set(x, y, z).applyMatrix4(m));
     }
-    if (box.isEmpty()) return;
+    return box.isEmpty() ? null : box;
+  }
+
+  /** Bring the camera close to a thing, with some of its neighbourhood around it. */
+  zoomTo(thing) {
+    const box = this.whereIs(thing);
+    if (!box) return;
     const size = box.getSize(new THREE.Vector3()).length();
-    box.expandByScalar(Math.max(size * 0.3, this.size * 0.01));
+    // A point (a key, a pin, a node) is shown with a twentieth of the cell around it.
+    box.expandByScalar(size > 0 ? Math.max(size * 0.3, this.size * 0.01) : this.size * 0.05);
     box.applyMatrix4(this.root.matrixWorld);
     this.fit(box);
   }
@@ -581,8 +721,13 @@ export class CellView {
     layer("layer-axes", (on) => { this.axes.visible = on; });
     layer("layer-labels", () => this.setLabels());
     $("cell-fit").addEventListener("click", () => this.fit());
+    for (const preset of Object.keys(PRESETS)) $(`view-${preset}`).addEventListener("click", () => this.view(preset));
+    $("view-ortho").addEventListener("change", () => this.setOrthographic($("view-ortho").checked));
+    $("cell-screenshot").addEventListener("click", () => this.screenshot());
+    $("cell-measure").addEventListener("change", () => this.ruler.clear());
+    $("pick-graphs").addEventListener("change", () => this.showFacts());
     $("pick-zoom").addEventListener("click", () => {
-      if (this.picked && this.picked.component) this.zoomTo(this.picked.component);
+      if (this.picked) this.zoomTo(this.picked);
     });
     $("cell-show").addEventListener("click", () => {
       const label = $("cell-component").value.trim();
@@ -609,11 +754,13 @@ export class CellView {
       }
       centre.applyMatrix4(this.matrixOf(object.frame));
     } else {
-      const found = this.harnesses.flatMap((h, i) => this.data.harnesses[i].nodes.map((n, j) => [n, h.positions[j]]))
-        .find(([n]) => n.label === label || n.connectors.includes(label));
-      const point = this.points.find((p) => p.label === label);
-      if (!found && !point) return null;
-      centre.copy(found ? found[1] : point.position);
+      // Anything else drawn: a point or a node where it is, an item at its box's middle, a
+      // wire at its middle keypoint (on the line, where a click finds it).
+      const thing = this.things.find(label);
+      const box = thing && this.whereIs(thing);
+      if (!box) return null;
+      if (thing.path) centre.copy(thing.path[Math.floor(thing.path.length / 2)]);
+      else box.getCenter(centre);
     }
     this.root.localToWorld(centre);
     centre.project(this.camera);

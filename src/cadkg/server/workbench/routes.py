@@ -4,6 +4,8 @@
 - ``GET /api/queries/<name>/bound?param=value``: a named query's text with its parameters
   bound as the ``VALUES`` block the server itself would add, so the page shows (and keeps,
   when the text is edited) exactly what runs.
+- ``GET /api/cell``: the served cell's name, profile and use case, and the profile each named
+  query belongs to (``""``: cadkg's own, for any cell), so the page offers the cell's own.
 - ``GET /api/scene``: the cell in 3D (:func:`cadkg.server.workbench.scene.cell_scene`).
 - ``GET /api/mesh/<path>``: one binary STL mesh of the served store's files directory, by its
   ``ck:meshUri``.
@@ -12,11 +14,13 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 from urllib.parse import parse_qsl
 
 from starlette.requests import Request
 from starlette.responses import Response
 
+from cadkg import registry
 from cadkg.errors import CadkgError, NotFound
 from cadkg.query.named import NamedQuery, coerce_params, named_queries
 from cadkg.server.context import Answer, Endpoint, json_response, status_of
@@ -26,7 +30,13 @@ from cadkg.server.workbench.scene import cell_scene, mesh_bytes
 from cadkg.server.workbench.terms import completion_terms
 from cadkg.sparql_text import bind_values, values_clause
 
-__all__ = ["bound", "find_named", "mesh", "scene", "terms"]
+__all__ = ["bound", "cell", "cell_info", "find_named", "mesh", "scene", "terms"]
+
+_CELL = """
+SELECT ?name ?profile ?description WHERE {
+  ?c a ck:Cell . OPTIONAL { ?c ck:label ?name } OPTIONAL { ?c ck:profile ?profile }
+  OPTIONAL { ?c ck:description|rdfs:comment ?description }
+} LIMIT 1"""
 
 
 def _error(err: Exception) -> Response:
@@ -34,15 +44,20 @@ def _error(err: Exception) -> Response:
     return json_response({"error": str(err)}, status, headers)
 
 
-async def terms(request: Request) -> Response:
-    """``GET /api/terms``: prefixes, classes, properties and component labels for completion."""
+async def _of_graph(request: Request, build: Callable[[Any], Any], key: str) -> Response:
+    """What ``build`` makes of the served graph, as JSON, cached under ``key``."""
     endpoint: Endpoint = request.app.state.endpoint
     try:
         return await endpoint.run_json(
-            lambda served: completion_terms(served.graph), ("terms",), Deadline(endpoint.limits.timeout)
+            lambda served: build(served.graph), (key,), Deadline(endpoint.limits.timeout)
         )
     except CadkgError as err:
         return _error(err)
+
+
+async def terms(request: Request) -> Response:
+    """``GET /api/terms``: prefixes, classes, properties and component labels for completion."""
+    return await _of_graph(request, completion_terms, "terms")
 
 
 async def scene(request: Request) -> Response:
@@ -57,6 +72,41 @@ async def scene(request: Request) -> Response:
         )
     except CadkgError as err:
         return _error(err)
+
+
+def _query_profiles() -> dict[str, str]:
+    """Each named query's profile: its use case's name, or ``""`` for cadkg's own."""
+    owners: dict[str, str] = {}
+    for case in registry.use_cases():
+        if case.queries is not None:
+            for entry in case.queries.iterdir():
+                if entry.name.endswith(".rq"):
+                    owners[entry.name[:-3]] = case.name
+    return {name: owners.get(name, "") for name in named_queries()}
+
+
+def cell_info(graph: Any) -> dict[str, Any]:
+    """The cell's name, profile (``""`` when the graph names none), use case title and description,
+    and the profile of each named query."""
+    rows = graph.query(_CELL).rows
+    row = rows[0] if rows else {}
+    profile = str(row.get("profile") or "")
+    try:
+        title = registry.use_case(profile).title if profile else ""
+    except KeyError:
+        title = ""
+    return {
+        "name": str(row.get("name") or ""),
+        "profile": profile,
+        "title": title,
+        "description": str(row.get("description") or ""),
+        "queries": _query_profiles(),
+    }
+
+
+async def cell(request: Request) -> Response:
+    """``GET /api/cell``: what the page says of the cell, and which named queries are its own."""
+    return await _of_graph(request, cell_info, "cell")
 
 
 def find_named(name: str) -> NamedQuery:

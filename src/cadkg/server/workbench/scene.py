@@ -35,6 +35,10 @@ SELECT DISTINCT ?item ?id ?minX ?minY ?minZ ?maxX ?maxY ?maxZ WHERE {
                    ck:maxX ?maxX ; ck:maxY ?maxY ; ck:maxZ ?maxZ }
 }"""
 _COMPONENTS = "SELECT DISTINCT ?component ?label WHERE { ?component a ck:Component ; ck:label ?label }"
+_COLOURS = """
+SELECT ?thing ?colour ?label WHERE {
+  ?thing ck:colour ?colour . OPTIONAL { ?thing ck:label|ck:wireNumber ?label }
+}"""
 _BOX = ("minX", "minY", "minZ", "maxX", "maxY", "maxZ")
 _DIGITS = 6  # a micrometre: finer than any CAD file here states
 
@@ -125,6 +129,22 @@ def _items(graph: Any) -> dict[str, dict[str, Any]]:
         if entry["box"] is None and row["minX"] is not None:
             entry["box"] = _round(row[key] for key in _BOX)
     return items
+
+
+def _coloured(graph: Any, routes: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Each route with the ``ck:colour`` of its wire or cable (by IRI, else by label), as written
+    (``BU``, ``GNYE``, ``sw/rt``): the page draws a wire in its colour."""
+    by_iri: dict[str, str] = {}
+    by_label: dict[str, str] = {}
+    for row in graph.query(_COLOURS).rows:
+        by_iri.setdefault(str(row["thing"]), str(row["colour"]))
+        if row["label"] is not None:
+            by_label.setdefault(str(row["label"]), str(row["colour"]))
+    for route in routes:
+        colour = by_iri.get(str(route.get("iri"))) or by_label.get(str(route["label"]))
+        if colour:
+            route["colour"] = colour
+    return routes
 
 
 def cell_scene(graph: Any, session: Any) -> dict[str, Any]:
@@ -229,7 +249,7 @@ def cell_scene(graph: Any, session: Any) -> dict[str, Any]:
         "objects": objects,
         "meshes": meshes.entries,
         "components": sorted(components.values(), key=lambda c: c["label"]),
-        "routes": routes + extras["routes"],
+        "routes": _coloured(graph, routes + extras["routes"]),
         "points": extras["points"],
         "harnesses": extras["harnesses"],
         "problems": problems,
