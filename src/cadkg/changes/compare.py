@@ -80,6 +80,9 @@ def _pair_by(
         news = by_new.get(key)
         if not news or (unique and (len(olds) > 1 or len(news) > 1)):
             continue
+        if len(olds) == 1 and len(news) == 1:
+            pairs.append((olds[0], news[0]))
+            continue
         # Several things under one key (two wires 0V between the same terminals): the alike first.
         olds, news = sorted(olds, key=_sig), sorted(news, key=_sig)
         pairs.extend(zip(olds, news, strict=False))
