@@ -75,11 +75,11 @@ class _Columns:
     """Where a query's rows hold what: attributes, and whether a pose and a reference pose."""
 
     def __init__(self, row: Mapping[str, Any]) -> None:
-        skip = {"id", "thing", "reference", *POSE, *REFERENCE}
+        skip = {"id", "thing", "relativeTo", *POSE, *REFERENCE}
         self.attributes = tuple(name for name in row if name not in skip)
         self.pose = all(name in row for name in POSE)
         self.reference = all(name in row for name in REFERENCE)
-        self.referent = "reference" in row
+        self.referent = "relativeTo" in row
         # Rows of references' poses, not of things.
         self.table = self.referent and self.reference and "thing" not in row
 
@@ -109,8 +109,8 @@ class _Gathered:
             self.pose = _pose(row, POSE)
         if columns.reference and self.reference is None:
             self.reference = _pose(row, REFERENCE)
-        if columns.referent and self.referent is None and row["reference"] is not None:
-            self.referent = str(row["reference"])
+        if columns.referent and self.referent is None and row["relativeTo"] is not None:
+            self.referent = str(row["relativeTo"])
 
     def thing(self, kind: ThingKind, references: Mapping[str, Pose]) -> Thing:
         attributes: dict[str, Value] = {}
@@ -174,8 +174,8 @@ def _read_things(graph: Any, kind: ThingKind) -> list[Thing]:
         if columns.table:
             for row in rows:
                 pose = _pose(row, REFERENCE)
-                if row["reference"] is not None and pose is not None:
-                    references.setdefault(str(row["reference"]), pose)
+                if row["relativeTo"] is not None and pose is not None:
+                    references.setdefault(str(row["relativeTo"]), pose)
             continue
         for row in rows:
             found = gathered.get(row.get("thing"))
