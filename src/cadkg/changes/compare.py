@@ -15,7 +15,7 @@ from typing import Any
 
 from cadkg.changes.changeset import Change, ChangeSet
 from cadkg.changes.kinds import ThingKind, kinds_for
-from cadkg.changes.things import Thing, read_things
+from cadkg.changes.things import Thing, collector_paused, read_things
 from cadkg.geometry.poses import Pose
 
 __all__ = ["Tolerances", "diff_graphs", "diff_things", "profiles_of"]
@@ -53,9 +53,10 @@ def diff_graphs(
     if kinds is None:
         kinds = kinds_for(sorted({*profiles_of(old), *profiles_of(new)}))
     changes = ChangeSet(*names)
-    for kind in kinds:
-        for change in diff_things(kind, read_things(old, kind), read_things(new, kind), tolerances):
-            changes.of(change)
+    with collector_paused():
+        for kind in kinds:
+            for change in diff_things(kind, read_things(old, kind), read_things(new, kind), tolerances):
+                changes.of(change)
     return changes
 
 
@@ -79,6 +80,9 @@ def _pair_by(
     for key, olds in by_old.items():
         news = by_new.get(key)
         if not news or (unique and (len(olds) > 1 or len(news) > 1)):
+            continue
+        if len(olds) == 1 and len(news) == 1:
+            pairs.append((olds[0], news[0]))
             continue
         # Several things under one key (two wires 0V between the same terminals): the alike first.
         olds, news = sorted(olds, key=_sig), sorted(news, key=_sig)

@@ -21,6 +21,9 @@ or with several values of an attribute, is gathered by ``?thing``, else by its i
 - ``?tx ?ty ?tz ?qx ?qy ?qz ?qw`` its pose (optional), compared within the move and turn
   tolerances; ``?rtx`` ... ``?rqw`` a reference pose it is compared relative to (a pin
   inside its component);
+- ``?relativeTo`` the IRI of a thing whose pose is that reference, given by a query of the
+  file selecting ``?relativeTo ?rtx ... ?rqw`` and no ``?thing`` (each component's pose read
+  once, not joined to each of its pins); a thing whose reference has no pose has no pose;
 - ``?key_*`` values to match by that are no attribute;
 - every other variable an attribute.
 

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import gc
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from datetime import date, datetime
 from decimal import Decimal
@@ -11,7 +13,7 @@ from typing import Any
 from cadkg.changes.kinds import POSE, REFERENCE, ThingKind
 from cadkg.geometry.poses import Pose
 
-__all__ = ["Thing", "Value", "normal", "read_things"]
+__all__ = ["Thing", "Value", "collector_paused", "normal", "read_things"]
 
 # An attribute's value: one text, or the sorted texts of a thing stated with several.
 Value = str | tuple[str, ...] | None
@@ -19,6 +21,8 @@ Value = str | tuple[str, ...] | None
 
 def normal(value: Any) -> str:
     """``value`` as comparable text: numbers without the noise of their type or float rounding."""
+    if type(value) is str:
+        return value
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, Decimal):
@@ -67,6 +71,19 @@ def _pose(row: Mapping[str, Any], names: tuple[str, ...]) -> Pose | None:
     return Pose((x, y, z), (qx, qy, qz, qw))
 
 
+class _Columns:
+    """Where a query's rows hold what: attributes, and whether a pose and a reference pose."""
+
+    def __init__(self, row: Mapping[str, Any]) -> None:
+        skip = {"id", "thing", "relativeTo", *POSE, *REFERENCE}
+        self.attributes = tuple(name for name in row if name not in skip)
+        self.pose = all(name in row for name in POSE)
+        self.reference = all(name in row for name in REFERENCE)
+        self.referent = "relativeTo" in row
+        # Rows of references' poses, not of things.
+        self.table = self.referent and self.reference and "thing" not in row
+
+
 class _Gathered:
     """The rows of one thing, merged."""
 
@@ -74,20 +91,28 @@ class _Gathered:
         self.id = normal(row["id"])
         self.iri = None if row.get("thing") is None else str(row["thing"])
         self.values: dict[str, set[str]] = {}
-        self.pose = _pose(row, POSE)
-        self.reference = _pose(row, REFERENCE)
+        self.pose: Pose | None = None
+        self.reference: Pose | None = None
+        self.referent: str | None = None
 
-    def add(self, row: Mapping[str, Any]) -> None:
-        for name, value in row.items():
-            if name in ("id", "thing") or name in POSE or name in REFERENCE:
-                continue
-            bucket = self.values.setdefault(name, set())
+    def add(self, row: Mapping[str, Any], columns: _Columns) -> None:
+        values = self.values
+        for name in columns.attributes:
+            bucket = values.get(name)
+            if bucket is None:
+                bucket = values[name] = set()
+            value = row[name]
             if value is not None:
                 bucket.add(normal(value))
-        self.pose = self.pose or _pose(row, POSE)
-        self.reference = self.reference or _pose(row, REFERENCE)
+        # Only the columns a query selects: most rows carry no pose.
+        if columns.pose and self.pose is None:
+            self.pose = _pose(row, POSE)
+        if columns.reference and self.reference is None:
+            self.reference = _pose(row, REFERENCE)
+        if columns.referent and self.referent is None and row["relativeTo"] is not None:
+            self.referent = str(row["relativeTo"])
 
-    def thing(self, kind: ThingKind) -> Thing:
+    def thing(self, kind: ThingKind, references: Mapping[str, Pose]) -> Thing:
         attributes: dict[str, Value] = {}
         keys: dict[str, Value] = {}
         for name, values in self.values.items():
@@ -95,30 +120,68 @@ class _Gathered:
                 None if not values else next(iter(values)) if len(values) == 1 else tuple(sorted(values))
             )
             (keys if name.startswith("key_") else attributes)[name] = value
-        pose = self.pose
-        if pose is not None and self.reference is not None:
-            pose = self.reference.inverse() * pose
+        pose, reference = self.pose, self.reference
+        if self.referent is not None:
+            reference = references.get(self.referent)
+            # Relative to a reference without a pose: nothing to compare.
+            pose = None if reference is None else pose
+        if pose is not None and reference is not None:
+            pose = reference.inverse() * pose
         return Thing(kind.name, self.id, self.iri, attributes, pose, keys)
+
+
+@contextmanager
+def collector_paused() -> Iterator[None]:
+    """Python's cyclic garbage collector off for the block, as it was after.
+
+    Reading a revision makes a few objects per row and frees them without cycles; each full
+    collection the allocations trigger would walk every object alive in the process, which
+    after building a cabinet is millions: most of the Python time of a diff.
+    """
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
 
 
 def read_things(graph: Any, kind: ThingKind) -> list[Thing]:
     """The things of ``kind`` in ``graph`` (anything with ``query``), ids made unique with the
     kind's ``detail`` where several share one."""
+    with collector_paused():
+        return _read_things(graph, kind)
+
+
+def _read_things(graph: Any, kind: ThingKind) -> list[Thing]:
     gathered: dict[Any, _Gathered] = {}
     first, *more = kind.queries
-    for row in graph.query(first).rows:
+    rows = graph.query(first).rows
+    columns = _Columns(rows[0] if rows else {})
+    for row in rows:
         if row.get("id") is None:
             continue
         handle = row.get("thing") or ("id", normal(row["id"]))
-        if handle not in gathered:
-            gathered[handle] = _Gathered(row)
-        gathered[handle].add(row)
+        found = gathered.get(handle)
+        if found is None:
+            found = gathered[handle] = _Gathered(row)
+        found.add(row, columns)
+    references: dict[str, Pose] = {}
     for query in more:
-        for row in graph.query(query).rows:
+        rows = graph.query(query).rows
+        columns = _Columns(rows[0] if rows else {})
+        if columns.table:
+            for row in rows:
+                pose = _pose(row, REFERENCE)
+                if row["relativeTo"] is not None and pose is not None:
+                    references.setdefault(str(row["relativeTo"]), pose)
+            continue
+        for row in rows:
             found = gathered.get(row.get("thing"))
             if found is not None:
-                found.add(row)
-    things = [g.thing(kind) for g in gathered.values()]
+                found.add(row, columns)
+    things = [g.thing(kind, references) for g in gathered.values()]
     if kind.id_name != "id":
         for thing in things:
             thing.attributes[kind.id_name] = thing.id
