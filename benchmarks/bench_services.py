@@ -280,7 +280,7 @@ class Baseline:
             connections.append(
                 (
                     wire["row"]["wire"],
-                    wire["row"]["idx"],
+                    wire["row"]["idx"] - 1,  # list positions count from 0
                     f"{origin['label']}:{_named(origin['name'], origin['level'])}",
                     f"{destination['label']}:{_named(destination['name'], destination['level'])}",
                     bool(origin.get("missing") or destination.get("missing")),
@@ -348,10 +348,11 @@ class Baseline:
     def full_connection_provider(self, source: str, position: int, occupancy: bool) -> Key:
         at = {"idx": position, "list": self.graphs[source]}
         rows = _by_kind(self.kg.query(Q_WIRE_DESTINATION if occupancy else Q_WIRE_ORIGIN, **at).rows)
-        poses = self.kg.query(Q_DESTINATION_POSE if occupancy else Q_ORIGIN_POSE, **at).rows
         row = rows["pin"]
         level = rows["level"]["level"] if "level" in rows else None
-        pose = _pose(poses[0], "q") if poses else None
+        # The end's component pose is its approach (target) pose, as the reference node gives it.
+        target = _by_kind(self.kg.query(Q_REFERENCE, label=row["label"]).rows).get("target")
+        pose = _pose(target, "q") if target else None
         return row["wire"], row["label"], _named(row["name"], level), "missing" in rows, _rp(pose)
 
     def group_connection_provider(self, source: str, position: int) -> Key:
@@ -383,7 +384,7 @@ class Baseline:
 
     def reset_to_connection_list(self, number: str) -> Key:
         rows = self.kg.query(Q_WIRE_NUMBER, num=number).rows
-        return rows[0]["idx"] if rows else None
+        return rows[0]["idx"] - 1 if rows else None  # a list position counts from 0
 
     def rail_scanner(self, rail: str) -> Key:
         rows = self.kg.query(Q_RAIL, rl=rail).rows
@@ -523,6 +524,18 @@ def build_cases(
             check=lambda i: iema.get_item_screw_service(model, labels[i][0], detected[i]),
         )
     )
+    cases.append(
+        Case(
+            "get_item_screw_targets",
+            lambda i: call(
+                session,
+                "get_item_screw_targets",
+                {"label": labels[i][0], "cad_pose": _pose_text(detected[i])},
+            ),
+            lambda i: iema.get_item_screw_targets(model, labels[i][0], detected[i]),
+            None,
+        )
+    )
     label_case("get_terminal_data", iema.get_terminal_data, block_labels)
     label_case("cluster_service", iema.cluster_service, labels)
     label_case("cad_reference", iema.cad_reference, labels)
@@ -538,7 +551,8 @@ def build_cases(
 
     def at_step(i: int, per_step: int) -> tuple[str, int]:
         step = robot[(i // per_step) % len(robot)]
-        return step.source, step.position
+        # The graph counts a list's rows from 1 (ck:sequenceIndex); list positions count from 0.
+        return step.source, step.position + 1
 
     both = rewind_connections("call")
 
@@ -589,7 +603,7 @@ def build_cases(
     )
 
     def reset_to_check(i: int) -> Any:
-        cursors.reset_to_connection_list(session, float(numbers[i].wire), "", "check")
+        cursors.reset_to_connection_list(session, float(numbers[i].wire), client="check")
         step = cursors.state(session, "check").step
         return robot[step].position
 
@@ -597,9 +611,27 @@ def build_cases(
         Case(
             "reset_to_connection_list",
             lambda i: call(session, "reset_to_connection_list", {"data": numbers[i].wire}, "call"),
-            lambda i: cursors.reset_to_connection_list(session, float(numbers[i].wire), "", "direct"),
+            lambda i: cursors.reset_to_connection_list(session, float(numbers[i].wire), client="direct"),
             lambda i: baseline.reset_to_connection_list(numbers[i].wire),
             check=reset_to_check,
+        )
+    )
+
+    cases.append(
+        Case(
+            "connection_provider_service",
+            lambda i: call(session, "connection_provider_service", {}, "call"),
+            lambda i: cursors.connection_provider_service(session, None, "direct"),
+            None,
+            before_both,
+        )
+    )
+    cases.append(
+        Case(
+            "gearbox_display",
+            lambda i: call(session, "gearbox_display", {}, "call"),
+            lambda i: cursors.gearbox_display(session, "direct"),
+            None,
         )
     )
 

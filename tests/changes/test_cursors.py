@@ -17,7 +17,7 @@ from tests.server.serving import serving_app
 
 AUTH = {"Authorization": "Bearer t0ken"}
 NEW_FIRST = (
-    "1\tA\t=-K2:A1\t1\tA\t=-X1:2:a\tW0\t0,75 mm²\tBU\t+\t24V\t0,2 m\t\tPUNTALINO_vite\tPUNTALINO_vite\n"
+    "1\tQ\t=-K2:A1\t1\tQ\t=-X1:2:a\tW0\t0,75 mm²\tBU\t+\t24V\t0,2 m\t\tPUNTALINO_vite\tPUNTALINO_vite\n"
 )
 
 

@@ -74,7 +74,7 @@ def test_changed_attributes_of_a_wire(tmp_path: Path) -> None:
 
 
 def test_an_added_and_a_removed_wire(tmp_path: Path) -> None:
-    line = "1\tA\t=-K1:A2\t1\tA\t=-K9:1\tW4\t0,75 mm²\tBU\t-\t0V\t0,3 m\t\tPUNTALINO_vite\tPUNTALINO_vite\n"
+    line = "1\tQ\t=-K1:A2\t1\tQ\t=-K9:1\tW4\t0,75 mm²\tBU\t-\t0V\t0,3 m\t\tPUNTALINO_vite\tPUNTALINO_vite\n"
     added = line.replace("W4", "W5").replace("=-K1:A2", "=-K2:A1").replace("=-K9:1", "=-X1:2:a")
     changes = _diff(tmp_path, ("connections.tsv", line, added))
     assert [(c.kind, c.id) for c in changes.added] == [("wire", "W5")]

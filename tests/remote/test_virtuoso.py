@@ -180,7 +180,8 @@ def test_known_answers_come_from_the_store(remote: RemoteGraph) -> None:
 def test_every_iema_service_answers_as_embedded(remote: RemoteGraph, embedded: KnowledgeGraph) -> None:
     here = Session(embedded.cell_model(), kg=embedded)
     there = Session(remote.cell_model(), kg=remote)
-    args = {"detected_pose": "0.01,0,0,0,0,0,1", "occupancy": "false", "data": "1500.51"}
+    pose = "0.01,0,0,0,0,0,1"
+    args = {"detected_pose": pose, "cad_pose": pose, "occupancy": "false", "data": "1500.51"}
     answered = 0
     for service in services_for("iema"):
         params = {k: args.get(k, SERVICE_LABELS.get(service.name, "F1500.1")) for k in service.params}

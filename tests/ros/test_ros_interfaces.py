@@ -88,6 +88,7 @@ def test_srv_matches_service_and_converter(name: str) -> None:
             "float": "float64",
             "int": "int32",
             "Pose": "geometry_msgs/Pose",
+            "Paths": "string[]",
         }
         assert request[param] == expected[kind.__name__], param
 

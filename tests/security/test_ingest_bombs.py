@@ -2,7 +2,9 @@
 
 Every variant is read in a process of its own, as a build reads it (``read_source``: the
 sniff when no kind is given, then the reader in a child under the read limit); that process
-reports its own peak and its children's, so the test process's size hides nothing.
+reports its own peak and its children's, so the test process's size hides nothing and adds
+nothing (its own peak is read from ``VmHWM``, which starts anew at exec, where ``ru_maxrss``
+would carry over the test runner's).
 """
 
 from __future__ import annotations
@@ -33,9 +35,13 @@ try:
     message = f"read {data.report.records} records"
 except CadkgError as err:
     message = str(err)
+# Not RUSAGE_SELF: Linux keeps ru_maxrss across exec, so it would be at least the size of the
+# process that started this one (the test runner); VmHWM is this program's own peak.
+with open("/proc/self/status", "rb") as status:
+    peak = next(int(line.split()[1]) for line in status if line.startswith(b"VmHWM:"))
 print(json.dumps({
     "message": message,
-    "self": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss >> 10,
+    "self": peak >> 10,
     "children": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss >> 10,
 }))
 """

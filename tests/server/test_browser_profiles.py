@@ -31,6 +31,7 @@ from tests.server.serving import cadkg_serve
 CORE = {
     "components",
     "pins-of-component",
+    "plan-steps",
     "sources",
     "wire-endpoints",
     "wires-by-colour-section",

@@ -10,13 +10,18 @@ past its memory limit into one line.
 
 from __future__ import annotations
 
+import codecs
 import contextlib
 import os
 import select
 import signal
 import sys
+import threading
 import traceback
 from collections.abc import Callable
+from typing import TextIO
+
+import click
 
 from cadkg.cli.common import guarded
 from cadkg.errors import QueryError, TimeLimitError
@@ -43,12 +48,28 @@ def run_confined(work: Work, *, seconds: float | None, memory: int, network: boo
     """
     sys.stdout.flush()
     sys.stderr.flush()
+    # A stream without a descriptor (click's test runner, a program that embeds the command) is
+    # written by the child into a pipe this process copies into the stream.
+    relays = {
+        fd: os.pipe() for fd, stream in ((1, sys.stdout), (2, sys.stderr)) if not _has_descriptor(stream)
+    }
     theirs_read, theirs_write = os.pipe()
     pid = os.fork()
     if pid == 0:
         os.close(theirs_read)
+        for fd, (relay_read, relay_write) in relays.items():
+            os.close(relay_read)
+            os.dup2(relay_write, fd)
+            os.close(relay_write)
+            _reopen(fd)
         os._exit(_child(work, theirs_write, memory, network))
     os.close(theirs_write)
+    copies = []
+    for fd, (relay_read, relay_write) in relays.items():
+        os.close(relay_write)
+        copy = threading.Thread(target=_copy, args=(relay_read, sys.stdout if fd == 1 else sys.stderr))
+        copy.start()
+        copies.append(copy)
     status: int | None = None
     try:
         opened = os.read(theirs_read, 1)  # nothing when the child ended before opening its graph
@@ -67,12 +88,45 @@ def run_confined(work: Work, *, seconds: float | None, memory: int, network: boo
             with contextlib.suppress(ProcessLookupError, ChildProcessError):
                 os.kill(pid, signal.SIGKILL)
                 os.waitpid(pid, 0)
+        for copy in copies:  # the child is gone: its pipes are at their end
+            copy.join()
     if os.WIFSIGNALED(status):
         if memory:
             raise exceeded(memory)
         raise QueryError(f"the query's process ended by signal {os.WTERMSIG(status)}")
     if os.WEXITSTATUS(status):
         sys.exit(os.WEXITSTATUS(status))
+
+
+def _has_descriptor(stream: TextIO) -> bool:
+    try:
+        stream.fileno()
+    except (AttributeError, OSError, ValueError):  # io.UnsupportedOperation is both
+        return False
+    return True
+
+
+def _reopen(fd: int) -> None:
+    """In the child: its stdout (1) or stderr (2) on the descriptor, in the stream's encoding."""
+    old = sys.stdout if fd == 1 else sys.stderr
+    stream = os.fdopen(fd, "w", encoding=getattr(old, "encoding", None) or "utf-8", closefd=False)
+    if fd == 1:
+        sys.stdout = stream
+    else:
+        sys.stderr = stream
+
+
+def _copy(source: int, stream: TextIO) -> None:
+    """What the child wrote into the pipe ``source``, into ``stream``; then closes ``source``."""
+    binary = getattr(stream, "buffer", None)
+    text = codecs.getincrementaldecoder(getattr(stream, "encoding", None) or "utf-8")("replace")
+    with os.fdopen(source, "rb") as pipe:
+        for chunk in iter(lambda: pipe.read1(65536), b""):
+            if binary is not None:
+                binary.write(chunk)
+            else:
+                stream.write(text.decode(chunk))
+    stream.flush()
 
 
 def _quiet_native_stderr() -> None:
@@ -109,6 +163,9 @@ def _child(work: Work, ready_fd: int, memory: int, network: bool) -> int:
         evaluate()
     except SystemExit as exit_:
         code = exit_.code if isinstance(exit_.code, int) else 1
+    except click.ClickException as error:  # a usage error (a target that is not there): as click says it
+        error.show()
+        code = error.exit_code
     except BaseException:
         traceback.print_exc()
         code = 1

@@ -20,6 +20,7 @@ from typing import Any
 from cadkg.errors import QueryError
 from cadkg.geometry.frames import normalize_quaternion
 from cadkg.geometry.poses import Pose
+from cadkg.services.service import Paths
 
 __all__ = [
     "FIELDS",
@@ -368,6 +369,8 @@ def request_params(params: Mapping[str, type], request: Any) -> dict[str, Any]:
             values[name] = float(value)
         elif kind is int:
             values[name] = int(value)
+        elif kind is Paths:  # a list over ROS: never joined into one string and split again
+            values[name] = Paths(str(item) for item in value)
         else:
             values[name] = str(value)
     return values

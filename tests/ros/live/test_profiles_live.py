@@ -164,7 +164,7 @@ def test_every_service_of_the_profile_answers(ros: Any, profile: tuple[str, Serv
         assert path.success and close((path.total_length,), (1.168,))
         # Declared as loading files: a node started without allow_assign refuses it.
         refused = call(
-            srv.LoadFiles, "load_files", paths=str(ROOT / "examples" / "elimco-bench" / "pin_info.xml")
+            srv.LoadFiles, "load_files", paths=[str(ROOT / "examples" / "elimco-bench" / "pin_info.xml")]
         )
         assert not refused.success and "allow_assign:=true" in refused.message
     elif name == "vw":

@@ -123,7 +123,7 @@ def test_the_example_cabinet_has_a_complete_violation_free_plan() -> None:
         for s in plan.steps
         if s.decision.rule == "assigned"
     }
-    assert by_hand["0050.01"] == "component S0050.1" and by_hand["SSB10.08"] == "operation 94"
+    assert by_hand["0050.01"] == "component S0050.1" and by_hand["SSB10.08"] == "operation 93"
     assert len(by_hand) == 7
 
 

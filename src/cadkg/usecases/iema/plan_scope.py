@@ -1,10 +1,8 @@
-"""Which wires are the cabinet's robot's to make at all: the cabinet rule of
-:mod:`cadkg.usecases.iema.robot_scope` (the zones of the connection list, else the labels the CAD
-places), as the planner's first rule. The rest go to a person, with the rule and the values.
+"""Which wires are the cabinet's robot's to make at all: the zones it works in, and the labels
+the CAD places. The rest go to a person, with the rule and the values that decided it.
 
-The zones are the cell's (the manifest's ``[derive] robot_zones``, ``Q``/``QE`` by default), as
-the providers, ``full_cad_service`` and ``cadkg validate`` use them; a rules file that names its
-own ``zones`` plans by those instead.
+Kept apart from the rules of tools and geometry (:mod:`cadkg.usecases.iema.plan_tasks`) so the
+cell's own scope decision can replace it whole.
 """
 
 from __future__ import annotations
@@ -14,29 +12,37 @@ from collections.abc import Sequence
 from cadkg.plan.rules import Rules
 from cadkg.plan.tasks import HUMAN, Decision
 from cadkg.usecases.iema.derive.cabinet import CellModel, WireStep
-from cadkg.usecases.iema.robot_scope import scope_reason
 
-__all__ = ["scope_decision"]
+__all__ = ["DEFAULT_ZONES", "scope_decision"]
+
+DEFAULT_ZONES = ("Q", "QE")
 
 
 def scope_decision(
     model: CellModel, step: WireStep, zones: Sequence[str | None], rules: Rules
 ) -> Decision | None:
-    """A person's decision when the wire is outside the robot's cabinet; None when inside.
+    """A person's decision when the wire is outside the robot's zones or names a label the CAD
+    does not place; None when the wire is in the robot's scope.
 
-    ``zones`` are the wire's origin and destination zones as the connection list gives them;
-    the origin's decides, as the cabinet rule reads the list.
+    ``zones`` are the wire's origin and destination zones as the connection list gives them
+    (None when it gives none: the zone rule then does not apply to that end).
     """
-    own = rules.names("zones", ())
-    if own:
-        known = {label for label, geometry in model.components.items() if geometry.items}
-        reason = scope_reason(zones[0], (step.origin.label, step.destination.label), own, known)
-        where = rules.source
-    else:
-        reason, where = step.reason or None, "the cell's robot zones"
-    if reason is None:
+    allowed = rules.names("zones", DEFAULT_ZONES)
+    for end, zone in zip(("origin", "destination"), zones, strict=True):
+        if allowed and zone is not None and zone not in allowed:
+            return Decision(
+                HUMAN,
+                "zone",
+                f"{end} zone {zone} is not one of the robot's zones ({', '.join(allowed)}; {rules.source})",
+            )
+    if rules.choice("label_not_in_cad", HUMAN, ("robot", HUMAN)) != HUMAN:
         return None
-    rule = "zone" if reason.startswith("zone") else "label-not-in-cad"
-    if rule == "label-not-in-cad" and rules.choice("label_not_in_cad", HUMAN, ("robot", HUMAN)) != HUMAN:
-        return None
-    return Decision(HUMAN, rule, f"{reason} ({where})")
+    for end, pin in (("origin", step.origin), ("destination", step.destination)):
+        geometry = model.components.get(pin.label)
+        if geometry is None or not geometry.items:
+            return Decision(
+                HUMAN,
+                "label-not-in-cad",
+                f"{end} {pin.label} is not in the CAD (no item of the WRI table carries it)",
+            )
+    return None
