@@ -48,10 +48,6 @@ DEFAULT_NAMESPACE = "/cadkg"
 MARKER_PERIOD = 2.0
 
 
-# Services whose answer changes what the cell publishes on /tf_static.
-_REPUBLISH = frozenset({"gearbox_display"})
-
-
 def default_namespace(profile: str) -> str:
     """Where a use case's services are served unless the node is told otherwise."""
     try:
@@ -199,7 +195,7 @@ class CadkgNode:
             except CadkgError as err:
                 data = {"success": False, "message": str(err)}
             else:
-                if name in _REPUBLISH:
+                if service.changes_frames:
                     self.publish()
             return convert.fill(response, data, _resolve)
 

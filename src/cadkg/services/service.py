@@ -84,6 +84,9 @@ class Service:
     ros_namespace: str = ""
     ros_name: str = ""
     ros_type: str = ""
+    # Whether a call changes which frames the cell publishes (transports that publish them,
+    # such as /tf_static, publish again after it).
+    changes_frames: bool = False
 
 
 def parse_pose(text: str) -> Pose:
@@ -172,7 +175,9 @@ def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable
         params: Mapping[str, type],
         answer: Callable[..., Any],
         optional: Iterable[str] = (),
-        **ros: str,
+        ros_namespace: str = "",
+        ros_name: str = "",
+        ros_type: str = "",
     ) -> Service:
         return Service(
             name,
@@ -182,7 +187,9 @@ def model_services(profile: str, model_of: Callable[[Session], Any]) -> Callable
             effect=Effect.READS,
             profile=profile,
             optional=frozenset(optional),
-            **ros,
+            ros_namespace=ros_namespace,
+            ros_name=ros_name,
+            ros_type=ros_type,
         )
 
     return make

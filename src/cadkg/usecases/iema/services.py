@@ -120,6 +120,7 @@ SERVICES: tuple[Service, ...] = (
         {},
         cursors.gearbox_display,
         effect=Effect.CURSOR,
+        changes_frames=True,
     ),
     Service(
         "rail_scanner",
