@@ -20,13 +20,14 @@ import numpy as np
 
 from cadkg.geometry.poses import Vec3
 from cadkg.geometry.segments import close_pairs
+from cadkg.mapping.writer import node_iri
 from cadkg.plan.check import order_findings
 from cadkg.plan.order import ASSIGNED
 from cadkg.plan.rules import Rules, load_rules
 from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
 from cadkg.query.validate import Finding
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
-from cadkg.usecases.iema.plan_scope import scope_decision
+from cadkg.usecases.iema.plan_scope import Scope, scope_decision, scope_of
 
 __all__ = ["DEFAULT_RULES", "iema_problem", "order_check"]
 
@@ -76,23 +77,39 @@ def _assigned_by_kind(model: CellModel) -> dict[str, set[str]]:
     return found
 
 
-def _assigned(model: CellModel, step: WireStep, by_kind: dict[str, set[str]]) -> str | None:
-    """What an explicit assignment decided the wire by (``wire 1500.51``), if one did."""
-    if step.iri in model.performers or step.wire in by_kind["wire"]:
-        return f"wire {step.wire}"
-    if str(step.position) in by_kind["operation"]:
-        return f"operation {step.position}"
+def _assigned(model: CellModel, step: WireStep, by_kind: dict[str, set[str]], components: bool) -> str | None:
+    """What an explicit assignment of the wire or its list position decided the wire by
+    (``wire 1500.51``), or with ``components`` one of either end's component, if one did."""
+    if not components:
+        if step.iri in model.performers or step.wire in by_kind["wire"]:
+            return f"wire {step.wire}"
+        if str(step.position) in by_kind["operation"]:
+            return f"operation {step.position}"
+        return None
     for pin in (step.origin, step.destination):
         if pin.label in by_kind["component"]:
             return f"component {pin.label}"
     return None
 
 
+def _performer(model: CellModel, step: WireStep) -> str:
+    """Who an assignment gives the wire to: the derivation's answer, unless the cabinet rule
+    gave it to a person there and a rules file's zones let it in here (then its components')."""
+    if step.performer == HUMAN and step.reason:
+        ends = (node_iri(model.base, "component", pin.label) for pin in (step.origin, step.destination))
+        return HUMAN if any(model.performers.get(e) == HUMAN for e in ends) else ROBOT
+    return step.performer
+
+
 def _decide(
-    model: CellModel, step: WireStep, facts: _Facts, rules: Rules, by_kind: dict[str, set[str]]
+    model: CellModel, step: WireStep, facts: _Facts, rules: Rules, context: tuple[Scope, dict[str, set[str]]]
 ) -> tuple[Decision, tuple[str, ...]]:
-    """Who makes the wire and why, and the tools it needs (origin's, then destination's)."""
-    by_hand = _assigned(model, step, by_kind)
+    """Who makes the wire and why, and the tools it needs (origin's, then destination's).
+
+    In the order of :mod:`cadkg.usecases.iema.robot_scope`: an assignment of the wire or its
+    list position, the cabinet rule, an assignment of an end's component; then the robot's own
+    rules (cross-section, tools, pin data)."""
+    scope, by_kind = context
     tools, missing_tool = [], []
     default_tool = rules.robot.get("default_tool")
     for end, termination in zip(_ENDS, step.terminations, strict=True):
@@ -101,14 +118,17 @@ def _decide(
             missing_tool.append(f"{end} termination {termination or '(none given)'}")
         else:
             tools.append(str(tool))
-    if by_hand is not None:
-        who = "a person" if step.performer == HUMAN else "the robot"
-        return Decision(
-            step.performer, ASSIGNED, f"{by_hand} assigned to {who} by hand; wins over the rules"
-        ), (tuple(tools) if step.performer == ROBOT else ())
-    scoped = scope_decision(model, step, facts.zones, rules)
+    by_hand = _assigned(model, step, by_kind, components=False)
+    scoped = scope_decision(scope, step, facts.zones[0]) if by_hand is None else None
     if scoped is not None:
         return scoped, ()
+    by_hand = by_hand or _assigned(model, step, by_kind, components=True)
+    if by_hand is not None:
+        performer = _performer(model, step)
+        who = "a person" if performer == HUMAN else "the robot"
+        return Decision(performer, ASSIGNED, f"{by_hand} assigned to {who} by hand; wins over the rules"), (
+            tuple(tools) if performer == ROBOT else ()
+        )
     low, high = rules.number("cross_section_min_mm2", 0.0), rules.number("cross_section_max_mm2", 1e9)
     if facts.section is not None and not low <= facts.section <= high:
         return Decision(
@@ -143,12 +163,12 @@ def iema_problem(kg: Any, rules: Rules) -> Problem:
     model: CellModel = kg.cell_model()
     facts = _facts(kg)
     numbers = Counter(step.wire for step in model.steps)
-    by_kind = _assigned_by_kind(model)
+    context = (scope_of(kg, model, rules), _assigned_by_kind(model))
     tasks, decisions = [], {}
     for n, step in enumerate(model.steps):
         key = step.wire if numbers[step.wire] == 1 else f"{step.wire}@{step.position}"
         fact = facts.get(step.iri, _Facts())
-        decision, tools = _decide(model, step, fact, rules, by_kind)
+        decision, tools = _decide(model, step, fact, rules, context)
         where = f"{step.source}:{fact.line}" if fact.line is not None else step.source
         tasks.append(
             Task(
