@@ -36,7 +36,8 @@ def test_the_grid_finds_what_checking_every_pair_finds() -> None:
     filed = np.stack([lows, lows + rng.normal(scale=0.03, size=(300, 3))], axis=1)
     starts = rng.uniform(-0.5, 0.5, size=(200, 3))
     queries = np.stack([starts, starts + rng.normal(scale=0.05, size=(200, 3))], axis=1)
-    found = [(q, n) for q, n, _ in close_pairs(queries, filed, 0.01, chunk=64)]
+    near_q, near_n, _ = close_pairs(queries, filed, 0.01, chunk=64)
+    found = list(zip(near_q.tolist(), near_n.tolist(), strict=True))
     pairs = [(q, n) for q in range(len(queries)) for n in range(len(filed))]
     a, b = (np.array([queries[q][k] for q, _ in pairs]) for k in (0, 1))
     c, d = (np.array([filed[n][k] for _, n in pairs]) for k in (0, 1))

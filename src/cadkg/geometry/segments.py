@@ -7,7 +7,6 @@ pairs are computed at once (numpy), the pairs worth computing found through a gr
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from itertools import product
 
 import numpy as np
@@ -56,17 +55,18 @@ def segment_distances(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.nda
 
 def close_pairs(
     queries: np.ndarray, filed: np.ndarray, distance: float, chunk: int = 4096
-) -> Iterator[tuple[int, int, float]]:
-    """``(query, filed, gap)`` for every filed segment passing closer than ``distance`` to a query
-    segment (arrays of shape (n, 2, 3): start and end of each), by query, then filed number.
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(query, filed, gap)`` arrays: every filed segment passing closer than ``distance`` to a
+    query segment (arrays of shape (n, 2, 3): start and end of each), by query, then filed number.
 
     Each filed segment is binned by the lowest corner of its box grown by ``distance``, in cubes
     as large as the longest segment and twice the distance: a filed segment near a query is then
     in one of the 27 cubes around the query's lowest corner, found by sorting, not by looking at
     every pair.
     """
+    none = np.zeros(0, dtype=np.int64)
     if not len(queries) or not len(filed):
-        return
+        return none, none, np.zeros(0)
     longest = max(
         float(np.abs(filed[:, 1] - filed[:, 0]).max()), float(np.abs(queries[:, 1] - queries[:, 0]).max())
     )
@@ -77,6 +77,7 @@ def close_pairs(
     code = _codes(keys - low, span)
     order = np.argsort(code, kind="stable")
     sorted_codes = code[order]
+    found: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
     for first in range(0, len(queries), chunk):
         block = queries[first : first + chunk]
         corner = np.floor(block.min(axis=1) / cube).astype(np.int64) - low
@@ -102,8 +103,12 @@ def close_pairs(
         gaps = segment_distances(block[q, 0], block[q, 1], filed[f, 0], filed[f, 1])
         near = gaps < distance
         q, f, gaps = q[near] + first, f[near], gaps[near]
-        for k in np.lexsort((f, q)).tolist():
-            yield int(q[k]), int(f[k]), float(gaps[k])
+        by = np.lexsort((f, q))
+        found.append((q[by], f[by], gaps[by]))
+    if not found:
+        return none, none, np.zeros(0)
+    q, f, gaps = (np.concatenate(parts) for parts in zip(*found, strict=True))
+    return q, f, gaps
 
 
 def _codes(cells: np.ndarray, span: np.ndarray) -> np.ndarray:

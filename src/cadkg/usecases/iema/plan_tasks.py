@@ -196,69 +196,86 @@ def order_check(kg: Any) -> list[Finding]:
     return order_findings(problem, "iema-order", "warning")
 
 
-def _exit(step: WireStep, end: int, length: float) -> tuple[Vec3, Vec3] | None:
-    """The straight run of a wire leaving its ``end`` (0 origin, 1 destination), clipped."""
-    pin = (step.origin, step.destination)[end]
-    pose = pin.hole or pin.screw
-    if pose is None:
-        return None
-    route = [k.position for k in step.keypoints]
-    if end == 1:
-        route.reverse()
-    other = _point((step.destination, step.origin)[end])
-    towards = route[1] if len(route) >= 2 else other
-    if towards is None:
-        return None
-    start = pose.position
-    gap = [towards[k] - start[k] for k in range(3)]
-    norm = sum(g * g for g in gap) ** 0.5
-    if norm < 1e-9:
-        return None
-    scale = min(1.0, length / norm)
-    return start, (start[0] + gap[0] * scale, start[1] + gap[1] * scale, start[2] + gap[2] * scale)
+def _ends(model: CellModel) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Per wire end (row ``2 n + end``, end 0 the origin): the position and orientation of the
+    pin's screw (else hole), where the wire leaves it (its hole, else screw) and the next point
+    of its route (the first duct keypoint, else the other end); NaN where a pin has no data."""
+    rows = 2 * len(model.steps)
+    frame, turn = np.full((rows, 3), np.nan), np.full((rows, 4), np.nan)
+    leave, towards = np.full((rows, 3), np.nan), np.full((rows, 3), np.nan)
+    for n, step in enumerate(model.steps):
+        pins = (step.origin, step.destination)
+        route = step.keypoints
+        for end, pin in enumerate(pins):
+            row = 2 * n + end
+            pose = pin.screw or pin.hole
+            if pose is None:
+                continue
+            frame[row], turn[row] = pose.position, pose.orientation
+            leave[row] = (pin.hole or pin.screw or pose).position
+            if len(route) >= 2:
+                towards[row] = route[1 if end == 0 else -2].position
+            elif (other := _point(pins[1 - end])) is not None:
+                towards[row] = other
+    return frame, turn, leave, towards
+
+
+def _rotated(turn: np.ndarray, vz: float) -> np.ndarray:
+    """(0, 0, vz) turned by each quaternion (x, y, z, w) of ``turn``, as :meth:`Pose.rotate` does."""
+    x, y, z, w = turn.T
+    cx, cy, cz = y * vz, -x * vz, w * vz
+    return np.stack([2 * (y * cz - z * cy), 2 * (z * cx - x * cz), vz + 2 * (x * cy - y * cx)], axis=1)
 
 
 def _precedence(model: CellModel, keys: list[str], rules: Rules) -> list[Precedence]:
     clearance = rules.number("clearance_m", 0.004)
     depth = rules.number("corridor_depth_m", 0.05)
     length = rules.number("exit_length_m", 0.1)
-    filed: list[tuple[Vec3, Vec3]] = []
-    corridors: list[tuple[int, CadPin]] = []  # per filed corridor: its task and pin
-    for n, step in enumerate(model.steps):
-        for pin in (step.origin, step.destination):
-            if pin.screw is None and pin.hole is None:
-                continue
-            pose = pin.screw or pin.hole
-            assert pose is not None
-            axis = pose.rotate((0.0, 0.0, depth))
-            start = pose.position
-            filed.append((start, (start[0] + axis[0], start[1] + axis[1], start[2] + axis[2])))
-            corridors.append((n, pin))
-    exits: list[tuple[Vec3, Vec3]] = []
-    owners: list[tuple[int, CadPin]] = []  # per exit: its task and the pin it leaves
-    for n, step in enumerate(model.steps):
-        for end, landed in enumerate((step.origin, step.destination)):
-            run = _exit(step, end, length)
-            if run is not None:
-                exits.append(run)
-                owners.append((n, landed))
+    frame, turn, leave, towards = _ends(model)
+    # The approach corridors: from the screw along its z axis.
+    placed = np.flatnonzero(~np.isnan(frame[:, 0]))
+    filed = np.stack([frame[placed], frame[placed] + _rotated(turn[placed], depth)], axis=1)
+    # The exits: from the hole towards the route's next point, at most ``length`` of it.
+    gap = towards - leave
+    norm = np.sqrt(gap[:, 0] * gap[:, 0] + gap[:, 1] * gap[:, 1] + gap[:, 2] * gap[:, 2])
+    running = np.flatnonzero(norm >= 1e-9)  # NaN compares false: ends without data drop out
+    scale = np.minimum(1.0, length / norm[running])[:, None]
+    exits = np.stack([leave[running], leave[running] + gap[running] * scale], axis=1)
+    number, corridor, gaps = close_pairs(exits, filed, clearance)
+    # A wire's own pins and two wires on one pin give no edge.
+    landed, blocked = running[number], placed[corridor]
+    pins = _pin_numbers(model)
+    keep = np.flatnonzero((landed // 2 != blocked // 2) & (pins[landed] != pins[blocked]))
     edges: dict[tuple[int, int], Precedence] = {}
-    found = close_pairs(
-        np.array(exits, dtype=float).reshape(-1, 2, 3),
-        np.array(filed, dtype=float).reshape(-1, 2, 3),
-        clearance,
-    )
-    for number, corridor, gap in found:
-        n, landed = owners[number]
-        first, pin = corridors[corridor]
-        if first == n or (pin.label, pin.pin) == (landed.label, landed.pin) or (first, n) in edges:
+    for k in keep.tolist():
+        end, other = int(landed[k]), int(blocked[k])
+        n, first = end // 2, other // 2
+        if (first, n) in edges:
             continue
-        wire = model.steps[n].wire
+        leaving, pin = _pin(model, end), _pin(model, other)
         edges[(first, n)] = Precedence(
             keys[first],
             keys[n],
-            f"wire {wire} landed on {landed.label}:{landed.pin} passes {gap * 1000:.1f} mm from "
-            f"the approach of {pin.label}:{pin.pin} (clearance {clearance * 1000:g} mm, depth "
-            f"{depth * 1000:g} mm): {model.steps[first].wire} first",
+            f"wire {model.steps[n].wire} landed on {leaving.label}:{leaving.pin} passes "
+            f"{float(gaps[k]) * 1000:.1f} mm from the approach of {pin.label}:{pin.pin} (clearance "
+            f"{clearance * 1000:g} mm, depth {depth * 1000:g} mm): {model.steps[first].wire} first",
         )
     return [edges[k] for k in sorted(edges)]
+
+
+def _pin(model: CellModel, row: int) -> CadPin:
+    step = model.steps[row // 2]
+    return step.destination if row % 2 else step.origin
+
+
+def _pin_numbers(model: CellModel) -> np.ndarray:
+    """Per wire end, a number shared by the ends on one pin."""
+    numbers: dict[tuple[str, str], int] = {}
+    return np.array(
+        [
+            numbers.setdefault((pin.label, pin.pin), len(numbers))
+            for step in model.steps
+            for pin in (step.origin, step.destination)
+        ],
+        dtype=np.int64,
+    )
