@@ -18,11 +18,11 @@ import numpy as np
 from cadkg.geometry.poses import Vec3
 from cadkg.plan.tasks import ROBOT, Decision, Task
 
-__all__ = ["greedy_order"]
+__all__ = ["PERSON", "greedy_order"]
 
 _CELL = 0.1  # m: the side of a square of the grid of ready starts
 _RINGS = 6  # rings of squares looked at before every ready task is
-_PERSON = "a person's task, placed as soon as what comes before it is done"
+PERSON = "a person's task, placed as soon as what comes before it is done"
 
 
 class _Group:
@@ -166,7 +166,7 @@ def greedy_order(
             ready_people, people[:] = sorted(people), []
             for person in ready_people:
                 if not done[person]:
-                    finish(person, _PERSON)
+                    finish(person, PERSON)
             continue
         keeping = [g for g in (number.get(tool, -2), -1) if g in groups and groups[g].count]
         if keeping:
