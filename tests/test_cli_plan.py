@@ -117,3 +117,15 @@ def test_a_cell_whose_use_case_makes_no_task_list_is_one_line() -> None:
         result.returncode == 2
         and result.stderr.strip() == "cadkg: error: the enki use case makes no task list"
     )
+
+
+def test_solve_keeps_a_violation_free_plan_no_worse_than_the_greedy_one(cabinet: Path) -> None:
+    pytest.importorskip("ortools")
+    greedy = run("plan", cabinet, "--format", "json")
+    solved = run("plan", cabinet, "--format", "json", "--solve", "1")
+    assert greedy.returncode == 0 == solved.returncode, solved.stderr
+    before, after = json.loads(greedy.stdout)["summary"], json.loads(solved.stdout)["summary"]
+    assert (after["toolChanges"], after["travelM"]) <= (before["toolChanges"], before["travelM"])
+    assert "none by the plan" in solved.stderr
+    bad = run("plan", cabinet, "--solve", "-1")
+    assert bad.returncode == 2 and "-1" in bad.stderr

@@ -4,6 +4,7 @@ segment within a distance, as a look at all of them does."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from cadkg.geometry.segments import close_pairs, segment_distances
 
@@ -30,13 +31,16 @@ def test_distances_match_sampling_for_crossing_parallel_and_degenerate_segments(
     assert np.all(sampled - computed < 0.01)  # sampling is within a step of the true minimum
 
 
-def test_the_grid_finds_what_checking_every_pair_finds() -> None:
+@pytest.mark.parametrize(("filed_scale", "query_scale"), [(0.03, 0.05), (0.01, 0.4), (0.3, 0.001)])
+def test_the_grid_finds_what_checking_every_pair_finds(filed_scale: float, query_scale: float) -> None:
+    # Queries longer than the filed segments, much longer (spanning many cubes), and shorter.
     rng = np.random.default_rng(3)
     lows = rng.uniform(-0.5, 0.5, size=(300, 3))
-    filed = np.stack([lows, lows + rng.normal(scale=0.03, size=(300, 3))], axis=1)
+    filed = np.stack([lows, lows + rng.normal(scale=filed_scale, size=(300, 3))], axis=1)
     starts = rng.uniform(-0.5, 0.5, size=(200, 3))
-    queries = np.stack([starts, starts + rng.normal(scale=0.05, size=(200, 3))], axis=1)
-    found = [(q, n) for q, n, _ in close_pairs(queries, filed, 0.01, chunk=64)]
+    queries = np.stack([starts, starts + rng.normal(scale=query_scale, size=(200, 3))], axis=1)
+    near_q, near_n, _ = close_pairs(queries, filed, 0.01, chunk=64)
+    found = list(zip(near_q.tolist(), near_n.tolist(), strict=True))
     pairs = [(q, n) for q in range(len(queries)) for n in range(len(filed))]
     a, b = (np.array([queries[q][k] for q, _ in pairs]) for k in (0, 1))
     c, d = (np.array([filed[n][k] for _, n in pairs]) for k in (0, 1))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import importlib.util
 import io
 import json
 import sys
@@ -38,8 +39,17 @@ __all__ = ["plan"]
     default=None,
     help="Say why TASK (wire number, op3 ...) is where it is.",
 )
+@click.option(
+    "--solve",
+    "budget",
+    type=click.FloatRange(min=0),
+    default=0.0,
+    metavar="SECONDS",
+    help="Improve the order with OR-Tools CP-SAT for this much of its deterministic time "
+    "(pip install 'cadkg[solver]').",
+)
 @guarded
-def plan(target: str, rules: Path | None, fmt: str, output: str, task: str | None) -> None:
+def plan(target: str, rules: Path | None, fmt: str, output: str, task: str | None, budget: float) -> None:
     """Make (or refresh) the robot's task list of a cell and print it.
 
     A store keeps it as the named graph {base}plan, which the cursor services follow; a
@@ -49,12 +59,14 @@ def plan(target: str, rules: Path | None, fmt: str, output: str, task: str | Non
     from cadkg.plan.graph import plan_graph
     from cadkg.plan.report import CSV_COLUMNS, as_json, explain, rows, summary
 
+    if budget > 0 and importlib.util.find_spec("ortools") is None:
+        raise click.UsageError("--solve needs OR-Tools: pip install 'cadkg[solver]'")
     path = Path(target)
     if not path.exists():
         raise click.BadParameter(f"{target!r} is neither a store directory nor a manifest file")
     kg = KnowledgeGraph.open(path, read_only=False) if path.is_dir() else open_target(target)
     try:
-        stored = store_plan(kg, rules)
+        stored = store_plan(kg, rules, budget)
         err.print(summary(stored), markup=False)
         if task is not None:
             text = explain(stored, task)

@@ -7,7 +7,6 @@ pairs are computed at once (numpy), the pairs worth computing found through a gr
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from itertools import product
 
 import numpy as np
@@ -56,36 +55,42 @@ def segment_distances(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.nda
 
 def close_pairs(
     queries: np.ndarray, filed: np.ndarray, distance: float, chunk: int = 4096
-) -> Iterator[tuple[int, int, float]]:
-    """``(query, filed, gap)`` for every filed segment passing closer than ``distance`` to a query
-    segment (arrays of shape (n, 2, 3): start and end of each), by query, then filed number.
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(query, filed, gap)`` arrays: every filed segment passing closer than ``distance`` to a
+    query segment (arrays of shape (n, 2, 3): start and end of each), by query, then filed number.
 
     Each filed segment is binned by the lowest corner of its box grown by ``distance``, in cubes
-    as large as the longest segment and twice the distance: a filed segment near a query is then
-    in one of the 27 cubes around the query's lowest corner, found by sorting, not by looking at
-    every pair.
+    as large as the longest filed segment and twice the distance (or a third of the longest
+    query, when that is more), so the grown box lies in that
+    cube and the next along each axis. A query can only come near the filed segments binned from
+    the cube before its box's lowest corner to the cube of its highest: those are found by
+    sorting, not by looking at every pair.
     """
+    none = np.zeros(0, dtype=np.int64)
     if not len(queries) or not len(filed):
-        return
-    longest = max(
-        float(np.abs(filed[:, 1] - filed[:, 0]).max()), float(np.abs(queries[:, 1] - queries[:, 0]).max())
-    )
-    cube = longest + 2 * distance + 1e-9
+        return none, none, np.zeros(0)
+    # A query spans at most a few cubes along each axis, however long it is.
+    longest = float(np.abs(queries[:, 1] - queries[:, 0]).max())
+    cube = max(float(np.abs(filed[:, 1] - filed[:, 0]).max()) + 2 * distance, longest / 3) + 1e-9
     keys = np.floor((filed.min(axis=1) - distance) / cube).astype(np.int64)
-    low = keys.min(axis=0) - 2
-    span = keys.max(axis=0) - low + 3
+    low = keys.min(axis=0)
+    span = keys.max(axis=0) - low + 1
     code = _codes(keys - low, span)
     order = np.argsort(code, kind="stable")
     sorted_codes = code[order]
+    found: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
     for first in range(0, len(queries), chunk):
         block = queries[first : first + chunk]
-        corner = np.floor(block.min(axis=1) / cube).astype(np.int64) - low
+        lowest = np.floor(block.min(axis=1) / cube).astype(np.int64) - 1 - low
+        highest = np.minimum(np.floor(block.max(axis=1) / cube).astype(np.int64) - low, span - 1)
+        lowest = np.maximum(lowest, 0)
         found_q: list[np.ndarray] = []
         found_f: list[np.ndarray] = []
-        for offset in product((-1, 0, 1), repeat=3):
-            cell = corner + np.array(offset)
-            inside = np.all((cell >= 0) & (cell < span), axis=1)
-            wanted = np.where(inside, _codes(np.clip(cell, 0, span - 1), span), -1)
+        widths = np.maximum(highest - lowest, -1).max(axis=0) + 1
+        for offset in product(*(range(int(w)) for w in widths)):
+            cell = lowest + np.array(offset)
+            inside = np.all(cell <= highest, axis=1)
+            wanted = np.where(inside, _codes(np.minimum(cell, span - 1), span), -1)
             lo = np.searchsorted(sorted_codes, wanted, side="left")
             hi = np.searchsorted(sorted_codes, wanted, side="right")
             counts = np.where(inside, hi - lo, 0)
@@ -102,8 +107,12 @@ def close_pairs(
         gaps = segment_distances(block[q, 0], block[q, 1], filed[f, 0], filed[f, 1])
         near = gaps < distance
         q, f, gaps = q[near] + first, f[near], gaps[near]
-        for k in np.lexsort((f, q)).tolist():
-            yield int(q[k]), int(f[k]), float(gaps[k])
+        by = np.lexsort((f, q))
+        found.append((q[by], f[by], gaps[by]))
+    if not found:
+        return none, none, np.zeros(0)
+    q, f, gaps = (np.concatenate(parts) for parts in zip(*found, strict=True))
+    return q, f, gaps
 
 
 def _codes(cells: np.ndarray, span: np.ndarray) -> np.ndarray:

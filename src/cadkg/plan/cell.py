@@ -48,25 +48,27 @@ def rules_of(kg: Any, rules: Path | None = None) -> Rules:
     return load_rules(planner.rules, f"the {profile} default rules")
 
 
-def plan_cell(kg: Any, rules: Path | None = None) -> Plan:
-    """The plan of the cell in ``kg`` (not written; see :func:`store_plan`)."""
-    return _planned(kg, rules_of(kg, rules))
+def plan_cell(kg: Any, rules: Path | None = None, solver_budget: float = 0.0) -> Plan:
+    """The plan of the cell in ``kg`` (not written; see :func:`store_plan`); with a
+    ``solver_budget``, improved by CP-SAT (:func:`cadkg.plan.order.make_plan`)."""
+    return _planned(kg, rules_of(kg, rules), solver_budget)
 
 
-def _planned(kg: Any, rules: Rules) -> Plan:
+def _planned(kg: Any, rules: Rules, solver_budget: float = 0.0) -> Plan:
     planner = registry.use_case(cell_profile(kg)).planner
     assert planner is not None  # rules_of raised otherwise
-    return make_plan(planner.tasks(kg, rules))
+    return make_plan(planner.tasks(kg, rules), solver_budget)
 
 
-def store_plan(kg: Any, rules: Path | None = None) -> StoredPlan:
+def store_plan(kg: Any, rules: Path | None = None, solver_budget: float = 0.0) -> StoredPlan:
     """Make the plan of the cell in ``kg``, replace its plan graph with it, and read it back.
 
-    Raises what :func:`rules_of` raises, and StoreError on a read-only store.
+    Raises what :func:`rules_of` raises, StoreError on a read-only store, and ImportError when
+    a solver budget is given and OR-Tools is not installed.
     """
     chosen = rules_of(kg, rules)
     base = cell_base(kg)
-    write_plan(kg, _planned(kg, chosen), base, chosen.source)
+    write_plan(kg, _planned(kg, chosen, solver_budget), base, chosen.source)
     stored = read_plan(kg, base)
     assert stored is not None  # just written
     return stored

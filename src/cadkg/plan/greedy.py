@@ -15,13 +15,14 @@ from collections import defaultdict
 
 import numpy as np
 
+from cadkg.geometry.poses import Vec3
 from cadkg.plan.tasks import ROBOT, Decision, Task
 
-__all__ = ["greedy_order"]
+__all__ = ["PERSON", "greedy_order"]
 
-_CELL = 0.05  # m: the side of a square of the grid of ready starts
-_RINGS = 24  # rings of squares looked at before every ready task is
-_PERSON = "a person's task, placed as soon as what comes before it is done"
+_CELL = 0.1  # m: the side of a square of the grid of ready starts
+_RINGS = 6  # rings of squares looked at before every ready task is
+PERSON = "a person's task, placed as soon as what comes before it is done"
 
 
 class _Group:
@@ -33,15 +34,17 @@ class _Group:
     """
 
     def __init__(self, members: list[int], starts: np.ndarray) -> None:
-        self.members = np.array(members, dtype=np.int64)
-        self.starts = starts[self.members]
+        self.members = members
+        self.starts = starts[np.array(members, dtype=np.int64)]
         self.known = ~np.isnan(self.starts).any(axis=1)
+        self.points: list[list[float]] = self.starts.tolist()
         self.cells = [
             (math.floor(x / _CELL), math.floor(y / _CELL)) if known else None
-            for (x, y, _), known in zip(self.starts.tolist(), self.known.tolist(), strict=True)
+            for (x, y, _), known in zip(self.points, self.known.tolist(), strict=True)
         ]
         self.grid: dict[tuple[int, int], set[int]] = defaultdict(set)
-        self.ready = np.zeros(len(members), dtype=bool)
+        # One byte a task, set and read as plain ints; numpy sees the same memory when it scans all.
+        self.ready = bytearray(len(members))
         self.count = 0
         self.located = 0  # ready tasks with a known start
 
@@ -53,42 +56,47 @@ class _Group:
             (self.grid[cell].add if ready else self.grid[cell].discard)(k)
             self.located += 1 if ready else -1
 
-    def nearest(self, here: np.ndarray | None) -> tuple[float, int]:
+    def nearest(self, here: Vec3 | None) -> tuple[float, int]:
         """(squared distance, task) of the ready task starting nearest ``here``; the first ready
         one, at infinity, when no distance is known."""
         if here is None or not self.located:
-            return np.inf, int(self.members[int(np.argmax(self.ready))])
-        cx, cy = math.floor(here[0] / _CELL), math.floor(here[1] / _CELL)
-        best: tuple[float, int] | None = None
-        for ring in range(_RINGS):
-            found = [k for cell in _ring(cx, cy, ring) for k in self.grid.get(cell, ())]
-            if found:
-                gap = self.starts[found] - here
-                squared = np.einsum("ij,ij->i", gap, gap).tolist()
-                for k, d in zip(found, squared, strict=True):
-                    if best is None or (d, k) < best:
-                        best = (d, k)
+            return math.inf, self.members[self.ready.index(1)]
+        hx, hy, hz = here
+        cx, cy = math.floor(hx / _CELL), math.floor(hy / _CELL)
+        grid, points = self.grid, self.points
+        best, chosen = math.inf, -1
+        # Plain floats: a ring holds a handful of starts, too few for numpy to pay.
+        for ring, offsets in enumerate(_OFFSETS):
+            for dx, dy in offsets:
+                for k in grid.get((cx + dx, cy + dy), ()):
+                    x, y, z = points[k]
+                    d = (x - hx) * (x - hx) + (y - hy) * (y - hy) + (z - hz) * (z - hz)
+                    if d < best or (d == best and k < chosen):
+                        best, chosen = d, k
             # Every start of a farther ring is at least ``ring`` squares away.
-            if best is not None and best[0] < (ring * _CELL) ** 2:
-                return best[0], int(self.members[best[1]])
-        gap = self.starts - here
+            if chosen >= 0 and best < (ring * _CELL) ** 2:
+                return best, self.members[chosen]
+        gap = self.starts - np.array(here)
         squared = np.einsum("ij,ij->i", gap, gap)
-        squared[~(self.ready & self.known)] = np.inf
+        squared[~(np.frombuffer(self.ready, dtype=np.uint8).astype(bool) & self.known)] = np.inf
         k = int(np.argmin(squared))
-        return float(squared[k]), int(self.members[k])
+        return float(squared[k]), self.members[k]
 
 
-def _ring(cx: int, cy: int, ring: int) -> list[tuple[int, int]]:
-    """The grid squares at Chebyshev distance ``ring`` from square (cx, cy)."""
+def _ring(ring: int) -> list[tuple[int, int]]:
+    """The offsets of the grid squares at Chebyshev distance ``ring`` from a square."""
     if ring == 0:
-        return [(cx, cy)]
+        return [(0, 0)]
     side = range(-ring, ring + 1)
     return (
-        [(cx + d, cy - ring) for d in side]
-        + [(cx + d, cy + ring) for d in side]
-        + [(cx - ring, cy + d) for d in side[1:-1]]
-        + [(cx + ring, cy + d) for d in side[1:-1]]
+        [(d, -ring) for d in side]
+        + [(d, ring) for d in side]
+        + [(-ring, d) for d in side[1:-1]]
+        + [(ring, d) for d in side[1:-1]]
     )
+
+
+_OFFSETS = [_ring(ring) for ring in range(_RINGS)]
 
 
 def greedy_order(
@@ -115,7 +123,7 @@ def greedy_order(
     groups = {g: _Group(m, starts) for g, m in members.items()}
     slot: dict[int, tuple[_Group, int]] = {}
     for group in groups.values():
-        for k, i in enumerate(group.members.tolist()):
+        for k, i in enumerate(group.members):
             slot[i] = (group, k)
     people: list[int] = []
     done = np.zeros(count, dtype=bool)
@@ -130,7 +138,8 @@ def greedy_order(
     for j in np.flatnonzero(waiting == 0).tolist():
         become_ready(j)
     order: list[tuple[int, str]] = []
-    tool, here = "", None
+    tool = ""
+    here: Vec3 | None = None
 
     def finish(i: int, why: str) -> None:
         nonlocal tool, here
@@ -146,7 +155,7 @@ def greedy_order(
         task = tasks[i]
         if robot[i]:
             tool = task.tools[-1] if task.tools else tool
-            here = np.array(task.end) if task.end is not None else here
+            here = task.end if task.end is not None else here
 
     while len(order) < count:
         forced = then.get(order[-1][0]) if order else None
@@ -157,7 +166,7 @@ def greedy_order(
             ready_people, people[:] = sorted(people), []
             for person in ready_people:
                 if not done[person]:
-                    finish(person, _PERSON)
+                    finish(person, PERSON)
             continue
         keeping = [g for g in (number.get(tool, -2), -1) if g in groups and groups[g].count]
         if keeping:
@@ -172,7 +181,8 @@ def greedy_order(
             i = groups[g].nearest(here)[1]
             verb = "tool change to" if tool else "starts with"
             why = f"{verb} {names[g]} ({counts[g]} ready tasks use it)"
-        if here is not None and tasks[i].start is not None:
-            why += f", {1000 * float(np.linalg.norm(starts[i] - here)):.0f} mm from the previous end"
+        start = tasks[i].start
+        if here is not None and start is not None:
+            why += f", {1000 * math.dist(start, here):.0f} mm from the previous end"
         finish(i, why)
     return order

@@ -46,10 +46,19 @@ class Rules:
     source: str
     robot: dict[str, Any] = field(default_factory=dict)
     tools: tuple[Tool, ...] = ()
+    # Task class → the first tool serving it: asked twice per wire.
+    _serving: dict[str, str] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        serving: dict[str, str] = {}
+        for tool in self.tools:
+            for task_class in tool.serves:
+                serving.setdefault(task_class, tool.name)
+        object.__setattr__(self, "_serving", serving)
 
     def tool_for(self, task_class: str) -> str | None:
         """The first tool serving ``task_class``; None when no tool does."""
-        return next((t.name for t in self.tools if task_class in t.serves), None)
+        return self._serving.get(task_class)
 
     def number(self, key: str, default: float) -> float:
         value = self.robot.get(key, default)

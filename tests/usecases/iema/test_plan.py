@@ -57,7 +57,7 @@ def test_a_cycle_gives_one_wire_to_a_person_and_the_plan_breaks_no_edge(plan: Pl
 @pytest.mark.parametrize(
     ("wire", "performer", "rule", "words"),
     [
-        ("W7", "human", "zone", "origin zone B"),
+        ("W7", "human", "zone", "origin zone B is not among the robot zones Q, QE (the default [derive]"),
         ("W8", "human", "cross-section", "6 mm²"),
         ("W9", "human", "termination", "FASTON"),
         ("W10", "human", "label-not-in-cad", "M9 is not in the CAD"),
@@ -80,6 +80,19 @@ def test_explicit_assignment_wins_over_the_rules(tmp_path: Path) -> None:
     kg.close()
 
 
+def test_the_zones_are_the_cells_own_as_the_providers_use_them(tmp_path: Path) -> None:
+    # One rule: the manifest's [derive] robot_zones decide for the plan as for the services.
+    text = CABINET.read_text(encoding="utf-8").replace('path = "', f'path = "{CABINET.parent}/')
+    manifest = tmp_path / "manifest.toml"
+    manifest.write_text(text + '\n[derive]\nrobot_zones = ["Q", "P"]\n', encoding="utf-8")
+    kg = KnowledgeGraph.build(manifest)
+    step = next(s for s in kg.cell_model().steps if s.wire == "W7")
+    decision = plan_cell(kg).step_of("W7").decision  # type: ignore[union-attr]
+    assert (decision.performer, decision.rule) == (step.performer, "zone") == ("human", "zone")
+    assert decision.reason == f"origin {step.reason} (the manifest's [derive] robot_zones)"
+    assert "robot zones P, Q" in decision.reason
+
+
 def test_a_rules_file_changes_the_decisions(kg: KnowledgeGraph, tmp_path: Path) -> None:
     rules = tmp_path / "robot.toml"
     rules.write_text(
@@ -91,6 +104,16 @@ def test_a_rules_file_changes_the_decisions(kg: KnowledgeGraph, tmp_path: Path) 
     rules_of = {w: plan.step_of(w).decision.rule for w in ("W7", "W8", "W9", "W11")}  # type: ignore[union-attr]
     assert rules_of == {"W7": "robot", "W8": "robot", "W9": "robot", "W11": "missing-pin-data"}
     assert plan.step_of("W11").decision.performer == "human"  # type: ignore[union-attr]
+    # The rules' zones replace the cell's for the plan, and say whose they are.
+    rules.write_text(
+        '[robot]\nzones = ["Q", "P"]\nlabel_not_in_cad = "robot"\n'
+        '[[tool]]\nname = "screwdriver"\nserves = ["PUNTALINO_vite"]\n',
+        encoding="utf-8",
+    )
+    plan = plan_cell(kg, rules)
+    assert plan.step_of("W7").decision.reason.endswith(f"(the zones of {rules})")  # type: ignore[union-attr]
+    w10 = plan.step_of("W10").decision  # type: ignore[union-attr]
+    assert (w10.performer, w10.rule) == ("robot", "missing-pin-data") and "M9:U1" in w10.reason
     assert plan.lower_bound == 0 and plan.measure.tool_changes == 0
 
 

@@ -109,3 +109,18 @@ def test_the_name_error_row_keeps_wire_0005pe(tmp_path: Path) -> None:
         assert [f.message for f in lost] == [
             "wire 0005PE: the list gives no reference for its destination; it is kept with missing pin data"
         ]
+
+
+def test_the_plan_gives_the_robot_the_wires_the_node_serves(tmp_path: Path) -> None:
+    # Under the default rules the robot gets the 52 wires of zones Q/QE, as the node serves them.
+    from cadkg.plan.cell import plan_cell
+
+    with _build(tmp_path, "gearbox_zero", "gearbox00001_ids.wri", ZERO_LIST + ".csv") as kg:
+        plan = plan_cell(kg)
+        robot = sorted(s.task.position for s in plan.steps if s.decision.performer == "robot")
+        served = sorted(s.position for s in kg.cell_model().steps if s.performer == "robot")
+        assert len(plan.steps) == 71 and robot == served and len(robot) == 52
+        people = {s.decision.rule for s in plan.steps if s.decision.performer == "human"}
+        assert people == {"zone"}
+        assert (plan.files.tool_changes, plan.measure.tool_changes, plan.lower_bound) == (57, 35, 30)
+        assert plan.files.violations == plan.measure.violations == 0

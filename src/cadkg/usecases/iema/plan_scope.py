@@ -1,48 +1,58 @@
-"""Which wires are the cabinet's robot's to make at all: the zones it works in, and the labels
-the CAD places. The rest go to a person, with the rule and the values that decided it.
+"""Which wires are the cabinet's robot's to make at all, as the planner reports it.
 
-Kept apart from the rules of tools and geometry (:mod:`cadkg.usecases.iema.plan_tasks`) so the
-cell's own scope decision can replace it whole.
+The decision is the cabinet rule of :mod:`cadkg.usecases.iema.robot_scope` (the zones of the
+manifest's ``[derive] robot_zones``, Q and QE by default; for a wire the list gives no zone, the
+labels the CAD places): the same the providers, SPARQL and ``cadkg validate`` use, taken for
+every wire when the cell was derived. A rules file overrides it for the plan only: its ``zones``
+replace the cell's, and ``label_not_in_cad = "robot"`` lets the label half through.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
 
 from cadkg.plan.rules import Rules
-from cadkg.plan.tasks import HUMAN, Decision
+from cadkg.plan.tasks import HUMAN, ROBOT, Decision
 from cadkg.usecases.iema.derive.cabinet import CellModel, WireStep
+from cadkg.usecases.iema.robot_scope import DEFAULT_ZONES, LABEL_RULE, scope_reason, scope_rule
 
-__all__ = ["DEFAULT_ZONES", "scope_decision"]
-
-DEFAULT_ZONES = ("Q", "QE")
+__all__ = ["Scope", "scope_decision", "scope_of"]
 
 
-def scope_decision(
-    model: CellModel, step: WireStep, zones: Sequence[str | None], rules: Rules
-) -> Decision | None:
-    """A person's decision when the wire is outside the robot's zones or names a label the CAD
-    does not place; None when the wire is in the robot's scope.
+@dataclass(frozen=True, slots=True)
+class Scope:
+    """The cabinet rule a plan is made under: the zones, where they come from (for the reasons),
+    and, when a rules file overrides them, the labels the CAD places."""
 
-    ``zones`` are the wire's origin and destination zones as the connection list gives them
-    (None when it gives none: the zone rule then does not apply to that end).
-    """
-    allowed = rules.names("zones", DEFAULT_ZONES)
-    for end, zone in zip(("origin", "destination"), zones, strict=True):
-        if allowed and zone is not None and zone not in allowed:
-            return Decision(
-                HUMAN,
-                "zone",
-                f"{end} zone {zone} is not one of the robot's zones ({', '.join(allowed)}; {rules.source})",
-            )
-    if rules.choice("label_not_in_cad", HUMAN, ("robot", HUMAN)) != HUMAN:
+    zones: tuple[str, ...]
+    source: str
+    labels_judged: bool = True
+    override: frozenset[str] | None = None
+
+
+def scope_of(kg: Any, model: CellModel, rules: Rules) -> Scope:
+    """The cabinet rule of the cell in ``kg`` under ``rules``."""
+    labels_judged = rules.choice("label_not_in_cad", HUMAN, (ROBOT, HUMAN)) == HUMAN
+    if "zones" in rules.robot:
+        known = frozenset(label for label, geometry in model.components.items() if geometry.items)
+        return Scope(rules.names("zones"), f"the zones of {rules.source}", labels_judged, known)
+    rows = kg.query("SELECT DISTINCT ?z WHERE { ?c a ck:Cell ; ck:robotZone ?z }")
+    stated = tuple(sorted(row["z"] for row in rows))
+    source = "the manifest's [derive] robot_zones" if stated else "the default [derive] robot_zones"
+    return Scope(stated or DEFAULT_ZONES, source, labels_judged)
+
+
+def scope_decision(scope: Scope, step: WireStep, zone: str | None) -> Decision | None:
+    """A person's decision when the wire (whose origin zone the list gives as ``zone``) is
+    outside the robot's cabinet; None when it is inside."""
+    if scope.override is None:
+        reason = step.reason or None
+    else:
+        reason = scope_reason(zone, (step.origin.label, step.destination.label), scope.zones, scope.override)
+    rule = scope_rule(zone)
+    if reason is None or (rule == LABEL_RULE and not scope.labels_judged):
         return None
-    for end, pin in (("origin", step.origin), ("destination", step.destination)):
-        geometry = model.components.get(pin.label)
-        if geometry is None or not geometry.items:
-            return Decision(
-                HUMAN,
-                "label-not-in-cad",
-                f"{end} {pin.label} is not in the CAD (no item of the WRI table carries it)",
-            )
-    return None
+    if rule == LABEL_RULE:
+        return Decision(HUMAN, rule, f"{reason}; the list gives the wire no zone")
+    return Decision(HUMAN, rule, f"origin {reason} ({scope.source})")

@@ -20,13 +20,14 @@ import numpy as np
 
 from cadkg.geometry.poses import Vec3
 from cadkg.geometry.segments import close_pairs
+from cadkg.mapping.writer import node_iri
 from cadkg.plan.check import order_findings
 from cadkg.plan.order import ASSIGNED
 from cadkg.plan.rules import Rules, load_rules
 from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
 from cadkg.query.validate import Finding
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
-from cadkg.usecases.iema.plan_scope import scope_decision
+from cadkg.usecases.iema.plan_scope import Scope, scope_decision, scope_of
 
 __all__ = ["DEFAULT_RULES", "iema_problem", "order_check"]
 
@@ -76,23 +77,39 @@ def _assigned_by_kind(model: CellModel) -> dict[str, set[str]]:
     return found
 
 
-def _assigned(model: CellModel, step: WireStep, by_kind: dict[str, set[str]]) -> str | None:
-    """What an explicit assignment decided the wire by (``wire 1500.51``), if one did."""
-    if step.iri in model.performers or step.wire in by_kind["wire"]:
-        return f"wire {step.wire}"
-    if str(step.position) in by_kind["operation"]:
-        return f"operation {step.position}"
+def _assigned(model: CellModel, step: WireStep, by_kind: dict[str, set[str]], components: bool) -> str | None:
+    """What an explicit assignment of the wire or its list position decided the wire by
+    (``wire 1500.51``), or with ``components`` one of either end's component, if one did."""
+    if not components:
+        if step.iri in model.performers or step.wire in by_kind["wire"]:
+            return f"wire {step.wire}"
+        if str(step.position) in by_kind["operation"]:
+            return f"operation {step.position}"
+        return None
     for pin in (step.origin, step.destination):
         if pin.label in by_kind["component"]:
             return f"component {pin.label}"
     return None
 
 
+def _performer(model: CellModel, step: WireStep) -> str:
+    """Who an assignment gives the wire to: the derivation's answer, unless the cabinet rule
+    gave it to a person there and a rules file's zones let it in here (then its components')."""
+    if step.performer == HUMAN and step.reason:
+        ends = (node_iri(model.base, "component", pin.label) for pin in (step.origin, step.destination))
+        return HUMAN if any(model.performers.get(e) == HUMAN for e in ends) else ROBOT
+    return step.performer
+
+
 def _decide(
-    model: CellModel, step: WireStep, facts: _Facts, rules: Rules, by_kind: dict[str, set[str]]
+    model: CellModel, step: WireStep, facts: _Facts, rules: Rules, context: tuple[Scope, dict[str, set[str]]]
 ) -> tuple[Decision, tuple[str, ...]]:
-    """Who makes the wire and why, and the tools it needs (origin's, then destination's)."""
-    by_hand = _assigned(model, step, by_kind)
+    """Who makes the wire and why, and the tools it needs (origin's, then destination's).
+
+    In the order of :mod:`cadkg.usecases.iema.robot_scope`: an assignment of the wire or its
+    list position, the cabinet rule, an assignment of an end's component; then the robot's own
+    rules (cross-section, tools, pin data)."""
+    scope, by_kind = context
     tools, missing_tool = [], []
     default_tool = rules.robot.get("default_tool")
     for end, termination in zip(_ENDS, step.terminations, strict=True):
@@ -101,14 +118,17 @@ def _decide(
             missing_tool.append(f"{end} termination {termination or '(none given)'}")
         else:
             tools.append(str(tool))
-    if by_hand is not None:
-        who = "a person" if step.performer == HUMAN else "the robot"
-        return Decision(
-            step.performer, ASSIGNED, f"{by_hand} assigned to {who} by hand; wins over the rules"
-        ), (tuple(tools) if step.performer == ROBOT else ())
-    scoped = scope_decision(model, step, facts.zones, rules)
+    by_hand = _assigned(model, step, by_kind, components=False)
+    scoped = scope_decision(scope, step, facts.zones[0]) if by_hand is None else None
     if scoped is not None:
         return scoped, ()
+    by_hand = by_hand or _assigned(model, step, by_kind, components=True)
+    if by_hand is not None:
+        performer = _performer(model, step)
+        who = "a person" if performer == HUMAN else "the robot"
+        return Decision(performer, ASSIGNED, f"{by_hand} assigned to {who} by hand; wins over the rules"), (
+            tuple(tools) if performer == ROBOT else ()
+        )
     low, high = rules.number("cross_section_min_mm2", 0.0), rules.number("cross_section_max_mm2", 1e9)
     if facts.section is not None and not low <= facts.section <= high:
         return Decision(
@@ -143,12 +163,12 @@ def iema_problem(kg: Any, rules: Rules) -> Problem:
     model: CellModel = kg.cell_model()
     facts = _facts(kg)
     numbers = Counter(step.wire for step in model.steps)
-    by_kind = _assigned_by_kind(model)
+    context = (scope_of(kg, model, rules), _assigned_by_kind(model))
     tasks, decisions = [], {}
     for n, step in enumerate(model.steps):
         key = step.wire if numbers[step.wire] == 1 else f"{step.wire}@{step.position}"
         fact = facts.get(step.iri, _Facts())
-        decision, tools = _decide(model, step, fact, rules, by_kind)
+        decision, tools = _decide(model, step, fact, rules, context)
         where = f"{step.source}:{fact.line}" if fact.line is not None else step.source
         tasks.append(
             Task(
@@ -176,69 +196,86 @@ def order_check(kg: Any) -> list[Finding]:
     return order_findings(problem, "iema-order", "warning")
 
 
-def _exit(step: WireStep, end: int, length: float) -> tuple[Vec3, Vec3] | None:
-    """The straight run of a wire leaving its ``end`` (0 origin, 1 destination), clipped."""
-    pin = (step.origin, step.destination)[end]
-    pose = pin.hole or pin.screw
-    if pose is None:
-        return None
-    route = [k.position for k in step.keypoints]
-    if end == 1:
-        route.reverse()
-    other = _point((step.destination, step.origin)[end])
-    towards = route[1] if len(route) >= 2 else other
-    if towards is None:
-        return None
-    start = pose.position
-    gap = [towards[k] - start[k] for k in range(3)]
-    norm = sum(g * g for g in gap) ** 0.5
-    if norm < 1e-9:
-        return None
-    scale = min(1.0, length / norm)
-    return start, (start[0] + gap[0] * scale, start[1] + gap[1] * scale, start[2] + gap[2] * scale)
+def _ends(model: CellModel) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Per wire end (row ``2 n + end``, end 0 the origin): the position and orientation of the
+    pin's screw (else hole), where the wire leaves it (its hole, else screw) and the next point
+    of its route (the first duct keypoint, else the other end); NaN where a pin has no data."""
+    rows = 2 * len(model.steps)
+    frame, turn = np.full((rows, 3), np.nan), np.full((rows, 4), np.nan)
+    leave, towards = np.full((rows, 3), np.nan), np.full((rows, 3), np.nan)
+    for n, step in enumerate(model.steps):
+        pins = (step.origin, step.destination)
+        route = step.keypoints
+        for end, pin in enumerate(pins):
+            row = 2 * n + end
+            pose = pin.screw or pin.hole
+            if pose is None:
+                continue
+            frame[row], turn[row] = pose.position, pose.orientation
+            leave[row] = (pin.hole or pin.screw or pose).position
+            if len(route) >= 2:
+                towards[row] = route[1 if end == 0 else -2].position
+            elif (other := _point(pins[1 - end])) is not None:
+                towards[row] = other
+    return frame, turn, leave, towards
+
+
+def _rotated(turn: np.ndarray, vz: float) -> np.ndarray:
+    """(0, 0, vz) turned by each quaternion (x, y, z, w) of ``turn``, as :meth:`Pose.rotate` does."""
+    x, y, z, w = turn.T
+    cx, cy, cz = y * vz, -x * vz, w * vz
+    return np.stack([2 * (y * cz - z * cy), 2 * (z * cx - x * cz), vz + 2 * (x * cy - y * cx)], axis=1)
 
 
 def _precedence(model: CellModel, keys: list[str], rules: Rules) -> list[Precedence]:
     clearance = rules.number("clearance_m", 0.004)
     depth = rules.number("corridor_depth_m", 0.05)
     length = rules.number("exit_length_m", 0.1)
-    filed: list[tuple[Vec3, Vec3]] = []
-    corridors: list[tuple[int, CadPin]] = []  # per filed corridor: its task and pin
-    for n, step in enumerate(model.steps):
-        for pin in (step.origin, step.destination):
-            if pin.screw is None and pin.hole is None:
-                continue
-            pose = pin.screw or pin.hole
-            assert pose is not None
-            axis = pose.rotate((0.0, 0.0, depth))
-            start = pose.position
-            filed.append((start, (start[0] + axis[0], start[1] + axis[1], start[2] + axis[2])))
-            corridors.append((n, pin))
-    exits: list[tuple[Vec3, Vec3]] = []
-    owners: list[tuple[int, CadPin]] = []  # per exit: its task and the pin it leaves
-    for n, step in enumerate(model.steps):
-        for end, landed in enumerate((step.origin, step.destination)):
-            run = _exit(step, end, length)
-            if run is not None:
-                exits.append(run)
-                owners.append((n, landed))
+    frame, turn, leave, towards = _ends(model)
+    # The approach corridors: from the screw along its z axis.
+    placed = np.flatnonzero(~np.isnan(frame[:, 0]))
+    filed = np.stack([frame[placed], frame[placed] + _rotated(turn[placed], depth)], axis=1)
+    # The exits: from the hole towards the route's next point, at most ``length`` of it.
+    gap = towards - leave
+    norm = np.sqrt(gap[:, 0] * gap[:, 0] + gap[:, 1] * gap[:, 1] + gap[:, 2] * gap[:, 2])
+    running = np.flatnonzero(norm >= 1e-9)  # NaN compares false: ends without data drop out
+    scale = np.minimum(1.0, length / norm[running])[:, None]
+    exits = np.stack([leave[running], leave[running] + gap[running] * scale], axis=1)
+    number, corridor, gaps = close_pairs(exits, filed, clearance)
+    # A wire's own pins and two wires on one pin give no edge.
+    landed, blocked = running[number], placed[corridor]
+    pins = _pin_numbers(model)
+    keep = np.flatnonzero((landed // 2 != blocked // 2) & (pins[landed] != pins[blocked]))
     edges: dict[tuple[int, int], Precedence] = {}
-    found = close_pairs(
-        np.array(exits, dtype=float).reshape(-1, 2, 3),
-        np.array(filed, dtype=float).reshape(-1, 2, 3),
-        clearance,
-    )
-    for number, corridor, gap in found:
-        n, landed = owners[number]
-        first, pin = corridors[corridor]
-        if first == n or (pin.label, pin.pin) == (landed.label, landed.pin) or (first, n) in edges:
+    for k in keep.tolist():
+        end, other = int(landed[k]), int(blocked[k])
+        n, first = end // 2, other // 2
+        if (first, n) in edges:
             continue
-        wire = model.steps[n].wire
+        leaving, pin = _pin(model, end), _pin(model, other)
         edges[(first, n)] = Precedence(
             keys[first],
             keys[n],
-            f"wire {wire} landed on {landed.label}:{landed.pin} passes {gap * 1000:.1f} mm from "
-            f"the approach of {pin.label}:{pin.pin} (clearance {clearance * 1000:g} mm, depth "
-            f"{depth * 1000:g} mm): {model.steps[first].wire} first",
+            f"wire {model.steps[n].wire} landed on {leaving.label}:{leaving.pin} passes "
+            f"{float(gaps[k]) * 1000:.1f} mm from the approach of {pin.label}:{pin.pin} (clearance "
+            f"{clearance * 1000:g} mm, depth {depth * 1000:g} mm): {model.steps[first].wire} first",
         )
     return [edges[k] for k in sorted(edges)]
+
+
+def _pin(model: CellModel, row: int) -> CadPin:
+    step = model.steps[row // 2]
+    return step.destination if row % 2 else step.origin
+
+
+def _pin_numbers(model: CellModel) -> np.ndarray:
+    """Per wire end, a number shared by the ends on one pin."""
+    numbers: dict[tuple[str, str], int] = {}
+    return np.array(
+        [
+            numbers.setdefault((pin.label, pin.pin), len(numbers))
+            for step in model.steps
+            for pin in (step.origin, step.destination)
+        ],
+        dtype=np.int64,
+    )

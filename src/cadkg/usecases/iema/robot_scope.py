@@ -18,10 +18,22 @@ from dataclasses import dataclass
 
 from cadkg.mapping.writer import node_iri
 
-__all__ = ["DEFAULT_ZONES", "Decision", "decide", "performers_of", "scope_reason"]
+__all__ = [
+    "DEFAULT_ZONES",
+    "LABEL_RULE",
+    "ZONE_RULE",
+    "Decision",
+    "decide",
+    "performers_of",
+    "scope_reason",
+    "scope_rule",
+]
 
 # The cabinet's zones in the IEMA exports: the manifest's [derive] robot_zones changes them.
 DEFAULT_ZONES = ("Q", "QE")
+# The names of the cabinet rule's two halves, as the planner reports them.
+ZONE_RULE = "zone"
+LABEL_RULE = "label-not-in-cad"
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,6 +61,11 @@ def scope_reason(
         if label not in known:
             return f"label {label} is not in the CAD (no ID table row)"
     return None
+
+
+def scope_rule(zone: str | None) -> str:
+    """The half of the cabinet rule :func:`scope_reason` judges a wire by, given its origin zone."""
+    return ZONE_RULE if zone else LABEL_RULE
 
 
 def performers_of(assignments: Iterable[tuple[str, str, str]], base: str) -> dict[str, str]:
