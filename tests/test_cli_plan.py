@@ -87,6 +87,15 @@ def test_a_bad_rules_file_is_one_line_and_exit_2(cabinet: Path, tmp_path: Path) 
     assert result.stderr.strip().count("\n") == 0 and "zones must be a list of strings" in result.stderr
 
 
+def test_a_misspelt_setting_is_refused_not_left_at_its_default(cabinet: Path, tmp_path: Path) -> None:
+    rules = tmp_path / "robot.toml"
+    rules.write_text("[robot]\ncross_section_max = 1.0\n", encoding="utf-8")
+    result = run("plan", cabinet, "--rules", rules)
+    assert result.returncode == 2 and result.stderr.strip().count("\n") == 0
+    assert "unknown key [robot] cross_section_max" in result.stderr
+    assert "cross_section_max_mm2" in result.stderr  # the keys there are
+
+
 def test_the_manifests_rules_are_kept_in_the_store(tmp_path: Path) -> None:
     cell = tmp_path / "cell"
     shutil.copytree(CABINET, cell)

@@ -81,6 +81,9 @@ class Planner:
 
     rules: Traversable | Path
     tasks: Callable[[Any, Any], Any]
+    # The ``[robot]`` settings ``tasks`` reads: any other key in a rules file is refused, so a
+    # misspelt setting cannot silently leave its default in force.
+    settings: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)

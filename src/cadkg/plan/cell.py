@@ -13,7 +13,7 @@ import cadkg.registry as registry
 from cadkg.errors import QueryError
 from cadkg.plan.graph import StoredPlan, cell_base, read_plan, write_plan
 from cadkg.plan.order import Plan, make_plan
-from cadkg.plan.rules import Rules, load_rules, parse_rules
+from cadkg.plan.rules import Rules, check_settings, load_rules, parse_rules
 
 __all__ = ["cell_base", "cell_profile", "plan_cell", "rules_of", "store_plan"]
 
@@ -37,6 +37,10 @@ def rules_of(kg: Any, rules: Path | None = None) -> Rules:
     planner = registry.use_case(profile).planner
     if planner is None:
         raise QueryError(f"the {profile or 'default'} use case makes no task list")
+    return check_settings(_chosen_rules(kg, profile, planner.rules, rules), planner.settings)
+
+
+def _chosen_rules(kg: Any, profile: str, default: Any, rules: Path | None) -> Rules:
     if rules is not None:
         return load_rules(rules)
     given = kg.query(
@@ -45,7 +49,7 @@ def rules_of(kg: Any, rules: Path | None = None) -> Rules:
     if given.rows:
         row = given.rows[0]
         return parse_rules(str(row["text"]), f"{row['name']} (the manifest's [plan] rules)")
-    return load_rules(planner.rules, f"the {profile} default rules")
+    return load_rules(default, f"the {profile} default rules")
 
 
 def plan_cell(kg: Any, rules: Path | None = None, solver_budget: float = 0.0) -> Plan:

@@ -26,7 +26,7 @@ from typing import Any
 
 from cadkg.errors import CadkgError
 
-__all__ = ["Rules", "RulesError", "Tool", "load_rules", "parse_rules"]
+__all__ = ["Rules", "RulesError", "Tool", "check_settings", "load_rules", "parse_rules"]
 
 
 class RulesError(CadkgError):
@@ -104,6 +104,13 @@ def parse_rules(text: str, source: str) -> Rules:
     if not isinstance(entries, list):
         raise RulesError(f"{source}: 'tool' must be an array of tables [[tool]]")
     for n, entry in enumerate(entries, 1):
+        if not isinstance(entry, dict):
+            raise RulesError(f"{source}: [[tool]] number {n} must be a table")
+        extra = sorted(set(entry) - {"name", "serves"})
+        if extra:
+            raise RulesError(
+                f"{source}: [[tool]] number {n}: unknown key {extra[0]!r}; expected name and serves"
+            )
         name, serves = entry.get("name"), entry.get("serves", [])
         if not isinstance(name, str) or not name:
             raise RulesError(f'{source}: [[tool]] number {n} has no name = "..."')
@@ -111,6 +118,21 @@ def parse_rules(text: str, source: str) -> Rules:
             raise RulesError(f"{source}: [[tool]] {name}: serves must be a list of strings")
         tools.append(Tool(name, tuple(serves)))
     return Rules(source, robot, tuple(tools))
+
+
+def check_settings(rules: Rules, known: frozenset[str]) -> Rules:
+    """``rules`` when every ``[robot]`` key is one of ``known`` (the use case's settings).
+
+    Raises
+    ------
+    RulesError
+        Naming the first unknown key and the keys there are.
+    """
+    unknown = sorted(set(rules.robot) - known)
+    if unknown:
+        expected = ", ".join(sorted(known)) or "none"
+        raise RulesError(f"{rules.source}: unknown key [robot] {unknown[0]}; expected one of: {expected}")
+    return rules
 
 
 def load_rules(path: Path | Traversable, name: str | None = None) -> Rules:

@@ -29,9 +29,23 @@ from cadkg.query.validate import Finding
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
 from cadkg.usecases.iema.plan_scope import Scope, scope_decision, scope_of
 
-__all__ = ["DEFAULT_RULES", "iema_problem", "order_check"]
+__all__ = ["DEFAULT_RULES", "SETTINGS", "iema_problem", "order_check"]
 
 DEFAULT_RULES = resources.files("cadkg.usecases.iema").joinpath("plan-rules.toml")
+# Every [robot] setting read here and in plan_scope (docs/plan.md lists them).
+SETTINGS = frozenset(
+    {
+        "zones",
+        "label_not_in_cad",
+        "missing_pin_data",
+        "cross_section_min_mm2",
+        "cross_section_max_mm2",
+        "default_tool",
+        "clearance_m",
+        "corridor_depth_m",
+        "exit_length_m",
+    }
+)
 
 _ENDS = ("origin", "destination")
 
