@@ -19,7 +19,7 @@ from cadkg.services.session import Session
 from cadkg.services.table import call, services_for
 from cadkg.usecases.iema import answers as iema
 from cadkg.usecases.iema.derive.cabinet import CellModel
-from tests.conftest import IEMA
+from tests.conftest import IEMA, ROOT
 
 VRML = IEMA.parent / "manifest-vrml.toml"
 KOMAX = IEMA.parent / "manifest-komax.toml"
@@ -278,4 +278,27 @@ def test_item_frames_and_markers_are_in_the_graph() -> None:
         "ID000052",
         "ID000054",
         "ID000056",
+    ]
+
+
+def test_the_older_forms_give_the_same_cell(model: CellModel, tmp_path: Path) -> None:
+    """The ID table without `=` and root row, the list with CRLF and a four-line preamble."""
+    import shutil
+
+    cell = tmp_path / "example"
+    shutil.copytree(IEMA.parent, cell)
+    for name in ("ids.wri", "lista-cablaggio.csv"):
+        shutil.copyfile(ROOT / "tests" / "data" / "iema-old-forms" / name, cell / name)
+    assert (cell / "ids.wri").read_bytes() != (IEMA.parent / "ids.wri").read_bytes()
+    with KnowledgeGraph.build(cell / "manifest.toml") as kg:
+        old = kg.cell_model()
+    assert set(model.components) - set(old.components) == {"1"}  # the root item row
+    for label, component in old.components.items():
+        assert (component.original, component.target, component.corner) == (
+            model.components[label].original,
+            model.components[label].target,
+            model.components[label].corner,
+        )
+    assert [(s.wire, s.path, s.ducts, s.keypoints, s.performer) for s in old.steps] == [
+        (s.wire, s.path, s.ducts, s.keypoints, s.performer) for s in model.steps
     ]

@@ -239,3 +239,38 @@ def test_the_older_provider_and_the_display_switch(built: list[KnowledgeGraph]) 
     assert shown and cursors.gearbox_display(session).display is False
     assert cabinet_frames(session) == []
     assert cursors.gearbox_display(session).display is True and len(cabinet_frames(session)) == shown
+
+
+# -- 4, 6 and 7 on the example: the values of its README ("The reference node's conventions") --
+def test_the_example_serves_the_robot_103_wires(built: list[KnowledgeGraph]) -> None:
+    session = Session(_build(built, EXAMPLE / "manifest.toml").cell_model())
+    served = []
+    while not (wire := cursors.group_connection_provider(session)).end:
+        served.append(wire.list_position)
+    assert len(served) == 103 and 93 not in served and served[0] == 0
+
+
+def test_the_example_hands_the_target_as_component_pose(built: list[KnowledgeGraph]) -> None:
+    model = _build(built, EXAMPLE / "manifest.toml").cell_model()
+    end = cursors.full_connection_provider(Session(model))
+    assert (end.source, end.label, end.pin) == ("orig", "F1500.1", "14")
+    assert end.component_pose is not None
+    assert end.component_pose.position == pytest.approx((0.097, 0.6085, 0.2545))
+    assert end.component_pose.orientation == pytest.approx((1.0, 0.0, 0.0, 0.0))
+    wire = cursors.group_connection_provider(Session(model))
+    assert wire.origin is not None and wire.origin.component_pose is not None
+    assert wire.origin.component_pose.position == pytest.approx((0.097, 0.6085, 0.2545))
+
+
+def test_the_example_moves_the_pins_with_the_detected_target(built: list[KnowledgeGraph]) -> None:
+    from cadkg.geometry.poses import Pose
+
+    model = _build(built, EXAMPLE / "manifest.toml").cell_model()
+    turned = (1.0, 0.0, 0.0, 0.0)  # a half turn about x
+    at_cad = answers.get_item_screw_targets(model, "F1500.1", Pose((0.097, 0.6085, 0.2545), turned))
+    moved = answers.get_item_screw_targets(model, "F1500.1", Pose((0.107, 0.6085, 0.2545), turned))
+    assert at_cad.success and moved.success
+    pin = moved.pins.index("13")
+    assert at_cad.screws[pin].position == pytest.approx((0.1195, 0.647, 0.0675))
+    assert moved.screws[pin].position == pytest.approx((0.1295, 0.647, 0.0675))
+    assert moved.holes[pin].position == pytest.approx((0.1295, 0.642, 0.0595))
