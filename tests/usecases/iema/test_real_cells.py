@@ -4,7 +4,10 @@ The node's package has no licence, so its files are not in this repository: set
 ``CADKG_IEMA_CELLS`` to a local copy of its ``data`` folder (the one holding ``gearbox_zero``,
 ``gearbox_demo`` and ``remodel``) to run these tests. Each cabinet is built from its ID table and
 one connection list; the counts and first wires are those recorded in
-docs/formats/iema-real-files.md, the node's own answers on the same files.
+docs/formats/iema-real-files.md, the node's own answers on the same files. With a Python 2.7
+(``CADKG_PYTHON2``, else ``python2.7``), the node's own list and ID-table readers run on these
+lists and on the example's, and every field they give is compared with cadkg's providers
+(docs/iema-services.md, "The node's readers on the same files").
 """
 
 from __future__ import annotations
