@@ -83,43 +83,6 @@ def _build(tmp_path: Path, cabinet: str, ids: str, wiring: str, folder: Path | N
         return KnowledgeGraph.build(manifest)
 
 
-@pytest.mark.parametrize("case", sorted(CASES))
-def test_the_providers_serve_the_nodes_wires(tmp_path: Path, case: str) -> None:
-    cabinet, ids, wiring, served, for_people, first = CASES[case]
-    with _build(tmp_path, cabinet, ids, wiring) as kg:
-        session = Session(kg.cell_model())
-        wires = []
-        while not (wire := cursors.group_connection_provider(session)).end:
-            wires.append(wire)
-        assert len(wires) == served
-        assert [w.list_position for w in wires] == list(range(served))
-        head = wires[0]
-        assert head.origin is not None and head.destination is not None
-        assert (
-            head.list_position,
-            f"{head.origin.label}:{head.origin.pin}",
-            f"{head.destination.label}:{head.destination.pin}",
-            head.wire,
-            head.wire_path,
-        ) == first
-        people = [f for f in validate(kg, shacl=False) if f.check == "wire-for-a-person"]
-        assert len(people) == for_people
-
-
-def test_the_name_error_row_keeps_wire_0005pe(tmp_path: Path) -> None:
-    # The workbook shows #NAME? where the CSV has =-Stop:stop: the wire stays, its end flagged.
-    with _build(tmp_path, "gearbox_zero", "gearbox00001_ids.wri", ZERO_LIST + ".xlsx") as kg:
-        session = Session(kg.cell_model())
-        assert cursors.reset_to_connection_list(session, 51).success
-        wire = cursors.group_connection_provider(session)
-        # Without a scene every end lacks data; the lost destination is the unknown end ?:?.
-        assert wire.wire == "0005PE" and wire.missing_pin_data.split(", ")[-1] == "?:?"
-        lost = [f for f in validate(kg, shacl=False) if f.check == "lost-wire-end"]
-        assert [f.message for f in lost] == [
-            "wire 0005PE: the list gives no reference for its destination; it is kept with missing pin data"
-        ]
-
-
 # -- the node's own list reader beside cadkg's providers --------------------------------------
 # The node's scripts sit beside its data folder; its list and ID-table readers are run as they
 # are with a Python 2.7, only the modules of ROS and of unused readers stubbed.
@@ -216,3 +179,40 @@ def test_the_nodes_reader_and_cadkg_serve_the_same_wires(tmp_path: Path, case: s
     assert len(_differences(node["wires"], ours)) == sum(
         (row[1] in hyphens) + (row[3] in hyphens) for row in ours
     )
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_the_providers_serve_the_nodes_wires(tmp_path: Path, case: str) -> None:
+    cabinet, ids, wiring, served, for_people, first = CASES[case]
+    with _build(tmp_path, cabinet, ids, wiring) as kg:
+        session = Session(kg.cell_model())
+        wires = []
+        while not (wire := cursors.group_connection_provider(session)).end:
+            wires.append(wire)
+        assert len(wires) == served
+        assert [w.list_position for w in wires] == list(range(served))
+        head = wires[0]
+        assert head.origin is not None and head.destination is not None
+        assert (
+            head.list_position,
+            f"{head.origin.label}:{head.origin.pin}",
+            f"{head.destination.label}:{head.destination.pin}",
+            head.wire,
+            head.wire_path,
+        ) == first
+        people = [f for f in validate(kg, shacl=False) if f.check == "wire-for-a-person"]
+        assert len(people) == for_people
+
+
+def test_the_name_error_row_keeps_wire_0005pe(tmp_path: Path) -> None:
+    # The workbook shows #NAME? where the CSV has =-Stop:stop: the wire stays, its end flagged.
+    with _build(tmp_path, "gearbox_zero", "gearbox00001_ids.wri", ZERO_LIST + ".xlsx") as kg:
+        session = Session(kg.cell_model())
+        assert cursors.reset_to_connection_list(session, 51).success
+        wire = cursors.group_connection_provider(session)
+        # Without a scene every end lacks data; the lost destination is the unknown end ?:?.
+        assert wire.wire == "0005PE" and wire.missing_pin_data.split(", ")[-1] == "?:?"
+        lost = [f for f in validate(kg, shacl=False) if f.check == "lost-wire-end"]
+        assert [f.message for f in lost] == [
+            "wire 0005PE: the list gives no reference for its destination; it is kept with missing pin data"
+        ]
