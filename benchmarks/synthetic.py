@@ -1,7 +1,8 @@
 """A synthetic switchgear cabinet of any size, in the real IEMA export formats.
 
 ``write_cell(directory, wires)`` writes three files, shaped like
-``examples/iema-switchgear``:
+``examples/iema-switchgear`` before it took the real exports' shapes
+(``tests/data/iema-old-forms``):
 
 * ``ids.wri``: the WRI ID table (tab separated, no header, CRLF), 1-3 CAD items
   per component plus the wiring ducts ``U1``..``U20``;

@@ -53,7 +53,7 @@ def test_query_a_manifest_directly_and_a_rq_file(tmp_path: Path) -> None:
     rq.write_text("SELECT ?label WHERE { ?c a ck:Component ; ck:label ?label } ORDER BY ?label LIMIT 1")
     result = run("query", IEMA, rq, "--format", "csv")
     assert result.returncode == 0, result.stderr
-    assert result.stdout.splitlines()[1] == "A0080.1"
+    assert result.stdout.splitlines()[1] == "1"  # the cabinet's root item (ids.wri line 1, =-1)
 
 
 def test_table_output(store: Path) -> None:
@@ -102,7 +102,7 @@ def test_input_error_is_one_line_without_traceback(tmp_path: Path) -> None:
     assert "Traceback" not in result.stderr
     lines = [line for line in result.stderr.splitlines() if line.strip()]
     assert len(lines) == 1
-    assert "ids.wri:20: malformed CAD item ID (found '41'" in lines[0]
+    assert "ids.wri:21: malformed CAD item ID (found '41'" in lines[0]
 
 
 @pytest.mark.parametrize(

@@ -245,7 +245,7 @@ def test_replacing_one_file_graph_leaves_the_others(tmp_path: Path) -> None:
     assert len(kg.named_query("connections-in-order")) == wires_before - 1
     assert graph_of(wri_graph) == wri_before
 
-    lines[10] = "garbage\twithout\tpins\n" * 0 + lines[10].replace(":", "-", 1).replace("=-", "", 1)
+    lines[9] = lines[9].replace(":", "-", 1).replace("=-", "", 1)  # wire 6 (F1500.3:13) without a pin
     csv.write_text("".join(lines), encoding="utf-8")
     with pytest.raises(IngestError):
         kg.replace_source(csv, "lista-cablaggio.csv", BASE, "connection-list")

@@ -144,7 +144,7 @@ def _save_ods(document: OpenDocumentSpreadsheet, name: str) -> None:
 def _wires_on_terminals() -> dict[tuple[str, str], list[str]]:
     """(strip, terminal) → the other ends of the wires landing on it, in list order."""
     ends: dict[tuple[str, str], list[str]] = defaultdict(list)
-    for row in _list_rows()[5:]:
+    for row in _list_rows()[4:]:
         origin, destination = row[2], row[5]
         for here, other in ((origin, destination), (destination, origin)):
             parts = here.removeprefix("=-").split(":")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 from decimal import Decimal
 from pathlib import Path
@@ -17,7 +18,9 @@ from cadkg.ingest.text import decode_text
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "iema-switchgear"
 FIG3 = EXAMPLE / "connections-fig3.tsv"
-LISTA = EXAMPLE / "lista-cablaggio.csv"
+EXAMPLE_LISTA = EXAMPLE / "lista-cablaggio.csv"
+# The example's list before it took gearbox_zero's shape: CRLF, a four-line preamble.
+LISTA = REPO / "tests" / "data" / "iema-old-forms" / "lista-cablaggio.csv"
 READERS = REPO / "tests" / "data" / "readers"
 
 # Figure 3 in file order: wire number, section, potential type ('-' rows checked apart), length in m.
@@ -180,6 +183,16 @@ def test_fig3_daisy_chain_shares_a_pin(fig3) -> None:
 
 
 # --- Lista cablaggio ---------------------------------------------------------------------------------
+
+
+def test_the_example_list_in_the_real_exports_shape(lista) -> None:
+    data = EXAMPLE_LISTA.read_bytes()
+    assert b"\r" not in data and data.startswith(b"\t\tNome Progetto:\tREMODEL_QE01\t")
+    info, connections = split(read_connection_list(EXAMPLE_LISTA))
+    assert info == ConnectionListInfo(project="REMODEL_QE01", job="24-0117", header_line=4)
+    # The older form's wires, one line up.
+    old = [dataclasses.replace(c, line=c.line - 1) for c in lista[1]]
+    assert connections == old and [c.line for c in connections] == list(range(5, 115))
 
 
 def test_lista_preamble_and_header(lista) -> None:

@@ -1,4 +1,4 @@
-"""The WRI ID table reader: examples/iema-switchgear/ids.wri and the malformed samples."""
+"""The WRI ID table reader: examples/iema-switchgear/ids.wri, its older form and the malformed samples."""
 
 from __future__ import annotations
 
@@ -10,7 +10,9 @@ from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.wri import IdEntry, read_wri
 
 REPO = Path(__file__).resolve().parents[2]
-IDS = REPO / "examples" / "iema-switchgear" / "ids.wri"
+EXAMPLE_IDS = REPO / "examples" / "iema-switchgear" / "ids.wri"
+# The example's table before it took the real exports' shape: labels with and without prefixes.
+IDS = REPO / "tests" / "data" / "iema-old-forms" / "ids.wri"
 READERS = REPO / "tests" / "data" / "readers"
 
 FIGURE5 = [
@@ -31,7 +33,24 @@ def by_line(entries: list[IdEntry]) -> dict[int, IdEntry]:
     return {e.line: e for e in entries}
 
 
-# --- the example -------------------------------------------------------------------------------------
+# --- the example, in the real exports' shape ------------------------------------------------------------
+
+
+def test_example_begins_with_the_root_item_and_writes_every_label_with_its_prefix() -> None:
+    entries = read_wri(EXAMPLE_IDS)
+    assert len(entries) == 111 and [e.line for e in entries] == list(range(1, 112))
+    assert entries[0] == IdEntry("ID000001", "1", "=-1", None, 1)
+    assert all(e.raw_label == "=-" + e.label for e in entries)
+    assert len({e.label for e in entries}) == 63
+    # The same rows as the older form, one line down, labels written =-LABEL.
+    assert [(e.cad_id, e.label, e.commercial, e.line + 1) for e in read_wri(IDS)] == [
+        (e.cad_id, e.label, e.commercial, e.line) for e in entries[1:]
+    ]
+    assert by_line(entries)[21] == IdEntry("ID000041", "X00005.2", "=-X00005.2", "6013277", 21)
+    assert [e.line for e in entries if e.commercial is None] == [1, 19, 51, 59]
+
+
+# --- the example's older form ----------------------------------------------------------------------------
 
 
 def test_example_has_110_entries_on_lines_1_to_110(ids: list[IdEntry]) -> None:

@@ -4,7 +4,7 @@ permalinks, local storage), named queries that keep their parameters, the result
 (paging, sorting, filtering), the chart, downloads, and the graph view.
 
 Expected values come from the example's files: ``lista-cablaggio.csv`` has 110 wires, 8 of
-them at ``F1500.1``; ``ids.wri`` labels 62 components, ``A0080.1`` first.
+them at ``F1500.1``; ``ids.wri`` labels 63 components, the root item's ``1`` first.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """The SPARQL 1.1 Protocol over a real uvicorn server on the IEMA example (examples/iema-switchgear).
 
-Expected values come from the example's files: ``lista-cablaggio.csv`` has 110 wires (115 lines,
-5 of them preamble and header); its first wire ``1500.51`` goes from ``=-F1500.1:14`` to
+Expected values come from the example's files: ``lista-cablaggio.csv`` has 110 wires (114 lines,
+4 of them preamble and header); its first wire ``1500.51`` goes from ``=-F1500.1:14`` to
 ``=-Q1500.1:A1``, 0,75 mm², colour BU, 0,746 m.
 """
 

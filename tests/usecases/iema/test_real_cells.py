@@ -4,21 +4,30 @@ The node's package has no licence, so its files are not in this repository: set
 ``CADKG_IEMA_CELLS`` to a local copy of its ``data`` folder (the one holding ``gearbox_zero``,
 ``gearbox_demo`` and ``remodel``) to run these tests. Each cabinet is built from its ID table and
 one connection list; the counts and first wires are those recorded in
-docs/formats/iema-real-files.md, the node's own answers on the same files.
+docs/formats/iema-real-files.md, the node's own answers on the same files. With a Python 2.7
+(``CADKG_PYTHON2``, else ``python2.7``), the node's own list and ID-table readers run on these
+lists and on the example's, and every field they give is compared with cadkg's providers
+(docs/iema-services.md, "The node's readers on the same files").
 """
 
 from __future__ import annotations
 
+import json
 import os
+import shutil
+import subprocess
 import warnings
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from cadkg.graph import KnowledgeGraph
+from cadkg.ingest.wri import read_wri
 from cadkg.query.validate import validate
 from cadkg.services.session import Session
 from cadkg.usecases.iema import cursors
+from tests.conftest import ROOT
 
 DATA = os.environ.get("CADKG_IEMA_CELLS", "")
 pytestmark = pytest.mark.skipif(not DATA, reason="CADKG_IEMA_CELLS names no local copy of the real cabinets")
@@ -62,8 +71,8 @@ CASES = {
 }
 
 
-def _build(tmp_path: Path, cabinet: str, ids: str, wiring: str) -> KnowledgeGraph:
-    folder = Path(DATA) / cabinet
+def _build(tmp_path: Path, cabinet: str, ids: str, wiring: str, folder: Path | None = None) -> KnowledgeGraph:
+    folder = folder or Path(DATA) / cabinet
     manifest = tmp_path / "manifest.toml"
     lines = ["[cell]", f'name = "{cabinet}"', 'profile = "iema"', 'base_iri = "https://example.org/real/"']
     for name in (ids, wiring):
@@ -72,6 +81,104 @@ def _build(tmp_path: Path, cabinet: str, ids: str, wiring: str) -> KnowledgeGrap
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return KnowledgeGraph.build(manifest)
+
+
+# -- the node's own list reader beside cadkg's providers --------------------------------------
+# The node's scripts sit beside its data folder; its list and ID-table readers are run as they
+# are with a Python 2.7, only the modules of ROS and of unused readers stubbed.
+NODE_SCRIPTS = Path(DATA).parent / "scripts" if DATA else Path()
+PYTHON2 = os.environ.get("CADKG_PYTHON2") or shutil.which("python2.7") or ""
+EXAMPLE = ROOT / "examples" / "iema-switchgear"
+STUBS = {
+    "rospy.py": "# ROS stub: the readers run outside ROS\n",
+    "PyKDL.py": "# stub: the readers compared place nothing\n",
+    "xmltodict.py": "# stub: the component models are not compared\n",
+    "pyexcel_ods.py": "def get_data(*args, **kwargs):\n    raise NotImplementedError\n",
+}
+DRIVER = """
+import json, sys
+sys.path[:0] = [sys.argv[1], sys.argv[2]]
+from database_wiress.partdb.data_dictionaries import GearboxPartsData
+def ends(c):
+    return [c['orig']['part_label'], c['orig']['pin'], c['dest']['part_label'], c['dest']['pin']]
+wires = [[i] + ends(c) + [c['wire'], c['path']]
+         for i, c in enumerate(GearboxPartsData._createConnectionList(sys.argv[3]))]
+board = GearboxPartsData._createBoardDict(sys.argv[4])
+print(json.dumps({'wires': wires, 'labels': dict((k, v['label']) for k, v in board.items())}))
+"""
+WIRE_FIELDS = (
+    "list_position",
+    "origin.label",
+    "origin.pin",
+    "destination.label",
+    "destination.pin",
+    "wire",
+    "wire_path",
+)
+# cell → (manifest or None for a cabinet of DATA, ID table, connection list)
+NODE_CASES = {
+    "example": (None, EXAMPLE / "ids.wri", EXAMPLE / "lista-cablaggio.csv"),
+    "gearbox_zero": ("gearbox_zero", Path("gearbox00001_ids.wri"), Path(ZERO_LIST + ".csv")),
+    "gearbox_demo": ("gearbox_demo", Path("gearbox_demo_ids.wri"), Path("cablaggio.csv")),
+    "remodel": ("remodel", Path("Q1_simplified_ids.wri"), Path("TEST1_REMODEL_KOMAX.csv")),
+}
+
+
+def _node_answers(tmp_path: Path, ids: Path, wiring: Path) -> dict[str, Any]:
+    stubs = tmp_path / "stubs"
+    stubs.mkdir()
+    for name, text in STUBS.items():
+        (stubs / name).write_text(text, encoding="utf-8")
+    driver = tmp_path / "driver.py"
+    driver.write_text(DRIVER, encoding="utf-8")
+    # -B: no bytecode is written into the node's checkout.
+    run = subprocess.run(
+        [PYTHON2, "-B", str(driver), str(stubs), str(NODE_SCRIPTS), str(wiring), str(ids)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=True,
+    )
+    answers: dict[str, Any] = json.loads(run.stdout.splitlines()[-1])
+    return answers
+
+
+def _differences(
+    node: list[list[object]], ours: list[list[object]]
+) -> list[tuple[object, str, object, object]]:
+    return [
+        (mine[0], field, theirs[i], mine[i])
+        for theirs, mine in zip(node, ours, strict=True)
+        for i, field in enumerate(WIRE_FIELDS)
+        if theirs[i] != mine[i]
+    ]
+
+
+@pytest.mark.skipif(not PYTHON2 or not NODE_SCRIPTS.is_dir(), reason="no Python 2.7 or no node scripts")
+@pytest.mark.parametrize("case", sorted(NODE_CASES))
+def test_the_nodes_reader_and_cadkg_serve_the_same_wires(tmp_path: Path, case: str) -> None:
+    cabinet, ids, wiring = NODE_CASES[case]
+    if cabinet is not None:
+        ids, wiring = Path(DATA) / cabinet / ids, Path(DATA) / cabinet / wiring
+    node = _node_answers(tmp_path, ids, wiring)
+    with _build(tmp_path, ids.parent.name, ids.name, wiring.name, folder=ids.parent) as kg:
+        session = Session(kg.cell_model())
+        ours = []
+        while not (w := cursors.group_connection_provider(session)).end:
+            assert w.origin is not None and w.destination is not None
+            ends = [w.origin.label, w.origin.pin, w.destination.label, w.destination.pin]
+            ours.append([w.list_position, *ends, w.wire, w.wire_path])
+    # The node keeps a label's function part (=SSB-05U2 → SSB05U2); cadkg keys the device (05U2).
+    items = {row.cad_id: (row.raw_label.split("-")[0] + row.label).lstrip("=") for row in read_wri(ids)}
+    assert len(node["wires"]) == len(ours)
+    # The node deletes every "-" of a label (SSB-10F1 → SSB10F1); cadkg keeps the label's own.
+    differing = [d for d in _differences(node["wires"], ours) if d[2] != str(d[3]).replace("-", "")]
+    assert differing == []
+    assert {k: v for k, v in node["labels"].items() if v != items[k].replace("-", "")} == {}
+    hyphens = {v for row in ours for v in (row[1], row[3]) if "-" in str(v)}
+    assert len(_differences(node["wires"], ours)) == sum(
+        (row[1] in hyphens) + (row[3] in hyphens) for row in ours
+    )
 
 
 @pytest.mark.parametrize("case", sorted(CASES))

@@ -239,3 +239,73 @@ def test_the_older_provider_and_the_display_switch(built: list[KnowledgeGraph]) 
     assert shown and cursors.gearbox_display(session).display is False
     assert cabinet_frames(session) == []
     assert cursors.gearbox_display(session).display is True and len(cabinet_frames(session)) == shown
+
+
+# -- 4, 6 and 7 on the example: the values of its README ("The reference node's conventions") --
+def test_the_example_serves_the_robot_103_wires(built: list[KnowledgeGraph]) -> None:
+    session = Session(_build(built, EXAMPLE / "manifest.toml").cell_model())
+    served = []
+    while not (wire := cursors.group_connection_provider(session)).end:
+        served.append(wire.list_position)
+    assert len(served) == 103 and 93 not in served and served[0] == 0
+
+
+def test_the_example_hands_the_target_as_component_pose(built: list[KnowledgeGraph]) -> None:
+    model = _build(built, EXAMPLE / "manifest.toml").cell_model()
+    end = cursors.full_connection_provider(Session(model))
+    assert (end.source, end.label, end.pin) == ("orig", "F1500.1", "14")
+    assert end.component_pose is not None
+    assert end.component_pose.position == pytest.approx((0.097, 0.6085, 0.2545))
+    assert end.component_pose.orientation == pytest.approx((1.0, 0.0, 0.0, 0.0))
+    wire = cursors.group_connection_provider(Session(model))
+    assert wire.origin is not None and wire.origin.component_pose is not None
+    assert wire.origin.component_pose.position == pytest.approx((0.097, 0.6085, 0.2545))
+
+
+def test_the_example_moves_the_pins_with_the_detected_target(built: list[KnowledgeGraph]) -> None:
+    from cadkg.geometry.poses import Pose
+
+    model = _build(built, EXAMPLE / "manifest.toml").cell_model()
+    turned = (1.0, 0.0, 0.0, 0.0)  # a half turn about x
+    at_cad = answers.get_item_screw_targets(model, "F1500.1", Pose((0.097, 0.6085, 0.2545), turned))
+    moved = answers.get_item_screw_targets(model, "F1500.1", Pose((0.107, 0.6085, 0.2545), turned))
+    assert at_cad.success and moved.success
+    pin = moved.pins.index("13")
+    assert at_cad.screws[pin].position == pytest.approx((0.1195, 0.647, 0.0675))
+    assert moved.screws[pin].position == pytest.approx((0.1295, 0.647, 0.0675))
+    assert moved.holes[pin].position == pytest.approx((0.1295, 0.642, 0.0595))
+
+
+# -- 5 on the example: the target turned a half turn about x, the corner the box's minimum ------
+@pytest.mark.parametrize(
+    ("label", "corner", "orientation"),
+    [
+        ("F1500.1", (0.07, 0.56, 0.0075), (1.0, 0.0, 0.0, 0.0)),
+        ("SSB-10Q1", (0.5544, 0.56, 0.0075), (0.70710678, 0.70710678, 0.0, 0.0)),  # turned +90° about z
+        ("B0040.3", (0.4178, 0.86, 0.0075), (0.0, 1.0, 0.0, 0.0)),  # turned 180° about z
+    ],
+)
+def test_the_example_targets_point_into_the_plate(
+    built: list[KnowledgeGraph], label: str, corner: tuple[float, ...], orientation: tuple[float, ...]
+) -> None:
+    result = answers.cad_reference(_build(built, EXAMPLE / "manifest.toml").cell_model(), label)
+    assert result.success and result.corner_pose is not None and result.target_pose is not None
+    assert result.corner_pose.position == pytest.approx(corner, abs=1e-6)
+    q = result.target_pose.orientation
+    assert q == pytest.approx(orientation, abs=1e-6) or q == pytest.approx(
+        [-v for v in orientation], abs=1e-6
+    )
+
+
+# -- 7 on the example: full_cad_service by the node's cad_item ------------------------------------
+def test_the_example_answers_full_cad_service_by_cad_item(built: list[KnowledgeGraph]) -> None:
+    model = _build(built, EXAMPLE / "manifest.toml").cell_model()
+    # ID000046 is F1500.1's auxiliary contact: the component's target, the wires on its pins.
+    result = answers.full_cad_service(model, cad_item="ID000046")
+    assert result.success and result.target_pose is not None
+    assert result.target_pose.position == pytest.approx((0.097, 0.6085, 0.2545))
+    assert {c.pin for c in result.connections} <= {"13", "14", "21", "22"}
+    first = [c for c in result.connections if c.pin == "14"]
+    assert [(c.wire, c.source, c.target_item, c.target_pin, c.list_position) for c in first] == [
+        ("1500.51", "orig", "ID000052", "A1", 0)
+    ]
