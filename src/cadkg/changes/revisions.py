@@ -1,4 +1,4 @@
-"""The revisions a diff compares: a store directory, a manifest, a store's previous generation."""
+"""A store's previous generation, which ``cadkg diff STORE`` compares its live one with."""
 
 from __future__ import annotations
 
@@ -11,25 +11,7 @@ from cadkg.errors import StoreError
 from cadkg.generations import PREVIOUS, current_generation, read_pointer
 from cadkg.graph import KnowledgeGraph
 
-__all__ = ["open_previous", "open_revision"]
-
-
-def open_revision(target: str | Path) -> KnowledgeGraph:
-    """A store directory opened read-only, or a manifest built in memory.
-
-    Raises
-    ------
-    StoreError
-        When ``target`` is neither.
-    IngestError, ManifestError
-        When a manifest's files are malformed.
-    """
-    path = Path(target)
-    if path.is_dir():
-        return KnowledgeGraph.open(path)
-    if path.is_file():
-        return KnowledgeGraph.build(path)
-    raise StoreError(f"{target}: neither a store directory nor a manifest file")
+__all__ = ["open_previous"]
 
 
 def open_previous(directory: str | Path) -> tuple[KnowledgeGraph, str, str]:

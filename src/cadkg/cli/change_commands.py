@@ -12,15 +12,15 @@ import click
 from rich.table import Table
 
 from cadkg.changes import ChangeSet, Tolerances, changes_turtle, diff_graphs, statement_changes
-from cadkg.changes.revisions import open_previous, open_revision
-from cadkg.cli.common import err, guarded, out, write_bytes
+from cadkg.changes.revisions import open_previous
+from cadkg.cli.common import err, guarded, open_local, out, store_or_manifest, write_bytes
 
 __all__ = ["diff"]
 
 
 @click.command()
-@click.argument("old", metavar="OLD_OR_STORE")
-@click.argument("new", metavar="NEW", required=False)
+@store_or_manifest("old", "OLD_OR_STORE")
+@store_or_manifest("new", "NEW", required=False)
 @click.option(
     "--format",
     "fmt",
@@ -50,10 +50,10 @@ def diff(old: str, new: str | None, fmt: str, move_tolerance: float, turn_tolera
     number and ends, a component by its label and part number, never by IRI or XML id."""
     if new is None:
         before, old_name, new_name = open_previous(old)
-        after = open_revision(old)
+        after = open_local(old)
         names = (f"{old}@{old_name}", f"{old}@{new_name}")
     else:
-        before, after = open_revision(old), open_revision(new)
+        before, after = open_local(old), open_local(new)
         names = (old, new)
     try:
         changes = diff_graphs(
