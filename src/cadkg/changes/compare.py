@@ -15,7 +15,7 @@ from typing import Any
 
 from cadkg.changes.changeset import Change, ChangeSet
 from cadkg.changes.kinds import ThingKind, kinds_for
-from cadkg.changes.things import Thing, collector_paused, read_things
+from cadkg.changes.things import Thing, read_things
 from cadkg.geometry.poses import Pose
 
 __all__ = ["Tolerances", "diff_graphs", "diff_things", "profiles_of"]
@@ -53,10 +53,9 @@ def diff_graphs(
     if kinds is None:
         kinds = kinds_for(sorted({*profiles_of(old), *profiles_of(new)}))
     changes = ChangeSet(*names)
-    with collector_paused():
-        for kind in kinds:
-            for change in diff_things(kind, read_things(old, kind), read_things(new, kind), tolerances):
-                changes.of(change)
+    for kind in kinds:
+        for change in diff_things(kind, read_things(old, kind), read_things(new, kind), tolerances):
+            changes.of(change)
     return changes
 
 
