@@ -11,7 +11,7 @@ from cadkg.errors import StoreError
 from cadkg.generations import PREVIOUS, current_generation, read_pointer
 from cadkg.graph import KnowledgeGraph
 
-__all__ = ["open_previous"]
+__all__ = ["open_generation", "open_previous"]
 
 
 def open_previous(directory: str | Path) -> tuple[KnowledgeGraph, str, str]:
@@ -31,8 +31,19 @@ def open_previous(directory: str | Path) -> tuple[KnowledgeGraph, str, str]:
             f"{directory}: keeps no previous generation (built once); compare two revisions with "
             "'cadkg diff OLD NEW'"
         )
+    return open_generation(directory, name), name, live
+
+
+def open_generation(directory: str | Path, name: str) -> KnowledgeGraph:
+    """The generation ``name`` of a store directory, read-only.
+
+    Raises
+    ------
+    StoreError
+        When it cannot be opened (removed by a later build).
+    """
     try:
-        store: Any = ox.Store.read_only(str(directory / name))
+        store: Any = ox.Store.read_only(str(Path(directory) / name))
     except OSError as err:
-        raise StoreError(f"{directory}: cannot open the previous generation {name}: {err}") from err
-    return KnowledgeGraph(store, None, read_only=True), name, live
+        raise StoreError(f"{directory}: cannot open the generation {name}: {err}") from err
+    return KnowledgeGraph(store, None, read_only=True)
