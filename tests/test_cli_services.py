@@ -57,8 +57,11 @@ def test_assign_persists_across_a_rebuild(cell: Path) -> None:
     assert result.returncode == 0, result.stderr
     assert call(store, "group_connection_provider")["wire"] == "W1"
     assert call(store, "group_connection_provider")["wire"] == "W4"
-    # Rebuild from the files: the hand edit stays, the overlay's W3 too.
+    # Rebuild from the files: the hand edit stays, the overlay's W3 too; the cursor stays where
+    # it was, past W4, the last robot wire (docs/changes.md, cursors across a rebuild).
     build(cell)
+    assert call(store, "group_connection_provider")["end"] is True
+    assert call(store, "reset_connection_list")["success"] is True
     wires = [call(store, "group_connection_provider")["wire"] for _ in range(2)]
     assert wires == ["W1", "W4"]
     # A component handed to a human takes its wires and its rail place with it, except

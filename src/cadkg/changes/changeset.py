@@ -46,6 +46,8 @@ class ChangeSet:
     added: list[Change] = field(default_factory=list)
     removed: list[Change] = field(default_factory=list)
     changed: list[Change] = field(default_factory=list)
+    # What the changes mean for a plan and the cursors (:class:`cadkg.changes.impact.Impact`).
+    impact: Any = None
 
     def __bool__(self) -> bool:
         return bool(self.added or self.removed or self.changed)
@@ -60,11 +62,15 @@ class ChangeSet:
         {"added": self.added, "removed": self.removed, "changed": self.changed}[change.change].append(change)
 
     def to_json(self) -> dict[str, Any]:
-        """``{"old", "new", "added", "removed", "changed"}``, items ``{"kind", "id", ...}``."""
-        return {
+        """``{"old", "new", "added", "removed", "changed"}``, items ``{"kind", "id", ...}``, and
+        ``impact`` when a plan or a cursor was looked at."""
+        data: dict[str, Any] = {
             "old": self.old,
             "new": self.new,
             "added": [c.to_json() for c in self.added],
             "removed": [c.to_json() for c in self.removed],
             "changed": [c.to_json() for c in self.changed],
         }
+        if self.impact is not None:
+            data["impact"] = self.impact.to_json()
+        return data

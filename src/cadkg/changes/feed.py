@@ -9,13 +9,16 @@ by then), compares, keeps the latest change set and hands it to its listeners.
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from cadkg.changes.changeset import ChangeSet
 from cadkg.changes.compare import Tolerances, diff_things, profiles_of
+from cadkg.changes.impact import plan_impact
 from cadkg.changes.kinds import ThingKind, kinds_for
 from cadkg.changes.things import Thing, read_things
+from cadkg.plan.graph import StoredPlan, cell_base, read_plan
+from cadkg.services.session import Work
 
 __all__ = ["ChangeFeed", "Listener"]
 
@@ -32,6 +35,7 @@ class ChangeFeed:
         self.published = 0
         self._things: _Things | None = None
         self._revision = ""
+        self._plan: StoredPlan | None = None
         self._lock = threading.Lock()
         self._listeners: list[Listener] = []
 
@@ -47,10 +51,19 @@ class ChangeFeed:
 
         return stop
 
-    def observe(self, graph: Any, revision: str) -> ChangeSet | None:
+    def observe(
+        self,
+        graph: Any,
+        revision: str,
+        done: Mapping[str, Sequence[Work]] | None = None,
+        cursors: Sequence[str] = (),
+    ) -> ChangeSet | None:
         """Take the things of ``graph`` (the served graph as it now is, named ``revision``);
         after the first, publish and return what changed since the one before (also when
-        nothing did: a listener learns the graph was rebuilt).
+        nothing did: a listener learns the graph was rebuilt), with its impact on the plan the
+        graph before held and on the work the cursors had passed on it (``done``, as
+        :meth:`cadkg.services.session.Session.done` gives it just before the change;
+        ``cursors`` where each is now).
 
         Raises
         ------
@@ -59,9 +72,10 @@ class ChangeFeed:
         """
         kinds = kinds_for(profiles_of(graph))
         things = {kind.name: (kind, read_things(graph, kind)) for kind in kinds}
+        plan = read_plan(graph, cell_base(graph))
         with self._lock:
-            before, old = self._things, self._revision
-            self._things, self._revision = things, revision
+            before, old, old_plan = self._things, self._revision, self._plan
+            self._things, self._revision, self._plan = things, revision, plan
             if before is None:
                 return None
             changes = ChangeSet(old, revision)
@@ -71,6 +85,7 @@ class ChangeFeed:
                 new_things = things.get(name, (kind, []))[1]
                 for change in diff_things(kind, old_things, new_things, self.tolerances):
                     changes.of(change)
+            changes.impact = plan_impact(changes, old_plan, done, plan, cursors)
             self.latest = changes
             self.published += 1
             listeners = list(self._listeners)

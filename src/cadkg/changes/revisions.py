@@ -1,4 +1,4 @@
-"""The revisions a diff compares: a store directory, a manifest, a store's previous generation."""
+"""A store's previous generation, which ``cadkg diff STORE`` compares its live one with."""
 
 from __future__ import annotations
 
@@ -11,25 +11,7 @@ from cadkg.errors import StoreError
 from cadkg.generations import PREVIOUS, current_generation, read_pointer
 from cadkg.graph import KnowledgeGraph
 
-__all__ = ["open_previous", "open_revision"]
-
-
-def open_revision(target: str | Path) -> KnowledgeGraph:
-    """A store directory opened read-only, or a manifest built in memory.
-
-    Raises
-    ------
-    StoreError
-        When ``target`` is neither.
-    IngestError, ManifestError
-        When a manifest's files are malformed.
-    """
-    path = Path(target)
-    if path.is_dir():
-        return KnowledgeGraph.open(path)
-    if path.is_file():
-        return KnowledgeGraph.build(path)
-    raise StoreError(f"{target}: neither a store directory nor a manifest file")
+__all__ = ["open_generation", "open_previous"]
 
 
 def open_previous(directory: str | Path) -> tuple[KnowledgeGraph, str, str]:
@@ -49,8 +31,19 @@ def open_previous(directory: str | Path) -> tuple[KnowledgeGraph, str, str]:
             f"{directory}: keeps no previous generation (built once); compare two revisions with "
             "'cadkg diff OLD NEW'"
         )
+    return open_generation(directory, name), name, live
+
+
+def open_generation(directory: str | Path, name: str) -> KnowledgeGraph:
+    """The generation ``name`` of a store directory, read-only.
+
+    Raises
+    ------
+    StoreError
+        When it cannot be opened (removed by a later build).
+    """
     try:
-        store: Any = ox.Store.read_only(str(directory / name))
+        store: Any = ox.Store.read_only(str(Path(directory) / name))
     except OSError as err:
-        raise StoreError(f"{directory}: cannot open the previous generation {name}: {err}") from err
-    return KnowledgeGraph(store, None, read_only=True), name, live
+        raise StoreError(f"{directory}: cannot open the generation {name}: {err}") from err
+    return KnowledgeGraph(store, None, read_only=True)

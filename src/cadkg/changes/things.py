@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import gc
-from collections.abc import Iterator, Mapping
-from contextlib import contextmanager
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from datetime import date, datetime
 from decimal import Decimal
@@ -13,7 +11,7 @@ from typing import Any
 from cadkg.changes.kinds import POSE, REFERENCE, ThingKind
 from cadkg.geometry.poses import Pose
 
-__all__ = ["Thing", "Value", "collector_paused", "normal", "read_things"]
+__all__ = ["Thing", "Value", "normal", "read_things"]
 
 # An attribute's value: one text, or the sorted texts of a thing stated with several.
 Value = str | tuple[str, ...] | None
@@ -130,31 +128,15 @@ class _Gathered:
         return Thing(kind.name, self.id, self.iri, attributes, pose, keys)
 
 
-@contextmanager
-def collector_paused() -> Iterator[None]:
-    """Python's cyclic garbage collector off for the block, as it was after.
-
-    Reading a revision makes a few objects per row and frees them without cycles; each full
-    collection the allocations trigger would walk every object alive in the process, which
-    after building a cabinet is millions: most of the Python time of a diff.
-    """
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
-
-
 def read_things(graph: Any, kind: ThingKind) -> list[Thing]:
     """The things of ``kind`` in ``graph`` (anything with ``query``), ids made unique with the
-    kind's ``detail`` where several share one."""
-    with collector_paused():
-        return _read_things(graph, kind)
+    kind's ``detail`` where several share one.
 
-
-def _read_things(graph: Any, kind: ThingKind) -> list[Thing]:
+    Raises
+    ------
+    QueryError
+        When a query of the kind fails.
+    """
     gathered: dict[Any, _Gathered] = {}
     first, *more = kind.queries
     rows = graph.query(first).rows

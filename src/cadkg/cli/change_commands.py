@@ -6,21 +6,26 @@ import csv
 import io
 import json
 import sys
+from pathlib import Path
 from typing import Any
 
 import click
 from rich.table import Table
 
 from cadkg.changes import ChangeSet, Tolerances, changes_turtle, diff_graphs, statement_changes
-from cadkg.changes.revisions import open_previous, open_revision
-from cadkg.cli.common import err, guarded, out, write_bytes
+from cadkg.changes.impact import Impact, plan_impact
+from cadkg.changes.revisions import open_previous
+from cadkg.cli.common import err, guarded, open_local, out, store_or_manifest, write_bytes
+from cadkg.cli.cursor_file import read_cursors
+from cadkg.plan.graph import cell_base, read_plan
+from cadkg.services.session import Session, Work
 
 __all__ = ["diff"]
 
 
 @click.command()
-@click.argument("old", metavar="OLD_OR_STORE")
-@click.argument("new", metavar="NEW", required=False)
+@store_or_manifest("old", "OLD_OR_STORE")
+@store_or_manifest("new", "NEW", required=False)
 @click.option(
     "--format",
     "fmt",
@@ -50,15 +55,19 @@ def diff(old: str, new: str | None, fmt: str, move_tolerance: float, turn_tolera
     number and ends, a component by its label and part number, never by IRI or XML id."""
     if new is None:
         before, old_name, new_name = open_previous(old)
-        after = open_revision(old)
+        after = open_local(old)
         names = (f"{old}@{old_name}", f"{old}@{new_name}")
+        generations: tuple[str | None, str | None] = (old_name, new_name)
     else:
-        before, after = open_revision(old), open_revision(new)
+        before, after = open_local(old), open_local(new)
         names = (old, new)
+        generations = (before.generation, None)
     try:
         changes = diff_graphs(
             before, after, tolerances=Tolerances(move_tolerance, turn_tolerance), names=names
         )
+        store = Path(old) if Path(old).is_dir() else None
+        changes.impact = impact_of(changes, before, after, store, generations)
         if fmt == "ttl":
             removed, added = statement_changes(before, after)
             write_bytes(changes_turtle(removed, added, changes))
@@ -68,11 +77,69 @@ def diff(old: str, new: str | None, fmt: str, move_tolerance: float, turn_tolera
             sys.stdout.write(changes_csv(changes))
         else:
             out.print(changes_table(changes))
+            if changes.impact is not None:
+                out.print(impact_table(changes.impact))
     finally:
         before.close()
         after.close()
     counts = changes.counts()
     err.print(f"{counts['added']} added, {counts['removed']} removed, {counts['changed']} changed")
+    if changes.impact is not None:
+        tasks = changes.impact.counts()
+        err.print(
+            f"tasks: {tasks['new']} new, {tasks['redo']} to redo, {tasks['changed']} changed, "
+            f"{tasks['dropped']} dropped"
+        )
+
+
+def impact_of(
+    changes: ChangeSet,
+    before: Any,
+    after: Any,
+    store: Path | None,
+    generations: tuple[str | None, str | None],
+) -> Impact | None:
+    """The impact on the old revision's plan and on the cursors kept beside ``store`` (the old
+    revision's directory; ``generations`` the old and the live generation's names)."""
+    plan, new_plan = read_plan(before, cell_base(before)), read_plan(after, cell_base(after))
+    made_on, cursors = read_cursors(store) if store is not None else (None, {})
+    done: dict[str, list[Work]] = {}
+    notes: list[str] = []
+    old_name = generations[0]
+    if cursors and made_on is not None and made_on in generations:
+        on_old = made_on == old_name
+        session = Session((before if on_old else after).cell_model(), kg=before if on_old else after)
+        session.load(cursors)
+        done = session.done()
+        if on_old:
+            notes = Session(after.cell_model(), kg=after).carry_over(session)
+    elif cursors and made_on is not None:
+        notes = [f"the cursors were made on generation {made_on}, neither of these"]
+    return plan_impact(changes, plan, done, new_plan, notes)
+
+
+def impact_table(impact: Impact) -> Table:
+    """A table of the tasks the changes touch: new, to redo, changed, dropped."""
+    table = Table("task", "kind", "id", "step", "why")
+    for name in ("new", "redo", "changed", "dropped"):
+        for item in getattr(impact, name):
+            table.add_row(name, item["kind"], item["id"], _text(item.get("step")), _why(name, item))
+    for note in impact.cursors:
+        table.add_row("cursor", "", "", "", note)
+    return table
+
+
+def _why(name: str, item: dict[str, Any]) -> str:
+    if name == "new":
+        return "added"
+    if name == "dropped":
+        return "removed" + (f", passed by {', '.join(item['passed_by'])}" if item["done"] else "")
+    what = f"changed ({', '.join(item['attributes'])})"
+    return (
+        f"{what} after {', '.join(item['passed_by'])} passed it"
+        if name == "redo"
+        else f"{what}, not yet done"
+    )
 
 
 def _text(value: Any) -> str:

@@ -31,12 +31,14 @@ __all__ = [
     "err",
     "guarded",
     "max_query_memory",
+    "open_local",
     "open_target",
     "out",
     "parse_params",
     "print_result",
     "sparql_json",
     "store_auth",
+    "store_or_manifest",
     "write_bytes",
     "write_output",
 ]
@@ -117,9 +119,23 @@ def open_target(target: str, *, timeout: float | None = None) -> KnowledgeGraph:
         if timeout is not None:
             return RemoteGraph(target, auth=store_auth(), timeout=timeout)
         return RemoteGraph(target, auth=store_auth())
+    return open_local(target)
+
+
+def store_or_manifest(
+    name: str = "target", metavar: str = "STORE_OR_MANIFEST", *, required: bool = True
+) -> Callable[[F], F]:
+    """The argument naming a store directory or a manifest, opened with :func:`open_local`."""
+    decorator: Callable[[F], F] = click.argument(name, metavar=metavar, required=required)
+    return decorator
+
+
+def open_local(target: str, *, writable: bool = False) -> KnowledgeGraph:
+    """A store directory opened (read-only unless ``writable``), or a manifest built in memory
+    with its warnings on stderr."""
     path = Path(target)
     if path.is_dir():
-        return KnowledgeGraph.open(path)
+        return KnowledgeGraph.open(path, read_only=not writable)
     if path.is_file():
         kg = KnowledgeGraph.build(path)
         for report in kg.reports:

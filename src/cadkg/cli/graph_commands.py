@@ -22,6 +22,7 @@ from cadkg.cli.common import (
     print_result,
     sparql_json,
     store_auth,
+    store_or_manifest,
     write_bytes,
     write_output,
 )
@@ -73,7 +74,7 @@ def build(manifest: str, store_dir: str) -> None:
 
 
 @click.command()
-@click.argument("target", metavar="STORE_OR_MANIFEST")
+@store_or_manifest()
 @click.argument("query", metavar="QUERY_OR_FILE")
 @click.argument("params", nargs=-1, metavar="[KEY=VALUE]...")
 @click.option(
@@ -149,7 +150,7 @@ def query(
 
 
 @click.command()
-@click.argument("target", metavar="STORE_OR_MANIFEST")
+@store_or_manifest()
 @click.option("--endpoint", required=True, metavar="URL", help="The store's SPARQL (Update) endpoint.")
 @click.option("--graph-store", metavar="URL", help="The store's Graph Store Protocol endpoint (if any).")
 @click.option(
@@ -198,7 +199,7 @@ def queries() -> None:
 
 
 @click.command()
-@click.argument("target", metavar="STORE_OR_MANIFEST")
+@store_or_manifest()
 @click.option("--no-shacl", is_flag=True, help="Skip the SHACL shapes (semantic checks only).")
 @click.option("--strict", is_flag=True, help="Warnings count as findings for the exit code.")
 @guarded
@@ -230,7 +231,7 @@ def validate(target: str, no_shacl: bool, strict: bool) -> None:
 
 
 @click.command()
-@click.argument("target", metavar="STORE_OR_MANIFEST")
+@store_or_manifest()
 @click.option(
     "--format",
     "fmt",

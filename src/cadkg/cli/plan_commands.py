@@ -12,14 +12,14 @@ from pathlib import Path
 import click
 from rich.table import Table
 
-from cadkg.cli.common import err, guarded, open_target, out
+from cadkg.cli.common import err, guarded, open_local, out, store_or_manifest
 from cadkg.graph import KnowledgeGraph
 
 __all__ = ["plan"]
 
 
 @click.command()
-@click.argument("target", metavar="STORE_OR_MANIFEST")
+@store_or_manifest()
 @click.option(
     "--rules",
     type=click.Path(exists=True, dir_okay=False, path_type=Path),
@@ -61,10 +61,7 @@ def plan(target: str, rules: Path | None, fmt: str, output: str, task: str | Non
 
     if budget > 0 and importlib.util.find_spec("ortools") is None:
         raise click.UsageError("--solve needs OR-Tools: pip install 'cadkg[solver]'")
-    path = Path(target)
-    if not path.exists():
-        raise click.BadParameter(f"{target!r} is neither a store directory nor a manifest file")
-    kg = KnowledgeGraph.open(path, read_only=False) if path.is_dir() else open_target(target)
+    kg = open_local(target, writable=True)
     try:
         stored = store_plan(kg, rules, budget)
         err.print(summary(stored), markup=False)

@@ -10,14 +10,10 @@ import click
 from rich.table import Table
 
 from cadkg.cli.common import err, guarded, open_target, out, parse_params
+from cadkg.cli.cursor_file import resume_cursors, write_cursors
 from cadkg.graph import KnowledgeGraph
 
 __all__ = ["assign", "call_service", "list_services"]
-
-
-def _cursor_file(target: str) -> Path | None:
-    path = Path(target)
-    return path / "cursors.json" if path.is_dir() else None
 
 
 @click.command(name="call")
@@ -32,8 +28,9 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
     Exit status: 0 when the service answered, 1 when its answer says ``success: false``,
     2 on a usage or input error (an unknown service or parameter, a malformed value).
 
-    Cursors (connection providers, rail scanner) are kept per client in STORE/cursors.json,
-    so successive calls walk the list; a rebuilt store starts them afresh.
+    Cursors (connection providers, rail scanner, sequence) are kept per client in
+    STORE/cursors.json, so successive calls walk the list; after a rebuild of the store each
+    stays on its wire or operation (stderr says where it is, or why it starts afresh).
     """
     from cadkg.services.service import Effect, to_jsonable
     from cadkg.services.session import Session
@@ -41,22 +38,15 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
 
     kg = open_target(target)
     session = Session(kg.cell_model(), kg=kg)
-    state_file = _cursor_file(target)
+    store = Path(target) if Path(target).is_dir() else None
     generation = kg.generation
-    if state_file is not None and state_file.is_file():
-        try:
-            saved = json.loads(state_file.read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            saved = {}
-        if isinstance(saved, dict) and saved.get("generation") == generation:
-            session.load(saved.get("cursors", {}))
+    if store is not None:
+        for note in resume_cursors(session, store, generation):
+            err.print(f"cadkg: {note}", markup=False)
     result = call(session, service, parse_params(params), client=client)
     # Only a service declared to move a cursor writes the cursor file.
-    if state_file is not None and SERVICES[service].effect is Effect.CURSOR:
-        state = {"generation": generation, "cursors": session.dump()}
-        temporary = state_file.with_suffix(".tmp")
-        temporary.write_text(json.dumps(state, indent=1), encoding="utf-8")
-        temporary.replace(state_file)
+    if store is not None and SERVICES[service].effect is Effect.CURSOR:
+        write_cursors(store, generation, session)
     answer = to_jsonable(result)
     out.print_json(json.dumps(answer))
     if isinstance(answer, dict) and answer.get("success") is False:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import json
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
@@ -18,6 +19,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from cadkg.changes.changeset import ChangeSet
 from cadkg.changes.feed import ChangeFeed
 from cadkg.errors import CadkgError
+from cadkg.services.session import Work
 
 __all__ = ["TOPIC", "RosChangeFeed", "to_message"]
 
@@ -54,13 +56,18 @@ class RosChangeFeed:
         self._work = ThreadPoolExecutor(max_workers=1, thread_name_prefix="cadkg-changes")
         self.feed.listen(lambda changes: self._publisher.publish(to_message(changes)))
 
-    def changed(self, kg: Any, revision: str) -> None:
-        """``kg`` is the graph served from now on (or at start), named ``revision``."""
-        self._work.submit(self._observe, kg, revision)
+    def changed(
+        self, kg: Any, revision: str, done: dict[str, list[Work]] | None = None, cursors: Sequence[str] = ()
+    ) -> None:
+        """``kg`` is the graph served from now on (or at start), named ``revision``; ``done``
+        the work the cursors had passed on the graph before, ``cursors`` where they are now."""
+        self._work.submit(self._observe, kg, revision, done, cursors)
 
-    def _observe(self, kg: Any, revision: str) -> None:
+    def _observe(
+        self, kg: Any, revision: str, done: dict[str, list[Work]] | None, cursors: Sequence[str]
+    ) -> None:
         try:
-            self.feed.observe(kg, revision)
+            self.feed.observe(kg, revision, done, cursors)
         except (CadkgError, OSError, RuntimeError) as err:  # a graph closed by a reload meanwhile
             self._node.get_logger().warning(f"change feed: {err}")
 

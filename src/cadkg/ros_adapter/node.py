@@ -182,11 +182,12 @@ class CadkgNode:
                     raise CadkgError(refusal)
                 params = convert.request_params(service.params, request)
                 with self._lock:
+                    done = self.loaded.session.done() if service.effect.changes_graph else None
                     result = services.call(
                         self.loaded.session, name, params, client=convert.client_of(request)
                     )
                 if service.effect.changes_graph and getattr(result, "success", False):
-                    self.changes.changed(self.loaded.kg, self._revision())
+                    self.changes.changed(self.loaded.kg, self._revision(), done)
                 data = (
                     convert.response(result)
                     if type(result).__name__ in convert.FIELDS
@@ -244,10 +245,11 @@ class CadkgNode:
             return response
         with self._lock:
             old, self.loaded = self.loaded, fresh
+            done = old.session.done()
             # Every cursor stays on its wire or operation, found again by what identifies it.
             notes = fresh.session.carry_over(old.session)
             old.kg.close()
-        self.changes.changed(fresh.kg, self._revision())
+        self.changes.changed(fresh.kg, self._revision(), done, notes)
         self.publish()
         response.success = True
         response.message = f"reloaded {self.source}" + "".join(f"; {note}" for note in notes)
@@ -275,9 +277,10 @@ class CadkgNode:
                 # The cursors go on where they were, over the work now left to the robot.
                 model = loaded.kg.cell_model()
                 session = Session(model, kg=loaded.kg)
-                session.carry_over(loaded.session)
+                done = loaded.session.done()
+                notes = session.carry_over(loaded.session)
                 loaded.model, loaded.session = model, session
-            self.changes.changed(loaded.kg, self._revision())
+            self.changes.changed(loaded.kg, self._revision(), done, notes)
         except CadkgError as err:
             response.success, response.message = False, str(err)
             return response

@@ -23,6 +23,7 @@ from cadkg.changes.changeset import ChangeSet
 from cadkg.changes.feed import ChangeFeed
 from cadkg.errors import CadkgError
 from cadkg.server.holder import GraphHolder, Served
+from cadkg.services.session import Work
 
 __all__ = ["ServerFeed", "changes"]
 
@@ -42,13 +43,15 @@ class ServerFeed:
     def changed(self, served: Served) -> None:
         """``served`` now holds the served graph as it is after a change (or at start)."""
         served.retain()
-        self._work.submit(self._observe, served)
+        # Now, before the cursors go on over the new graph.
+        done = served.passed_work()
+        self._work.submit(self._observe, served, done)
 
-    def _observe(self, served: Served) -> None:
+    def _observe(self, served: Served, done: dict[str, list[Work]]) -> None:
         # Not under the served graph's lock, which would hold the robot's service calls for as
         # long as the queries take; an edit landing meanwhile is in the next change set.
         try:
-            self.feed.observe(served.graph, f"{served.generation}+{served.edits}")
+            self.feed.observe(served.graph, f"{served.generation}+{served.edits}", done)
         except CadkgError as err:
             print(f"cadkg serve: change feed: {err}", file=sys.stderr, flush=True)
         finally:

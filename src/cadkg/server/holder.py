@@ -13,7 +13,8 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
-from cadkg.services.session import Session
+from cadkg.errors import CadkgError
+from cadkg.services.session import Session, Work
 
 __all__ = ["GraphHolder", "Served"]
 
@@ -63,6 +64,17 @@ class Served:
     def inherit(self, old: Served) -> None:
         """Take over the cursors of ``old``, the graph this one replaces (on the same wire or operation)."""
         self._previous = old._session or old._previous
+
+    def passed_work(self) -> dict[str, list[Work]]:
+        """The work the cursors had passed just before this graph's latest change (those of the
+        session it replaces), for the change feed to tell which tasks must be redone."""
+        previous = self._previous
+        if previous is None:
+            return {}
+        try:
+            return previous.done()
+        except (CadkgError, OSError, RuntimeError):  # a replaced graph closed meanwhile
+            return {}
 
     def triples(self) -> int:
         """How many triples the graph holds, counted once per change."""

@@ -18,7 +18,7 @@ from typing import Any, TypeVar, cast
 
 from cadkg.errors import CadkgError, QueryError
 
-__all__ = ["Rebase", "Session", "cursor_rebase", "follow"]
+__all__ = ["Done", "Rebase", "Session", "Work", "cursor_done", "cursor_rebase", "follow"]
 
 T = TypeVar("T")
 S = TypeVar("S")
@@ -28,6 +28,31 @@ Item = TypeVar("Item")
 # says where it now is, or why it could not stay on its thing.
 Rebase = Callable[["Session", "Session", Any], str]
 _REBASES: dict[str, Rebase] = {}
+
+
+@dataclasses.dataclass(frozen=True)
+class Work:
+    """A wire or an operation a cursor has passed: its kind and identity as a diff names them
+    (:mod:`cadkg.changes`), and its IRI where the use case knows it."""
+
+    kind: str
+    id: str
+    iri: str = ""
+
+
+# done(session, cursor): the work ``cursor`` has passed in ``session``'s graph, in order.
+Done = Callable[["Session", Any], Sequence[Work]]
+_DONE: dict[str, tuple[Callable[..., Any], Done]] = {}
+
+
+def cursor_done(key: str, state: Callable[..., Any]) -> Callable[[Done], Done]:
+    """Register what the cursors of the use case ``key`` (made by ``state``) have passed."""
+
+    def register(done: Done) -> Done:
+        _DONE[key] = (state, done)
+        return done
+
+    return register
 
 
 def cursor_rebase(key: str) -> Callable[[Rebase], Rebase]:
@@ -139,6 +164,24 @@ class Session:
             )
         return data
 
+    def _take_saved(self) -> None:
+        """Make the cursors :meth:`load` read whose use case says what they are."""
+        for key, (state, _) in _DONE.items():
+            for client in list(self._saved.get(key, {})):
+                self.cursor(key, client, state)
+
+    def done(self) -> dict[str, list[Work]]:
+        """The work each cursor has passed (named as :meth:`carry_over` names it), for the
+        cursors whose use case says."""
+        self._take_saved()
+        passed = {}
+        for key, clients in self._cursors.items():
+            entry = _DONE.get(key)
+            for client, cursor in clients.items():
+                if entry is not None:
+                    passed[f"{key} cursor of {client}"] = list(entry[1](self, cursor))
+        return passed
+
     def carry_over(self, old: Session) -> list[str]:
         """Take the cursors of ``old`` (the session of the graph before a rebuild or a change),
         each moved onto the same wire or operation here; says for each where it is now.
@@ -146,6 +189,7 @@ class Session:
         A use case without a rebase keeps its cursors by index.
         """
         notes = []
+        old._take_saved()
         for key, clients in old._saved.items():
             self._saved.setdefault(key, {}).update(clients)
         for key, clients in old._cursors.items():

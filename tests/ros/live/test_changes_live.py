@@ -62,6 +62,8 @@ def _heard(ros: Any, server: Server, wanted: str) -> Any:
 
 def test_a_subscriber_hears_a_reload_and_an_assignment(ros: Any, feeding: Server) -> None:
     assert _call(ros, feeding, srv.Sparql, "sparql", query="ASK { ?s ?p ?o }", format="json").success
+    landed = _call(ros, feeding, srv.GroupConnectionProvider, "group_connection_provider", client="arm")
+    assert landed.success and landed.wire == "W1"
     lists = Path(feeding.manifest).parent / "connections.tsv"
     lists.write_text(lists.read_text(encoding="utf-8").replace("\tW1\t", "\tW11\t"), encoding="utf-8")
     reloaded = _call(ros, feeding, srv.Reload, "reload")
@@ -75,6 +77,10 @@ def test_a_subscriber_hears_a_reload_and_an_assignment(ros: Any, feeding: Server
     ]
     (wire,) = [c for c in json.loads(message.json)["changed"] if c["kind"] == "wire"]
     assert wire["attributes"] == {"number": ["W1", "W11"]}
+    # The arm had landed W1: renumbered, it is to be redone; the reload says where the cursor is.
+    impact = json.loads(message.json)["impact"]
+    assert [(i["id"], i["passed_by"]) for i in impact["redo"]] == [("W11", ["iema cursor of arm"])]
+    assert "iema cursor of arm: on wire W2" in impact["cursors"]
     assigned = _call(ros, feeding, srv.Assign, "assign", kind="wire", id="W2", performer="human")
     assert assigned.success, assigned.message
     message = _heard(ros, feeding, "W2")

@@ -17,7 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from cadkg.plan.graph import robot_positions
-from cadkg.services.session import Session, cursor_rebase, follow
+from cadkg.services.session import Session, Work, cursor_done, cursor_rebase, follow
 from cadkg.usecases.elvez.files.sequence import SequenceStep
 from cadkg.usecases.elvez.model import PROFILE, ElvezModel, model_of, unresolved
 
@@ -212,3 +212,12 @@ def _rebase(old: Session, new: Session, cursor: SequenceCursor) -> str:
     if skipped:
         return f"operation {name} is gone: on the next one still there, index {cursor.position}"
     return f"on operation {name}, index {cursor.position}"
+
+
+@cursor_done(PROFILE, SequenceCursor)
+def _done(session: Session, cursor: SequenceCursor) -> list[Work]:
+    """The operations the cursor has passed (in the plan's order when there is one), by code
+    and labels."""
+    model = model_of(session)
+    passed = [model.sequence[i] for i in _order(session, model)[: cursor.position]]
+    return [Work("operation", f"{s.code} {';'.join(s.labels)}") for s in passed]

@@ -21,7 +21,7 @@ from decimal import Decimal, InvalidOperation
 from cadkg.geometry.poses import Pose, Vec3
 from cadkg.mapping.writer import node_iri
 from cadkg.plan.graph import robot_positions
-from cadkg.services.session import Session, cursor_rebase, follow
+from cadkg.services.session import Session, Work, cursor_done, cursor_rebase, follow
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
 
 __all__ = [
@@ -362,3 +362,11 @@ def _rebase(old: Session, new: Session, cursor: CursorState) -> str:
     if skipped:
         return f"wire {wire} is gone (or no longer the robot's): on wire {here}, the next still there"
     return f"on wire {here}" + ("" if here == wire else f" (was {wire})")
+
+
+@cursor_done(KEY, CursorState)
+def _done(session: Session, cursor: CursorState) -> list[Work]:
+    """The robot's wires before the cursor, and the one whose origin it has handed out."""
+    steps = _work(session).steps
+    passed = steps[: cursor.step + (1 if cursor.holding else 0)]
+    return [Work("wire", step.wire, step.iri) for step in passed]
