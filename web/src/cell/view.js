@@ -12,6 +12,11 @@ import { factsOf, valueText } from "../facts.js";
 import { isTypedNumber, termTitle } from "../terms.js";
 import { COLOURS, axes, balls, buildHarness, buildRoutes, tube, worldMatrices } from "./build.js";
 import { Labels } from "./labels.js";
+import { Occlusion } from "./occlusion.js";
+import { ScaleBar, buildGround } from "./ground.js";
+import { tagsOf } from "./tags.js";
+import { Hover } from "./hover.js";
+import { ModelTree } from "./tree.js";
 import { Objects } from "./objects.js";
 import { Measure } from "./measure.js";
 import { sceneThings } from "./things.js";
@@ -66,6 +71,8 @@ export class CellView {
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
     container.appendChild(this.renderer.domElement);
     this.labels = new Labels(container);
+    this.occlusion = new Occlusion(this.renderer);
+    this.scaleBar = new ScaleBar(container);
     this.camera = new THREE.PerspectiveCamera(40, 1, 0.001, 1000);
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color("#eef1f6");
@@ -80,6 +87,7 @@ export class CellView {
     this.root.add(this.extras);
     this.makeControls();
     this.installPicking();
+    this.hover = new Hover(this);
     this.installControls();
     new ResizeObserver(() => this.resize()).observe(container);
   }
@@ -96,6 +104,7 @@ export class CellView {
     const read = performance.now();
     this.build();
     const built = performance.now();
+    this.placeGround();
     this.fit();
     this.describeScene();
     let moved = false;
@@ -104,6 +113,8 @@ export class CellView {
     await this.loadMeshes();
     this.controls.removeEventListener("start", onMove);
     if (!moved) this.fit(); // now with the meshes' own sizes
+    this.placeGround();
+    this.setLabels(); // the tags, at the meshes' own boxes
     this.describeScene();
     // Milliseconds from the start: scene read, objects built, every mesh in (benchmarks/bench_page.py).
     this.timings = { scene: read - started, built: built - started, meshes: performance.now() - started };
@@ -145,6 +156,7 @@ export class CellView {
     this.axes.visible = $("layer-axes").checked;
     this.root.add(this.axes);
     this.things = sceneThings(data, this.points, this.harnesses, this.routes.paths);
+    this.tree = new ModelTree(this, $("cell-tree"));
     this.ruler = new Measure(this);
     this.root.add(this.ruler.group);
     const names = this.things.labels();
@@ -331,8 +343,40 @@ export class CellView {
     this.renderer.render(this.scene, this.camera);
     this.lastFrame = performance.now() - started;
     this.labels.update(this.camera, this.root, this.container);
+    this.scaleBar.update(this.camera, this.controls.target, this.container.clientHeight);
+    this.counted();
+    // Which labels solid geometry hides: checked once the view rests.
+    clearTimeout(this.occluding);
+    this.occluding = setTimeout(() => this.occludeLabels(), 120);
+  }
+
+  counted() {
     this.frames = (this.frames || 0) + 1;
     this.container.dataset.frames = String(this.frames); // the tests wait for the view to settle
+  }
+
+  occludeLabels() {
+    if (!this.objects) return;
+    const margin = this.size * 0.01;
+    this.labels.occlude(this.root, (points) => this.occlusion.hidden(this.scene, this.camera, this.objects.group, points, margin));
+    this.labels.update(this.camera, this.root, this.container);
+    this.container.dataset.behind = String(this.labels.entries.filter((e) => e.behind).length);
+    this.counted();
+  }
+
+  /** The grid and plate under the cell (made again when the meshes have come). */
+  placeGround() {
+    if (this.ground) this.scene.remove(this.ground);
+    this.root.updateMatrixWorld(true);
+    this.ground = buildGround(this.contentBox(), this.plateBasis());
+    this.ground.visible = $("layer-ground").checked;
+    this.scene.add(this.ground);
+    this.requestRender();
+  }
+
+  /** Whether the model tree hides a thing (or what a pick or a label names). */
+  isHidden(thing) {
+    return Boolean(this.tree && this.tree.hides(thing));
   }
 
   /** Everything drawn (not the frame axes, which reach to the world's origin), in world coordinates. */
@@ -361,20 +405,9 @@ export class CellView {
    * the right. A cell without objects (a harness) is looked at along its thinnest side.
    */
   viewAxes(size) {
-    const parents = new Map();
-    const parentOf = new Map(this.data.frames.map((f) => [f.name, f.parent]));
-    for (const object of this.data.objects) {
-      const parent = parentOf.get(object.frame);
-      if (parent) parents.set(parent, (parents.get(parent) || 0) + 1);
-    }
-    const toView = this.root.matrixWorld;
-    if (parents.size) {
-      const [frame] = [...parents].sort((a, b) => b[1] - a[1])[0];
-      const matrix = new THREE.Matrix4().multiplyMatrices(toView, this.matrixOf(frame) || new THREE.Matrix4());
-      const x = new THREE.Vector3();
-      const y = new THREE.Vector3();
-      const z = new THREE.Vector3();
-      matrix.extractBasis(x, y, z);
+    const plate = this.plateBasis();
+    if (plate) {
+      const { x, y, z } = plate;
       if (this.preset) return PRESETS[this.preset]({ x, y, z });
       return { eye: z.clone().addScaledVector(y, 0.3).addScaledVector(x, 0.25).normalize(), up: y };
     }
@@ -384,6 +417,24 @@ export class CellView {
     const thinnest = size.x <= size.y && size.x <= size.z ? 0 : size.y <= size.z ? 1 : 2;
     const eye = [new THREE.Vector3(1, 0.3, 0.25), new THREE.Vector3(0.2, 1, 0.45), new THREE.Vector3(0.25, 0.3, 1)][thinnest];
     return { eye: eye.normalize(), up: thinnest === 1 ? new THREE.Vector3(0, 0, -1) : new THREE.Vector3(0, 1, 0) };
+  }
+
+  /** The axes (world) of the frame most objects hang from, or null when no object hangs from one. */
+  plateBasis() {
+    const parents = new Map();
+    const parentOf = new Map(this.data.frames.map((f) => [f.name, f.parent]));
+    for (const object of this.data.objects) {
+      const parent = parentOf.get(object.frame);
+      if (parent) parents.set(parent, (parents.get(parent) || 0) + 1);
+    }
+    if (!parents.size) return null;
+    const [frame] = [...parents].sort((a, b) => b[1] - a[1])[0];
+    const matrix = new THREE.Matrix4().multiplyMatrices(this.root.matrixWorld, this.matrixOf(frame) || new THREE.Matrix4());
+    const x = new THREE.Vector3();
+    const y = new THREE.Vector3();
+    const z = new THREE.Vector3();
+    matrix.extractBasis(x, y, z);
+    return { x, y, z };
   }
 
   /** Look at `box` (world coordinates), or at everything. */
@@ -418,7 +469,8 @@ export class CellView {
 
   setLabels() {
     const show = $("layer-labels").checked;
-    const entries = [];
+    // The picked thing's and the measure's first: they are drawn over everything.
+    const entries = [...(this.extraLabels || []), ...(this.ruler ? this.ruler.labels : [])].map((e) => ({ ...e, over: true }));
     if (show) {
       this.harnesses.forEach((h, i) => {
         // The harness's name over the middle of its top edge.
@@ -430,12 +482,11 @@ export class CellView {
       for (const h of this.harnesses) {
         h.positions.forEach((position, i) => {
           const node = this.data.harnesses[this.harnesses.indexOf(h)].nodes[i];
-          if (node.kind === "connector") entries.push({ text: node.connectors.join(", ") || node.label, position });
+          if (node.kind === "connector" && !this.isHidden({ node })) entries.push({ text: node.connectors.join(", ") || node.label, position });
         });
       }
-      for (const p of this.points) if (p.kind === "key" || p.kind === "bench-pin") entries.push({ text: p.label, position: p.position });
-      entries.push(...(this.extraLabels || []));
-      entries.push(...(this.ruler ? this.ruler.labels : []));
+      for (const p of this.points) if ((p.kind === "key" || p.kind === "bench-pin") && !this.isHidden(p)) entries.push({ text: p.label, position: p.position });
+      if ($("layer-tags").checked && this.things) entries.push(...tagsOf(this));
     }
     this.labels.set(entries.slice(0, 400));
     this.requestRender();
@@ -443,25 +494,31 @@ export class CellView {
 
   // -- picking and what it shows -----------------------------------------------------------
 
+  /** What is under a point of the screen: every hit (of things not hidden), and the one a click means. */
+  hitAt(clientX, clientY) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
+    const raycaster = new THREE.Raycaster();
+    raycaster.setFromCamera(ndc, this.camera);
+    raycaster.params.Line.threshold = this.camera.position.distanceTo(this.controls.target) * 0.006;
+    const visible = this.pickables.filter((o) => o.visible && (!o.parent || o.parent.visible));
+    const hits = raycaster.intersectObjects(visible, false).filter((h) => !this.tree || !this.tree.hides(this.whatIs(h)));
+    // A pin sits inside its component's box: a ray through both means the pin. A ray
+    // through a halo's middle means the key inside it.
+    let hit = hits.find((h) => h.object.userData.pinList) || hits[0];
+    if (hit && hit.object.userData.halo && hits[1] && hits[1].distance - hit.distance < 2 * hit.object.userData.halo) {
+      hit = hits[1];
+    }
+    return { hits, hit };
+  }
+
   installPicking() {
     const canvas = this.renderer.domElement;
-    const raycaster = new THREE.Raycaster();
     let down = null;
     canvas.addEventListener("pointerdown", (e) => { down = { x: e.clientX, y: e.clientY }; });
     canvas.addEventListener("pointerup", (e) => {
       if (!down || Math.hypot(e.clientX - down.x, e.clientY - down.y) > 4) return;
-      const rect = canvas.getBoundingClientRect();
-      const ndc = new THREE.Vector2(((e.clientX - rect.left) / rect.width) * 2 - 1, -((e.clientY - rect.top) / rect.height) * 2 + 1);
-      raycaster.setFromCamera(ndc, this.camera);
-      raycaster.params.Line.threshold = this.camera.position.distanceTo(this.controls.target) * 0.006;
-      const visible = this.pickables.filter((o) => o.visible && (!o.parent || o.parent.visible));
-      const hits = raycaster.intersectObjects(visible, false);
-      // A pin sits inside its component's box: a ray through both means the pin. A ray
-      // through a halo's middle means the key inside it.
-      let hit = hits.find((h) => h.object.userData.pinList) || hits[0];
-      if (hit && hit.object.userData.halo && hits[1] && hits[1].distance - hit.distance < 2 * hit.object.userData.halo) {
-        hit = hits[1];
-      }
+      const { hits, hit } = this.hitAt(e.clientX, e.clientY);
       if ($("cell-measure").checked) {
         // A pose the graph gives (a pin, a key, a node) before a wire or a surface in front of it.
         const exact = hits.find((h) => this.whatIs(h)?.position) || hits[0];
@@ -522,6 +579,7 @@ export class CellView {
   async select(what) {
     const panel = $("cell-pick");
     if (!what) {
+      this.picked = null;
       panel.hidden = true;
       delete panel.dataset.iri;
       this.highlight(null);
@@ -587,9 +645,7 @@ export class CellView {
   /** Show what was picked, all else as it was: its objects coloured, a wire as a tube, a point
    * or a harness node ringed by a ball drawn over everything. */
   highlight(what) {
-    const colours = new Map();
-    for (const index of (what && what.objects) || []) colours.set(index, COLOURS.highlight);
-    this.objects.paint(colours);
+    this.paintObjects(what);
     this.clearExtras();
     if (what && what.route) this.addRoute(this.routes.paths[this.data.routes.indexOf(what.route)]);
     if (what && what.position) {
@@ -599,6 +655,15 @@ export class CellView {
       this.extras.add(marker);
     }
     this.container.dataset.highlighted = what ? what.iri || what.label : "";
+    this.requestRender();
+  }
+
+  /** The picked thing's objects in the highlight colour, the hovered one's in a lighter one. */
+  paintObjects(picked = this.picked) {
+    const colours = new Map();
+    for (const index of (this.hovered && this.hovered.objects) || []) colours.set(index, COLOURS.hover);
+    for (const index of (picked && picked.objects) || []) colours.set(index, COLOURS.highlight);
+    this.objects.paint(colours);
     this.requestRender();
   }
 
@@ -719,8 +784,14 @@ export class CellView {
     layer("layer-points", (on) => { this.pointMesh.visible = on; this.haloMesh.visible = on; });
     layer("layer-harness", (on) => { for (const h of this.harnesses) h.group.visible = on; });
     layer("layer-axes", (on) => { this.axes.visible = on; });
+    layer("layer-ground", (on) => { if (this.ground) this.ground.visible = on; });
+    layer("layer-tags", () => this.setLabels());
     layer("layer-labels", () => this.setLabels());
     $("cell-fit").addEventListener("click", () => this.fit());
+    $("cell-tree-toggle").addEventListener("click", () => {
+      $("cell-tree").hidden = !$("cell-tree").hidden;
+      $("cell-tree-toggle").classList.toggle("active", !$("cell-tree").hidden);
+    });
     for (const preset of Object.keys(PRESETS)) $(`view-${preset}`).addEventListener("click", () => this.view(preset));
     $("view-ortho").addEventListener("change", () => this.setOrthographic($("view-ortho").checked));
     $("cell-screenshot").addEventListener("click", () => this.screenshot());
