@@ -75,7 +75,8 @@ export class ScaleBar {
     const span = camera.isOrthographicCamera
       ? (camera.top - camera.bottom) / camera.zoom
       : 2 * camera.position.distanceTo(target) * Math.tan(THREE.MathUtils.degToRad(camera.fov / 2));
-    if (!(span > 0) || !height) return;
+    this.element.hidden = !(span > 0) || !height;
+    if (this.element.hidden) return;
     const perPixel = span / height;
     const metres = niceBelow(perPixel * 120);
     this.bar.style.width = `${Math.round(metres / perPixel)}px`;

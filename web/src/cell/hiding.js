@@ -39,7 +39,10 @@ export function applyHidden(view, hidden) {
     if (thing.node) nodes.add(thing.node);
     if (thing.position && !thing.node) points.add(thing.label);
   }
+  // The merged geometry is made anew: what is picked is the new one.
+  view.pickables = view.pickables.filter((o) => o.parent !== view.objects.group);
   view.objects.hide(objects);
+  view.pickables.push(...view.objects.group.children);
   for (const mesh of [view.pointMesh, view.haloMesh]) {
     const list = mesh.userData.points;
     if (list.length) shrink(mesh, (i) => points.has(list[i].label));
@@ -53,8 +56,6 @@ export function applyHidden(view, hidden) {
     const gone = (s) => nodes.has(harness.nodes[s.from]) || nodes.has(harness.nodes[s.to]);
     if (harness.segments.length) fold(h.lines, (k) => gone(harness.segments[k]));
   });
-  view.pickables = view.pickables.filter((o) => o.parent !== view.objects.group);
-  view.pickables.push(...view.objects.group.children);
   view.setLabels();
   view.requestRender();
 }

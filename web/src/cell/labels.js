@@ -3,7 +3,9 @@
 // keys). A label behind the camera, off the view, behind solid geometry (cell/occlusion.js,
 // checked when the view rests) or over one placed before it is hidden, so none is drawn over
 // another. An entry marked `over` belongs to something drawn over everything (the picked
-// component's pins, a measure) and is never hidden by geometry.
+// component's pins, a measure) and is never hidden by geometry; one with a `margin` (metres) is
+// hidden by geometry that far in front of it (a tag on its own face: little), else by a margin of
+// the view's choosing (a key's ball pokes out of its guide).
 
 import * as THREE from "three";
 
@@ -29,7 +31,7 @@ export class Labels {
   /** Which labels solid geometry hides now (`hidden(points)`: a boolean per world point). */
   occlude(root, hidden) {
     const checked = this.entries.filter((entry) => !entry.over);
-    const flags = hidden(checked.map((entry) => root.localToWorld(entry.position.clone())));
+    const flags = hidden(checked.map((entry) => root.localToWorld(entry.position.clone())), checked.map((entry) => entry.margin));
     checked.forEach((entry, i) => { entry.behind = flags[i]; });
   }
 

@@ -70,15 +70,16 @@ export class Occlusion {
     return { width, height, depth: this.buffer };
   }
 
-  /** For each point (world coordinates): whether the solid objects hide it from the camera. */
-  hidden(scene, camera, solid, points, margin) {
+  /** For each point (world coordinates): whether the solid objects hide it from the camera, by
+   * more than its margin (`margins[i]`, else `margin`). */
+  hidden(scene, camera, solid, points, margin, margins = []) {
     if (!points.length || !solid.visible) return points.map(() => false);
     const map = this.depths(scene, camera, solid);
     if (!map) return points.map(() => false);
     const direction = camera.getWorldDirection(new THREE.Vector3());
     const along = (p) => p.clone().sub(camera.position).dot(direction);
     const ndc = new THREE.Vector3();
-    return points.map((point) => {
+    return points.map((point, index) => {
       ndc.copy(point).project(camera);
       if (Math.abs(ndc.x) > 1 || Math.abs(ndc.y) > 1 || ndc.z > 1) return false;
       const px = Math.floor(((ndc.x + 1) / 2) * map.width);
@@ -94,7 +95,7 @@ export class Occlusion {
       }
       if (farthest >= 1) return false;
       const surface = new THREE.Vector3(ndc.x, ndc.y, farthest * 2 - 1).unproject(camera);
-      return along(point) - along(surface) > margin;
+      return along(point) - along(surface) > (margins[index] ?? margin);
     });
   }
 }

@@ -21,7 +21,7 @@ export function tagsOf(view) {
       const half = box.getSize(new THREE.Vector3()).multiplyScalar(0.5);
       centre.addScaledVector(normal, Math.abs(normal.x) * half.x + Math.abs(normal.y) * half.y + Math.abs(normal.z) * half.z);
     }
-    out.push({ text: thing.label, position: view.root.worldToLocal(centre), className: "tag" });
+    out.push({ text: thing.label, position: view.root.worldToLocal(centre), className: "tag", margin: view.size * 0.002 });
   }
   return out;
 }

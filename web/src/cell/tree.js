@@ -42,6 +42,8 @@ export class ModelTree {
     if (!what || !this.hidden.size) return false;
     if (this.hidden.has(what)) return true;
     const things = this.view.things;
+    // A harness segment is hidden with either of its nodes.
+    if (what.ends) return what.ends.some((node) => this.hidden.has(things.of(node)));
     const thing = (what.node && things.of(what.node)) || (what.route && things.of(what.route)) || things.find(what.label) || things.find(what.iri);
     return this.hidden.has(thing);
   }

@@ -358,7 +358,7 @@ export class CellView {
   occludeLabels() {
     if (!this.objects) return;
     const margin = this.size * 0.01;
-    this.labels.occlude(this.root, (points) => this.occlusion.hidden(this.scene, this.camera, this.objects.group, points, margin));
+    this.labels.occlude(this.root, (points, margins) => this.occlusion.hidden(this.scene, this.camera, this.objects.group, points, margin, margins));
     this.labels.update(this.camera, this.root, this.container);
     this.container.dataset.behind = String(this.labels.entries.filter((e) => e.behind).length);
     this.counted();
@@ -474,7 +474,7 @@ export class CellView {
     if (show) {
       this.harnesses.forEach((h, i) => {
         // The harness's name over the middle of its top edge.
-        if (!h.positions.length) return;
+        if (!h.positions.length || this.data.harnesses[i].nodes.every((node) => this.isHidden({ node }))) return;
         const box = new THREE.Box3().setFromPoints(h.positions);
         const position = new THREE.Vector3((box.min.x + box.max.x) / 2, box.max.y + this.size * 0.05, box.max.z);
         entries.push({ text: `harness ${this.data.harnesses[i].label}`, position, className: "title" });
@@ -559,7 +559,8 @@ export class CellView {
       }
       if (object === h.lines) {
         const segment = harness.segments[Math.floor(hit.index / 2)];
-        return segment && { kind: "segment", label: `segment ${segment.label}`, iri: segment.iri };
+        return segment && { kind: "segment", label: `segment ${segment.label}`, iri: segment.iri,
+          ends: [harness.nodes[segment.from], harness.nodes[segment.to]] };
       }
     }
     const index = this.objects.pick(hit);
