@@ -25,12 +25,31 @@ ELVEZ = "https://example.org/cell/elvez/"
 # Per cell: a thing to hover and isolate (label, what the view names it by), another thing,
 # and tags that show at Fit.
 CELLS = {
-    "iema": ("iema-switchgear", ("Q1500.1", "https://example.org/cell/iema-qe01/component/Q1500.1"), "F1500.1", {"U1", "U2"}),
-    "elvez": ("elvez-cell", ("J4 guide 1", f"{ELVEZ}element/platform/ID0005"), "Agripper", {"T1", "Agripper"}),
-    "elimco": ("elimco-bench", ("A350VC-A", "https://example.org/cell/elimco-f929a/bench-pin/A350VC-A"), "A918VC1A", set()),
+    "iema": (
+        "iema-switchgear",
+        ("Q1500.1", "https://example.org/cell/iema-qe01/component/Q1500.1"),
+        "F1500.1",
+        {"U1", "U2"},
+    ),
+    "elvez": (
+        "elvez-cell",
+        ("J4 guide 1", f"{ELVEZ}element/platform/ID0005"),
+        "Agripper",
+        {"T1", "Agripper"},
+    ),
+    "elimco": (
+        "elimco-bench",
+        ("A350VC-A", "https://example.org/cell/elimco-f929a/bench-pin/A350VC-A"),
+        "A918VC1A",
+        set(),
+    ),
     "vw": ("vw-harness", ("X2", "https://example.org/cell/vw-harness/node/DOOR-L/X2"), "X1", set()),
     "enki": ("enki-hose", None, None, set()),
 }
+PLACE = (
+    "const s = document.getElementById('results-place');"
+    "s.value = arguments[0]; s.dispatchEvent(new Event('change'))"
+)
 VIEW = "const v = document.getElementById('cell-view').cellView;"
 
 
@@ -65,14 +84,21 @@ def test_the_viewer_on_every_cell(browser: Any, profile: str) -> None:
         assert grid == ["plate", "grid"]
         assert 46 <= bar <= 122 and f"{metres:e}"[0] in "125", (metres, bar)
         assert text in (f"{metres:g} m", f"{metres * 1000:g} mm"), text
-        assert tags <= set(visible_labels(driver, ".cell-label.tag")), visible_labels(driver, ".cell-label.tag")
+        assert tags <= set(visible_labels(driver, ".cell-label.tag")), visible_labels(
+            driver, ".cell-label.tag"
+        )
 
         # Hover names and lights what is under the pointer; nothing is picked by it.
         label, named = first
         driver.find_element(By.ID, "cell-fit").click()
         settled(driver)
         hover(driver, label)
-        wait(driver, lambda d: data(d, "hovered") == named, 30, f"{label} hovered, not {data(driver, 'hovered')!r}")
+        wait(
+            driver,
+            lambda d: data(d, "hovered") == named,
+            30,
+            f"{label} hovered, not {data(driver, 'hovered')!r}",
+        )
         tip = driver.find_element(By.CSS_SELECTOR, "#cell-view .cell-hover")
         assert tip.is_displayed() and label in tip.text
         assert data(driver, "highlighted") == ""
@@ -90,7 +116,9 @@ def test_the_viewer_on_every_cell(browser: Any, profile: str) -> None:
         wait(driver, lambda d: data(d, "hidden") == str(total - 1), 30, "all but one hidden")
         settled(driver)
         click_on(driver, second)
-        wait(driver, lambda d: not d.find_element(By.ID, "cell-pick").is_displayed(), 30, f"{second} is hidden")
+        wait(
+            driver, lambda d: not d.find_element(By.ID, "cell-pick").is_displayed(), 30, f"{second} is hidden"
+        )
         assert set(visible_labels(driver, ".cell-label:not(.title)")) <= {label}
         click_on(driver, label)
         wait(driver, lambda d: data(d, "highlighted") == named, 30, f"{label} still picked")
@@ -100,7 +128,9 @@ def test_the_viewer_on_every_cell(browser: Any, profile: str) -> None:
         driver.find_element(By.ID, "cell-tree").find_element(
             By.CSS_SELECTOR, f"details[data-kind='{thing}'] summary input"
         ).click()
-        count = driver.execute_script(f"{VIEW} return v.things.list.filter((t) => t.kind === arguments[0]).length", thing)
+        count = driver.execute_script(
+            f"{VIEW} return v.things.list.filter((t) => t.kind === arguments[0]).length", thing
+        )
         wait(driver, lambda d: data(d, "hidden") == str(count), 30, f"the {thing}s hidden")
         driver.find_element(By.XPATH, "//aside[@id='cell-tree']//button[text()='show all']").click()
         wait(driver, lambda d: data(d, "hidden") == "0", 30, "all shown")
@@ -164,29 +194,29 @@ def test_the_panes(browser: Any, iema_site: str) -> None:
     assert wider >= canvas + 150, (canvas, wider)
 
     # The results at full width, under the editor and the views; and back.
-    driver.execute_script(
-        "const s = document.getElementById('results-place'); s.value = 'under'; s.dispatchEvent(new Event('change'))"
-    )
+    driver.execute_script(PLACE, "under")
     results = box(driver, "results-pane")
     assert results["width"] >= width - 60 and results["top"] >= box(driver, "view-pane")["bottom"] - 1
     driver.refresh()  # the choice is kept
     wait(driver, lambda d: d.execute_script("return document.body.dataset.ready") == "true", 60, "page")
     assert driver.execute_script("return document.body.dataset.results") == "under"
-    driver.execute_script(
-        "const s = document.getElementById('results-place'); s.value = 'beside'; s.dispatchEvent(new Event('change'))"
-    )
+    driver.execute_script(PLACE, "beside")
     assert box(driver, "results-pane")["right"] < box(driver, "view-pane")["left"]
 
     # Full screen: the views take the whole window, and give it back.
     open_cell(driver, iema_site)
     driver.find_element(By.ID, "cell-fullscreen").click()
-    wait(driver, lambda d: d.find_element(By.ID, "view-pane").get_attribute("data-full") == "true", 30, "full")
+    wait(
+        driver, lambda d: d.find_element(By.ID, "view-pane").get_attribute("data-full") == "true", 30, "full"
+    )
     settled(driver)
     full = box(driver, "view-pane")
     screen = driver.execute_script("return [window.innerWidth, window.innerHeight]")
     assert full["width"] >= screen[0] - 2 and full["height"] >= screen[1] - 2, (full, screen)
     assert driver.find_element(By.CSS_SELECTOR, "#cell-view canvas").size["height"] >= screen[1] * 0.5
     driver.find_element(By.ID, "cell-fullscreen").click()
-    wait(driver, lambda d: d.find_element(By.ID, "view-pane").get_attribute("data-full") == "false", 30, "back")
+    wait(
+        driver, lambda d: d.find_element(By.ID, "view-pane").get_attribute("data-full") == "false", 30, "back"
+    )
     driver.execute_script("localStorage.removeItem('cadkg.layout')")
     assert health(driver, iema_site) == []
