@@ -7,7 +7,7 @@ const SVG = "http://www.w3.org/2000/svg";
 const MAX_BARS = 150;
 const MAX_POINTS = 5000;
 
-function el(tag, attributes, parent, text) {
+export function el(tag, attributes, parent, text) {
   const node = document.createElementNS(SVG, tag);
   for (const [key, value] of Object.entries(attributes)) node.setAttribute(key, value);
   if (text !== undefined) node.textContent = text;
@@ -48,7 +48,7 @@ function counted(rows, xi) {
   return [...groups.values()].map((g) => ({ row: g.row, x: g.x, y: { value: String(g.count) } }));
 }
 
-function ticks(min, max, count = 5) {
+export function ticks(min, max, count = 5) {
   if (min === max) return [min];
   const raw = (max - min) / count;
   const step = 10 ** Math.floor(Math.log10(raw));
@@ -58,7 +58,7 @@ function ticks(min, max, count = 5) {
   return out;
 }
 
-function short(text, length = 14) {
+export function short(text, length = 14) {
   return text.length > length ? `${text.slice(0, length - 1)}…` : text;
 }
 
