@@ -3,7 +3,7 @@
 // the answer's measures side by side, or one measure (or the count of rows) split by the values
 // of a grouping column (wires per colour, by cross-section).
 
-import { COUNT, el, short, ticks } from "./chart.js";
+import { COUNT, el, plotArea, short, ticks } from "./chart.js";
 import { isTypedNumber, termText } from "./terms.js";
 
 const PALETTE = ["#2457c5", "#f2a541", "#15803d", "#b42318", "#7c3aed", "#0e7490", "#a16207", "#db2777", "#475467", "#65a30d"];
@@ -46,16 +46,7 @@ export function drawSeries(svg, rows, vars, xi, yi, choice) {
   const { keys, series, numericX, cut } = seriesOf(rows, vars, xi, yi, choice);
   if (!keys.length || !series.length) return "nothing to draw: no row has both values";
   const all = series.flatMap((s) => [...s.values.values()]);
-  const yMin = Math.min(0, ...all);
-  const yMax = Math.max(0, ...all);
-  const plotW = width - pad.left - pad.right;
-  const plotH = height - pad.top - pad.bottom;
-  const yScale = (v) => pad.top + plotH - ((v - yMin) / (yMax - yMin || 1)) * plotH;
-  const axes = el("g", { class: "axes" }, svg);
-  for (const t of ticks(yMin, yMax)) {
-    el("line", { x1: pad.left, x2: width - pad.right, y1: yScale(t), y2: yScale(t), class: "grid" }, axes);
-    el("text", { x: pad.left - 6, y: yScale(t) + 4, "text-anchor": "end" }, axes, t.toLocaleString());
-  }
+  const { axes, yScale, plotW, plotH } = plotArea(svg, width, height, pad, all);
   const yName = choice.measures ? "value" : yi === COUNT ? "rows" : vars[yi];
   el("text", { x: 12, y: pad.top + plotH / 2, transform: `rotate(-90 12 ${pad.top + plotH / 2})`, "text-anchor": "middle", class: "axis-title" }, axes, yName);
   el("text", { x: pad.left + plotW / 2, y: height - 6, "text-anchor": "middle", class: "axis-title" }, axes, vars[xi]);
