@@ -17,6 +17,9 @@ import { ScaleBar, buildGround } from "./ground.js";
 import { tagsOf } from "./tags.js";
 import { Hover } from "./hover.js";
 import { ModelTree } from "./tree.js";
+import { Marks } from "./marks.js";
+import { PlanSteps } from "./plan.js";
+import { ChangeFeed } from "./changes.js";
 import { Objects } from "./objects.js";
 import { Measure } from "./measure.js";
 import { sceneThings } from "./things.js";
@@ -157,6 +160,9 @@ export class CellView {
     this.root.add(this.axes);
     this.things = sceneThings(data, this.points, this.harnesses, this.routes.paths);
     this.tree = new ModelTree(this, $("cell-tree"));
+    this.markers = new Marks(this);
+    this.plan = new PlanSteps(this);
+    this.changes = new ChangeFeed(this);
     this.ruler = new Measure(this);
     this.root.add(this.ruler.group);
     const names = this.things.labels();
@@ -661,7 +667,7 @@ export class CellView {
 
   /** The picked thing's objects in the highlight colour, the hovered one's in a lighter one. */
   paintObjects(picked = this.picked) {
-    const colours = new Map();
+    const colours = new Map(this.marks || []);
     for (const index of (this.hovered && this.hovered.objects) || []) colours.set(index, COLOURS.hover);
     for (const index of (picked && picked.objects) || []) colours.set(index, COLOURS.highlight);
     this.objects.paint(colours);
