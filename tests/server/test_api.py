@@ -121,3 +121,4 @@ def test_info(url: str) -> None:
     assert data["update"] is False
     assert data["limits"]["max_rows"] == 10_000
     assert data["generation"].startswith("memory-")
+    assert data["changes"] is False  # an in-memory graph without the token cannot change

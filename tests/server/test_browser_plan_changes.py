@@ -69,11 +69,14 @@ def test_stepping_through_the_plan(browser: Any, planned: str) -> None:
     driver.find_element(By.ID, "cell-plan-toggle").click()
     assert driver.execute_script(f"{VIEW} return v.markers.group.children.length") == 0
     assert health(driver, planned) == []
+    driver.get("about:blank")
 
 
 def test_what_changed_is_listed_and_marked(browser: Any, planned: str) -> None:
     driver = browser
+    assert httpx.get(f"{planned}/api/info", timeout=60).json()["changes"] is True
     open_cell(driver, planned)
+    wait(driver, lambda d: data(d, "following") == "true", 30, "the change feed followed")
     wire = "1500.51"
     answer = httpx.post(
         f"{planned}/api/assign",
@@ -93,6 +96,7 @@ def test_what_changed_is_listed_and_marked(browser: Any, planned: str) -> None:
     driver.find_element(By.ID, "changes-clear").click()
     assert not driver.find_element(By.ID, "changes").is_displayed()
     assert health(driver, planned) == []
+    driver.get("about:blank")  # the feed closed before its server stops
 
 
 def test_a_cell_without_a_plan_says_how_to_make_one(browser: Any, iema_site: str) -> None:
@@ -101,3 +105,4 @@ def test_a_cell_without_a_plan_says_how_to_make_one(browser: Any, iema_site: str
     driver.find_element(By.ID, "cell-plan-toggle").click()
     wait(driver, lambda d: "cadkg plan" in text_of(d, "plan-task"), 30, "the note")
     assert text_of(driver, "plan-step") == ""
+    assert data(driver, "following") == ""  # a graph in memory without the token cannot change

@@ -435,6 +435,9 @@ async def info(request: Request) -> Response:
                         "max_body_bytes": limits.max_body,
                     },
                     "update": endpoint.settings.allow_update,
+                    # Whether the served graph can change (a store directory is rebuilt under it;
+                    # with the token, /reload): the page follows /api/changes only then.
+                    "changes": bool(endpoint.settings.token) or not served.generation.startswith("memory-"),
                     "formats": {"results": list(RESULT_FORMATS), "graph": list(GRAPH_FORMATS)},
                     "cache": {
                         "entries": len(endpoint.cache),

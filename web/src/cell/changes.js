@@ -3,22 +3,38 @@
 // ("what changed": added, changed, removed, each with its kind and identity), and what of it is
 // drawn marked: added things green, changed ones amber. A click on a listed thing shows it.
 // Things the drawn scene does not have yet (added by a rebuild) are listed, and the list says
-// that reloading the page draws them.
+// that reloading the page draws them. A graph that cannot change (built in memory, served
+// without the token) is not followed.
 
 import * as THREE from "three";
+import { getJson } from "../api.js";
 
 const $ = (id) => document.getElementById(id);
 const COLOURS = { added: new THREE.Color("#16a34a"), changed: new THREE.Color("#f59e0b") };
 
+const RETRY_MS = 15000;
+
 export class ChangeFeed {
   constructor(view) {
     this.view = view;
-    this.source = new EventSource("/api/changes");
-    this.source.addEventListener("changes", (event) => this.show(JSON.parse(event.data)));
+    this.source = null;
+    // Only a graph that can change is followed (/api/info says: a store directory, or the token).
+    getJson("/api/info").then((info) => { if (info.changes) this.connect(); }).catch(() => {});
     $("changes-clear").addEventListener("click", () => {
       $("changes").hidden = true;
       view.markers.set("changes", []);
     });
+  }
+
+  /** Follow the feed; when the endpoint goes away, try again after a while, not at once. */
+  connect() {
+    this.source = new EventSource("/api/changes");
+    this.source.addEventListener("changes", (event) => this.show(JSON.parse(event.data)));
+    this.source.addEventListener("error", () => {
+      this.close();
+      this.retry = setTimeout(() => this.connect(), RETRY_MS);
+    });
+    this.view.container.dataset.following = "true";
   }
 
   thingOf(entry) {
@@ -56,6 +72,7 @@ export class ChangeFeed {
   }
 
   close() {
-    this.source.close();
+    if (this.source) this.source.close();
+    this.source = null;
   }
 }

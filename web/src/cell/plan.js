@@ -4,7 +4,8 @@
 // something drawn: a wire by its number, a component, a jig, a guide or a spot.
 
 import * as THREE from "three";
-import { getJson } from "../api.js";
+import { getJson, postQuery } from "../api.js";
+import { prefixes } from "../prefixes.js";
 
 const $ = (id) => document.getElementById(id);
 const NEXT = 5;
@@ -33,6 +34,9 @@ export class PlanSteps {
     $("cell-plan-toggle").classList.add("active");
     if (!this.steps) {
       try {
+        // Asked first, so a cell without a plan costs no failed request (/api/plan: 404).
+        const ask = await (await postQuery(`ASK { GRAPH <${prefixes.cell}plan> { ?s ?p ?o } }`)).json();
+        if (!ask.boolean) throw new Error("none yet");
         const plan = await getJson("/api/plan");
         this.steps = plan.steps;
         this.summary = plan.summary;

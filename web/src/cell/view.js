@@ -1,15 +1,11 @@
 // The 3D view of the cell: what /api/scene gives, drawn with three.js; meshes streamed as
 // binary STL from /api/mesh. Click an object for its label and facts (a DESCRIBE); pick a
-// component for its pins with their screw and hole poses (cad_service); step through the
+// component for its pins with their screw and hole poses (cad_service); step through
 // the robot's wires in the order group_connection_provider gives them. It renders only when something changed.
 
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
-import { STLLoader } from "three/examples/jsm/loaders/STLLoader.js";
-import { EndpointError, getJson } from "../api.js";
-import { shorten } from "../prefixes.js";
-import { factsOf, valueText } from "../facts.js";
-import { isTypedNumber, termTitle } from "../terms.js";
+import { EndpointError } from "../api.js";
 import { COLOURS, axes, balls, buildHarness, buildRoutes, tube, worldMatrices } from "./build.js";
 import { Labels } from "./labels.js";
 import { Occlusion } from "./occlusion.js";
@@ -23,17 +19,14 @@ import { ChangeFeed } from "./changes.js";
 import { Objects } from "./objects.js";
 import { Measure } from "./measure.js";
 import { sceneThings } from "./things.js";
+import { PRESETS, camera } from "./camera.js";
+import { loading } from "./loading.js";
+import { probes } from "./probes.js";
+import { pickFacts } from "./pickfacts.js";
+import { cabinet } from "./cabinet.js";
 
 const $ = (id) => document.getElementById(id);
-const CLIENT = "web-3d";
-const MESH_REQUESTS = 6;
 const MOVING_MS = 40;
-// Where a harness's node positions come from (the scene's `coordinates`).
-const COORDINATES = {
-  graph: "their poses in the cell",
-  file: "the coordinates of their harness file",
-  layout: "a layout (the graph has no coordinates)",
-};
 
 /** Whether WebGL is drawn on the CPU here (SwiftShader, llvmpipe). */
 function softwareRenderer() {
@@ -44,18 +37,6 @@ function softwareRenderer() {
   return /swiftshader|llvmpipe|software/i.test(name);
 }
 
-// The view presets, in the axes of the frame most objects hang from (a cabinet's plate: x to
-// the right, y up, z out of it): face on, from above, from the right, and from a corner.
-const PRESETS = {
-  front: (b) => ({ eye: b.z.clone(), up: b.y.clone() }),
-  top: (b) => ({ eye: b.y.clone(), up: b.z.clone().negate() }),
-  side: (b) => ({ eye: b.x.clone(), up: b.y.clone() }),
-  iso: (b) => ({ eye: b.x.clone().add(b.y).add(b.z).normalize(), up: b.y.clone() }),
-};
-
-function vector(p) {
-  return new THREE.Vector3(p.position.x, p.position.y, p.position.z);
-}
 
 export class CellView {
   constructor(container, { onIri, drawing = "merged" }) {
@@ -191,76 +172,6 @@ export class CellView {
     return box.isEmpty() ? 1 : Math.max(box.getSize(new THREE.Vector3()).length(), 0.05);
   }
 
-  async loadMeshes() {
-    const loader = new STLLoader();
-    const queue = this.data.meshes.map((mesh, index) => ({ mesh, index }));
-    let failed = 0;
-    const worker = async () => {
-      while (queue.length) {
-        const { mesh, index } = queue.shift();
-        const path = mesh.path.split("/").map(encodeURIComponent).join("/");
-        try {
-          const response = await fetch(`/api/mesh/${path}?g=${encodeURIComponent(this.generation)}`);
-          if (!response.ok) throw new Error(String(response.status));
-          const geometry = loader.parse(await response.arrayBuffer());
-          geometry.computeVertexNormals();
-          this.objects.setGeometry(index, geometry);
-        } catch (err) {
-          failed += 1;
-        }
-        done += 1;
-        // A frame of a large cell can take longer than a mesh: the view is drawn again once,
-        // when every mesh is in, not after each.
-        if (done % 25 === 0) $("cell-status").textContent = `loading meshes: ${done} of ${total}…`;
-      }
-    };
-    const total = queue.length;
-    let done = 0;
-    await Promise.all(Array.from({ length: MESH_REQUESTS }, worker));
-    this.meshFailures = failed;
-    this.pickables = this.pickables.filter((o) => o.parent !== this.objects.group);
-    this.objects.finish();
-    this.pickables.push(...this.objects.group.children);
-    this.requestRender();
-  }
-
-  describeScene() {
-    const d = this.data;
-    const parts = [`${d.profile} cell`, `${d.objects.length.toLocaleString()} objects`
-      + ` (${d.meshes.length.toLocaleString()} distinct meshes)`];
-    if (d.routes.length) parts.push(`${d.routes.length.toLocaleString()} wires`);
-    if (d.points.length) parts.push(`${d.points.length} points of interest`);
-    for (const h of d.harnesses) {
-      parts.push(`harness ${h.label}: ${h.nodes.length} nodes at ${COORDINATES[h.coordinates] || COORDINATES.layout}`);
-    }
-    parts.push(`${d.frames.length.toLocaleString()} frames`);
-    const problems = [...d.problems];
-    if (this.meshFailures) problems.push(`${this.meshFailures} mesh(es) could not be loaded`);
-    $("cell-status").textContent = parts.join(" · ") + (problems.length ? ` — ${problems.join("; ")}` : "");
-    const empty = !d.objects.length && !d.routes.length && !d.points.length && !d.harnesses.length;
-    if (empty) {
-      $("cell-status").textContent = `${d.profile || "this"} cell: nothing to draw`
-        + (problems.length ? ` — ${problems.join("; ")}` : "");
-    }
-    this.showEmpty(empty ? `Nothing to draw: the ${d.profile || ""} cell's graph places no objects, wires, `
-      + "points or harnesses in 3D. Its facts are in the graph: query them, or open them in the graph view." : null);
-  }
-
-  /** A message over the view in place of a blank canvas (null: none). */
-  showEmpty(message) {
-    let note = this.container.querySelector(".cell-empty");
-    if (!message) {
-      if (note) note.remove();
-      return;
-    }
-    if (!note) {
-      note = document.createElement("div");
-      note.className = "cell-empty";
-      this.container.appendChild(note);
-    }
-    note.textContent = message;
-  }
-
   // -- drawing -----------------------------------------------------------------------------
 
   /**
@@ -295,33 +206,6 @@ export class CellView {
     if (this.camera.isOrthographicCamera) this.frustum();
     this.camera.updateProjectionMatrix();
     this.requestRender();
-  }
-
-  /** The orthographic camera's box: `half` high each way, as wide as the view is. */
-  frustum() {
-    const half = this.half || 1;
-    const aspect = this.camera.aspect || 1;
-    Object.assign(this.camera, { left: -half * aspect, right: half * aspect, top: half, bottom: -half, zoom: 1 });
-    this.camera.updateProjectionMatrix();
-  }
-
-  /** Look from a preset direction (front, top, side, iso; null: the first view) at everything. */
-  view(preset) {
-    this.preset = PRESETS[preset] ? preset : null;
-    this.container.dataset.preset = this.preset || "";
-    this.fit();
-  }
-
-  /** An orthographic camera (no perspective: parallel edges stay parallel, sizes compare), or not. */
-  setOrthographic(on) {
-    const aspect = this.camera.aspect || 1;
-    this.camera = on ? new THREE.OrthographicCamera(-1, 1, 1, -1, 0.001, 1000) : new THREE.PerspectiveCamera(40, aspect, 0.001, 1000);
-    this.camera.aspect = aspect;
-    this.controls.dispose();
-    this.makeControls();
-    this.controlsUp = null;
-    this.container.dataset.projection = on ? "orthographic" : "perspective";
-    this.fit();
   }
 
   /** The view as a PNG file of the user's (the drawing; the HTML labels are not in it). */
@@ -383,94 +267,6 @@ export class CellView {
   /** Whether the model tree hides a thing (or what a pick or a label names). */
   isHidden(thing) {
     return Boolean(this.tree && this.tree.hides(thing));
-  }
-
-  /** Everything drawn (not the frame axes, which reach to the world's origin), in world coordinates. */
-  contentBox() {
-    const box = new THREE.Box3();
-    this.root.updateMatrixWorld(true);
-    const parts = [this.objects.group, this.routes.lines, ...this.harnesses.map((h) => h.group)];
-    if (this.points.length) parts.push(this.pointMesh, this.haloMesh);
-    for (const part of parts) {
-      part.traverse((object) => {
-        if (!object.geometry || !object.visible || (object.isInstancedMesh && object.count === 0)) return;
-        if (object.isInstancedMesh) {
-          if (!object.boundingBox) object.computeBoundingBox();
-          box.union(object.boundingBox.clone().applyMatrix4(object.matrixWorld));
-        } else {
-          box.expandByObject(object);
-        }
-      });
-    }
-    return box;
-  }
-
-  /**
-   * How to look at the cell: towards the z axis of the frame most objects hang from (a cabinet's
-   * mounting plate, a platform's top), its y axis up on the screen, from a little above and to
-   * the right. A cell without objects (a harness) is looked at along its thinnest side.
-   */
-  viewAxes(size) {
-    const plate = this.plateBasis();
-    if (plate) {
-      const { x, y, z } = plate;
-      if (this.preset) return PRESETS[this.preset]({ x, y, z });
-      return { eye: z.clone().addScaledVector(y, 0.3).addScaledVector(x, 0.25).normalize(), up: y };
-    }
-    if (this.preset) {
-      return PRESETS[this.preset]({ x: new THREE.Vector3(1, 0, 0), y: new THREE.Vector3(0, 1, 0), z: new THREE.Vector3(0, 0, 1) });
-    }
-    const thinnest = size.x <= size.y && size.x <= size.z ? 0 : size.y <= size.z ? 1 : 2;
-    const eye = [new THREE.Vector3(1, 0.3, 0.25), new THREE.Vector3(0.2, 1, 0.45), new THREE.Vector3(0.25, 0.3, 1)][thinnest];
-    return { eye: eye.normalize(), up: thinnest === 1 ? new THREE.Vector3(0, 0, -1) : new THREE.Vector3(0, 1, 0) };
-  }
-
-  /** The axes (world) of the frame most objects hang from, or null when no object hangs from one. */
-  plateBasis() {
-    const parents = new Map();
-    const parentOf = new Map(this.data.frames.map((f) => [f.name, f.parent]));
-    for (const object of this.data.objects) {
-      const parent = parentOf.get(object.frame);
-      if (parent) parents.set(parent, (parents.get(parent) || 0) + 1);
-    }
-    if (!parents.size) return null;
-    const [frame] = [...parents].sort((a, b) => b[1] - a[1])[0];
-    const matrix = new THREE.Matrix4().multiplyMatrices(this.root.matrixWorld, this.matrixOf(frame) || new THREE.Matrix4());
-    const x = new THREE.Vector3();
-    const y = new THREE.Vector3();
-    const z = new THREE.Vector3();
-    matrix.extractBasis(x, y, z);
-    return { x, y, z };
-  }
-
-  /** Look at `box` (world coordinates), or at everything. */
-  fit(box = null) {
-    const target = box || this.contentBox();
-    if (target.isEmpty()) return;
-    const centre = target.getCenter(new THREE.Vector3());
-    const size = target.getSize(new THREE.Vector3());
-    const radius = Math.max(size.length() / 2, 0.02);
-    const { eye, up } = this.viewAxes(size);
-    let distance = (radius / Math.sin(THREE.MathUtils.degToRad(40 / 2))) * 1.05;
-    if (this.camera.isOrthographicCamera) {
-      // The same part of the cell in view as the perspective camera shows at the fitted distance.
-      this.half = radius * 1.05;
-      this.frustum();
-      distance = radius * 4;
-    }
-    this.camera.up.copy(up);
-    this.camera.position.copy(centre).addScaledVector(eye, distance);
-    this.camera.near = distance / 1000;
-    this.camera.far = distance * 100;
-    this.camera.updateProjectionMatrix();
-    if (!this.controlsUp || !this.controlsUp.equals(up)) {
-      this.controls.dispose(); // OrbitControls takes the camera's up when made
-      this.makeControls();
-      this.controlsUp = up.clone();
-    }
-    this.controls.target.copy(centre);
-    this.controls.update();
-    this.requestRender();
   }
 
   setLabels() {
@@ -604,51 +400,6 @@ export class CellView {
     await this.describe(what.iri);
   }
 
-  async describe(iri) {
-    const body = $("pick-facts").tBodies[0];
-    body.replaceChildren();
-    this.facts = [];
-    if (!iri || iri.startsWith("_:")) return;
-    try {
-      this.facts = await factsOf(iri);
-      this.showFacts();
-    } catch (err) {
-      const tr = document.createElement("tr");
-      tr.textContent = err.message;
-      body.appendChild(tr);
-    }
-  }
-
-  /** The picked thing's facts, one row each; the named graphs stating it with "graphs" ticked. */
-  showFacts() {
-    const body = $("pick-facts").tBodies[0];
-    const graphs = $("pick-graphs").checked;
-    body.replaceChildren();
-    for (const { p, o, graphs: stated } of this.facts || []) {
-      const tr = document.createElement("tr");
-      const name = document.createElement("td");
-      name.textContent = shorten(p.value);
-      const value = document.createElement("td");
-      value.textContent = valueText(p.value, o);
-      value.title = termTitle(o);
-      if (o.type === "uri") {
-        value.className = "iri";
-        value.addEventListener("click", () => this.onIri(o.value));
-      } else if (isTypedNumber(o)) {
-        value.className = "num";
-      }
-      tr.append(name, value);
-      if (graphs) {
-        const where = document.createElement("td");
-        where.className = "graphs";
-        where.textContent = stated.map(shorten).join(", ");
-        tr.appendChild(where);
-      }
-      body.appendChild(tr);
-    }
-    $("pick-facts").dataset.count = String((this.facts || []).length);
-  }
-
   /** Show what was picked, all else as it was: its objects coloured, a wire as a tube, a point
    * or a harness node ringed by a ball drawn over everything. */
   highlight(what) {
@@ -685,37 +436,6 @@ export class CellView {
     if (path && path.length > 1) this.extras.add(tube(path, this.size * 0.0015, COLOURS.picked));
   }
 
-  /** The pins of a component: screws (orange) and holes (blue) at their poses, named. */
-  async showPins(label) {
-    const component = this.data.components.find((c) => c.label === label);
-    if (!component || !component.frame || this.data.profile !== "iema") return;
-    const result = await getJson(`/api/cad_service?${new URLSearchParams({ label, client: CLIENT })}`);
-    if (!result.success) return;
-    const frame = this.matrixOf(component.frame) || new THREE.Matrix4();
-    const radius = Math.max(this.size * 0.002, 0.0015);
-    const screws = [];
-    const holes = [];
-    for (const pin of result.pins) {
-      for (const [pose, list] of [[pin.screw, screws], [pin.hole, holes]]) {
-        if (pose) list.push({ position: vector(pose).applyMatrix4(frame), pin });
-      }
-    }
-    for (const [list, colour, kind] of [[screws, COLOURS.screw, "screw"], [holes, COLOURS.hole, "hole"]]) {
-      if (!list.length) continue;
-      const mesh = balls(list.map((p) => ({ position: p.position, colour })), radius, `${kind}s`);
-      // Screws and holes lie inside their component's box: drawn over it, as markers.
-      Object.assign(mesh.material, { depthTest: false, transparent: true });
-      mesh.renderOrder = 10;
-      mesh.userData.pinList = list;
-      mesh.userData.kind = kind;
-      this.extras.add(mesh);
-    }
-    this.extraLabels = screws.map((p) => ({ text: `${p.pin.pin}`, position: p.position, className: "pin" }));
-    for (const mesh of this.extras.children) if (mesh.userData.pinList) this.pickables.unshift(mesh);
-    $("cell-status").dataset.pins = String(result.pins.length);
-    this.setLabels();
-  }
-
   /** Show what a search or a result row names (a label or an IRI of anything drawn): highlight
    * it, look at it, show its facts (and a component's pins). */
   async locate(named) {
@@ -727,61 +447,6 @@ export class CellView {
     }
     this.zoomTo(thing);
     await this.select(thing);
-  }
-
-  /** Where a thing is, as a box in the root's frame (null when it is nowhere). */
-  whereIs(thing) {
-    const box = new THREE.Box3();
-    const corner = new THREE.Vector3();
-    if (thing.position) box.expandByPoint(thing.position);
-    for (const p of thing.path || []) box.expandByPoint(p);
-    for (const index of thing.objects || []) {
-      const object = this.data.objects[index];
-      const m = this.matrixOf(object.frame);
-      if (!m) continue;
-      const [x0, y0, z0, x1, y1, z1] = object.box || [0, 0, 0, 0, 0, 0];
-      for (const x of [x0, x1]) for (const y of [y0, y1]) for (const z of [z0, z1]) box.expandByPoint(corner.set(x, y, z).applyMatrix4(m));
-    }
-    return box.isEmpty() ? null : box;
-  }
-
-  /** Bring the camera close to a thing, with some of its neighbourhood around it. */
-  zoomTo(thing) {
-    const box = this.whereIs(thing);
-    if (!box) return;
-    const size = box.getSize(new THREE.Vector3()).length();
-    // A point (a key, a pin, a node) is shown with a twentieth of the cell around it.
-    box.expandByScalar(size > 0 ? Math.max(size * 0.3, this.size * 0.01) : this.size * 0.05);
-    box.applyMatrix4(this.root.matrixWorld);
-    this.fit(box);
-  }
-
-  /** The next wire the robot makes, in the order group_connection_provider hands them out (the
-   * scene's routes, robot's first to last): its path as a tube, its ends as the pins. The page
-   * keeps its own place, so looking at wires moves no cursor of the served cell. */
-  async nextWire() {
-    const robot = this.data.routes.filter((r) => r.performer === "robot");
-    this.wireIndex = this.wireIndex === undefined ? 0 : this.wireIndex + 1;
-    if (this.wireIndex >= robot.length) {
-      this.wireIndex = undefined;
-      $("cell-status").textContent = "the connection list is done; Next wire starts it again";
-      return;
-    }
-    const route = robot[this.wireIndex];
-    const frame = this.matrixOf(route.frame) || new THREE.Matrix4();
-    const path = [];
-    for (let i = 0; i + 2 < route.points.length; i += 3) {
-      path.push(new THREE.Vector3(route.points[i], route.points[i + 1], route.points[i + 2]).applyMatrix4(frame));
-    }
-    await this.select({ kind: "wire", label: `wire ${route.label} (list position ${route.position})`, iri: route.iri });
-    this.addRoute(path);
-    const box = new THREE.Box3().setFromPoints(path).expandByScalar(this.size * 0.03);
-    this.fit(box.applyMatrix4(this.root.matrixWorld)); // the wire, end to end
-    this.extraLabels = [
-      { text: route.origin, position: path[0] },
-      { text: route.destination, position: path[path.length - 1] },
-    ];
-    this.setLabels();
   }
 
   installControls() {
@@ -816,80 +481,6 @@ export class CellView {
       $("cell-status").textContent = err.message;
     }));
   }
-
-  // -- for tests and the benchmark ---------------------------------------------------------
-
-  /** Where a component's first object (or a harness node of that label or connector, or a
-   * point of interest) is on the screen, in client coordinates; null when there is none. */
-  screenPosition(label) {
-    const centre = new THREE.Vector3();
-    const component = this.data.components.find((c) => c.label === label);
-    if (component && component.objects.length) {
-      const object = this.data.objects[component.objects[0]];
-      if (object.box) {
-        const [x0, y0, z0, x1, y1, z1] = object.box;
-        centre.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
-      }
-      centre.applyMatrix4(this.matrixOf(object.frame));
-    } else {
-      // Anything else drawn: a point or a node where it is, an item at its box's middle, a
-      // wire at its middle keypoint (on the line, where a click finds it).
-      const thing = this.things.find(label);
-      const box = thing && this.whereIs(thing);
-      if (!box) return null;
-      if (thing.path) centre.copy(thing.path[Math.floor(thing.path.length / 2)]);
-      else box.getCenter(centre);
-    }
-    this.root.localToWorld(centre);
-    centre.project(this.camera);
-    const rect = this.renderer.domElement.getBoundingClientRect();
-    return { x: rect.left + ((centre.x + 1) / 2) * rect.width, y: rect.top + ((1 - centre.y) / 2) * rect.height };
-  }
-
-  /** Milliseconds to pick what is under `count` points across the view (median), as a click does. */
-  measurePick(count = 20) {
-    const raycaster = new THREE.Raycaster();
-    raycaster.params.Line.threshold = this.camera.position.distanceTo(this.controls.target) * 0.006;
-    const visible = this.pickables.filter((o) => o.visible);
-    const times = [];
-    let hits = 0;
-    for (let i = 0; i < count; i++) {
-      const start = performance.now();
-      raycaster.setFromCamera(new THREE.Vector2(-0.8 + (1.6 * i) / count, 0.1), this.camera);
-      hits += raycaster.intersectObjects(visible, false).length > 0;
-      times.push(performance.now() - start);
-    }
-    times.sort((a, b) => a - b);
-    return { median: times[Math.floor(count / 2)], hits };
-  }
-
-  /** Milliseconds per frame (median of `frames`) while the camera turns around the cell, with
-   * everything drawn, and (`moving`) as while the camera is dragged. */
-  measure(frames = 30) {
-    const full = this.measureFrames(frames);
-    const visible = this.routes.lines.visible;
-    this.routes.lines.visible = false;
-    const moving = this.measureFrames(frames);
-    this.routes.lines.visible = visible;
-    return { ...full, moving: moving.median };
-  }
-
-  measureFrames(frames) {
-    const gl = this.renderer.getContext();
-    const pixel = new Uint8Array(4);
-    const times = [];
-    const target = this.controls.target.clone();
-    const offset = this.camera.position.clone().sub(target);
-    for (let i = 0; i < frames; i++) {
-      offset.applyAxisAngle(new THREE.Vector3(0, 1, 0), (2 * Math.PI) / frames);
-      this.camera.position.copy(target).add(offset);
-      this.camera.lookAt(target);
-      const start = performance.now();
-      this.renderer.render(this.scene, this.camera);
-      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel); // waits for the frame
-      times.push(performance.now() - start);
-    }
-    times.sort((a, b) => a - b);
-    return { median: times[Math.floor(times.length / 2)], calls: this.renderer.info.render.calls, triangles: this.renderer.info.render.triangles };
-  }
 }
+
+Object.assign(CellView.prototype, camera, loading, probes, pickFacts, cabinet);
