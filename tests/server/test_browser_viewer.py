@@ -120,6 +120,8 @@ def test_the_viewer_on_every_cell(browser: Any, profile: str) -> None:
             driver, lambda d: not d.find_element(By.ID, "cell-pick").is_displayed(), 30, f"{second} is hidden"
         )
         assert set(visible_labels(driver, ".cell-label:not(.title)")) <= {label}
+        click_on(driver, label)
+        wait(driver, lambda d: data(d, "highlighted") == named, 30, f"{label} still picked")
         tree.find_element(By.XPATH, ".//button[text()='show all']").click()
         wait(driver, lambda d: data(d, "hidden") == "0", 30, "all shown")
         # A kind's box hides the kind.
