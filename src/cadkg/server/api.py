@@ -437,7 +437,8 @@ async def info(request: Request) -> Response:
                     "update": endpoint.settings.allow_update,
                     # Whether the served graph can change (a store directory is rebuilt under it;
                     # with the token, /reload): the page follows /api/changes only then.
-                    "changes": bool(endpoint.settings.token) or not served.generation.startswith("memory-"),
+                    "changes": bool(endpoint.settings.token)
+                    or getattr(served.graph, "directory", None) is not None,
                     "formats": {"results": list(RESULT_FORMATS), "graph": list(GRAPH_FORMATS)},
                     "cache": {
                         "entries": len(endpoint.cache),
