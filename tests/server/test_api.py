@@ -21,6 +21,10 @@ def test_api_lists_services_and_queries(url: str) -> None:
     assert services["cad_service"]["params"] == {"label": "str"}
     assert services["reset_to_connection_list"]["optional"] == ["connection_list", "source"]
     assert "wires-of-component" in data["queries"]
+    endpoints = data["endpoints"]
+    assert {"/api/cell", "/api/changes", "/api/info", "/api/plan"} <= set(endpoints.values())
+    cell = httpx.get(f"{url}{endpoints['cell']}").json()
+    assert cell["profile"] == "iema" and cell["name"] == "IEMA switchgear QE01"
 
 
 def test_service_answers_as_cadkg_call(url: str) -> None:
@@ -117,3 +121,4 @@ def test_info(url: str) -> None:
     assert data["update"] is False
     assert data["limits"]["max_rows"] == 10_000
     assert data["generation"].startswith("memory-")
+    assert data["changes"] is False  # an in-memory graph without the token cannot change

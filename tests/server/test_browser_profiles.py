@@ -180,7 +180,10 @@ def test_the_page_is_the_cells_own(browser: Any, example: str, name: str, profil
             driver.find_element(By.ID, "show-chart").click()
             y = Select(driver.find_element(By.ID, "chart-y")).first_selected_option.text
             assert y == DEFAULT_Y[query], (query, y)
-            marks = driver.find_elements(By.CSS_SELECTOR, "#chart rect.bar, #chart polyline.line")
+            marks = driver.find_elements(
+                By.CSS_SELECTOR,
+                "#chart rect.bar, #chart polyline.line, #chart rect.series-bar, #chart polyline.series-line",
+            )
             assert marks and driver.find_elements(By.CSS_SELECTOR, "#chart .legend-text"), query
             driver.find_element(By.ID, "show-table").click()
             for name in IDENTIFIERS.get(query, ()):

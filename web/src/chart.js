@@ -7,7 +7,7 @@ const SVG = "http://www.w3.org/2000/svg";
 const MAX_BARS = 150;
 const MAX_POINTS = 5000;
 
-function el(tag, attributes, parent, text) {
+export function el(tag, attributes, parent, text) {
   const node = document.createElementNS(SVG, tag);
   for (const [key, value] of Object.entries(attributes)) node.setAttribute(key, value);
   if (text !== undefined) node.textContent = text;
@@ -48,7 +48,7 @@ function counted(rows, xi) {
   return [...groups.values()].map((g) => ({ row: g.row, x: g.x, y: { value: String(g.count) } }));
 }
 
-function ticks(min, max, count = 5) {
+export function ticks(min, max, count = 5) {
   if (min === max) return [min];
   const raw = (max - min) / count;
   const step = 10 ** Math.floor(Math.log10(raw));
@@ -58,8 +58,23 @@ function ticks(min, max, count = 5) {
   return out;
 }
 
-function short(text, length = 14) {
+export function short(text, length = 14) {
   return text.length > length ? `${text.slice(0, length - 1)}…` : text;
+}
+
+/** The plot's area: its y axis (from 0 or the least value to the greatest), ticked and gridded. */
+export function plotArea(svg, width, height, pad, values) {
+  const yMin = Math.min(0, ...values);
+  const yMax = Math.max(0, ...values);
+  const plotW = width - pad.left - pad.right;
+  const plotH = height - pad.top - pad.bottom;
+  const yScale = (v) => pad.top + plotH - ((v - yMin) / (yMax - yMin || 1)) * plotH;
+  const axes = el("g", { class: "axes" }, svg);
+  for (const t of ticks(yMin, yMax)) {
+    el("line", { x1: pad.left, x2: width - pad.right, y1: yScale(t), y2: yScale(t), class: "grid" }, axes);
+    el("text", { x: pad.left - 6, y: yScale(t) + 4, "text-anchor": "end" }, axes, t.toLocaleString());
+  }
+  return { axes, yScale, plotW, plotH };
 }
 
 export const COUNT = -1; // y: how many rows have each x
@@ -83,16 +98,7 @@ export function drawChart(svg, rows, vars, xi, yi) {
   const bars = !numericX && xi >= 0;
   const shown = points.slice(0, bars ? MAX_BARS : MAX_POINTS);
   const ys = shown.map((p) => Number(p.y.value));
-  const yMin = Math.min(0, ...ys);
-  const yMax = Math.max(0, ...ys);
-  const plotW = width - pad.left - pad.right;
-  const plotH = height - pad.top - pad.bottom;
-  const yScale = (v) => pad.top + plotH - ((v - yMin) / (yMax - yMin || 1)) * plotH;
-  const axes = el("g", { class: "axes" }, svg);
-  for (const t of ticks(yMin, yMax)) {
-    el("line", { x1: pad.left, x2: width - pad.right, y1: yScale(t), y2: yScale(t), class: "grid" }, axes);
-    el("text", { x: pad.left - 6, y: yScale(t) + 4, "text-anchor": "end" }, axes, t.toLocaleString());
-  }
+  const { axes, yScale, plotW, plotH } = plotArea(svg, width, height, pad, ys);
   el("text", { x: 12, y: pad.top + plotH / 2, transform: `rotate(-90 12 ${pad.top + plotH / 2})`,
     "text-anchor": "middle", class: "axis-title" }, axes, yName);
   const marks = el("g", { class: "marks" }, svg);

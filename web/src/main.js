@@ -8,6 +8,7 @@ import { setTerms, sparqlCompletion } from "./completion.js";
 import { createEditor, setText } from "./editor.js";
 import { setUnits } from "./facts.js";
 import { GraphView } from "./graphview.js";
+import { installLayout } from "./layout.js";
 import { NamedQueries } from "./named.js";
 import { prologue, setPrefixes } from "./prefixes.js";
 import { ResultView, readAnswer } from "./results.js";
@@ -248,6 +249,7 @@ async function loadLocatable() {
 }
 
 function start() {
+  installLayout();
   const starter = `${prologue(["ck", "rdfs"])}\n\n${STARTER}`;
   tabs = new Tabs({ starter, onSwitch: switchTo });
   editor = createEditor($("query"), {

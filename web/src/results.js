@@ -4,6 +4,7 @@
 
 import { postQuery, saveResponse } from "./api.js";
 import { COUNT, drawChart, measureColumns, numericColumns } from "./chart.js";
+import { MAX_SERIES, drawSeries } from "./series.js";
 import { readNTriples, termText, termTitle } from "./terms.js";
 
 const $ = (id) => document.getElementById(id);
@@ -46,8 +47,12 @@ export class ResultView {
     $("page-last").addEventListener("click", () => this.goto(Infinity));
     $("show-table").addEventListener("click", () => this.showMode("table"));
     $("show-chart").addEventListener("click", () => this.showMode("chart"));
-    $("chart-x").addEventListener("change", () => this.renderChart());
+    $("chart-x").addEventListener("change", () => {
+      this.fillSeries();
+      this.renderChart();
+    });
     $("chart-y").addEventListener("change", () => this.renderChart());
+    $("chart-series").addEventListener("change", () => this.renderChart());
     $("download").addEventListener("click", () => this.download());
   }
 
@@ -234,6 +239,32 @@ export class ResultView {
    * the rows apart; without a measure, the count of rows per value of the text column that
    * groups them best (fewest values, more than one). */
   fillChartChoices() {
+    this.fillAxes();
+    this.fillSeries();
+  }
+
+  /** The series a chart may have: every measure side by side (two or more), or the rows split
+   * by a text column of 2 to 10 values other than x. The default: the measures when there are
+   * several, else the grouping column of fewest values, else one series. */
+  fillSeries() {
+    const { vars, rows } = this.answer;
+    const select = $("chart-series");
+    const x = Number($("chart-x").value);
+    const measures = measureColumns(this.answer);
+    const distinct = (i) => new Set(rows.map((r) => (r[i] ? r[i].value : ""))).size;
+    const groups = vars.map((_, i) => i).filter((i) => i !== x && !this.numeric.has(i) && !measures.includes(i)
+      && rows.some((r) => r[i] && r[i].type === "literal") && distinct(i) >= 2 && distinct(i) <= MAX_SERIES && distinct(i) < rows.length);
+    groups.sort((a, b) => distinct(a) - distinct(b));
+    const options = [new Option("(one)", "")];
+    if (measures.length >= 2) options.push(new Option("every measure", "measures"));
+    for (const i of groups) options.push(new Option(`by ${vars[i]}`, `group:${i}`));
+    select.replaceChildren(...options);
+    const [cx, cy] = ["x", "y"].map((name) => vars.indexOf(name));
+    const path = this.numeric.has(cx) && this.numeric.has(cy);
+    select.value = path || x < 0 ? "" : measures.length >= 2 ? "measures" : groups.length ? `group:${groups[0]}` : "";
+  }
+
+  fillAxes() {
     const { vars, rows } = this.answer;
     const numeric = [...this.numeric];
     const measures = measureColumns(this.answer);
@@ -265,7 +296,12 @@ export class ResultView {
 
   renderChart() {
     if (!this.answer || !this.answer.rows.length || $("chart-y").value === "") return;
-    const note = drawChart($("chart"), this.view, this.answer.vars, Number($("chart-x").value), Number($("chart-y").value));
+    const [xi, yi] = [Number($("chart-x").value), Number($("chart-y").value)];
+    const series = $("chart-series").value;
+    const choice = series === "measures" ? { measures: measureColumns(this.answer) }
+      : series.startsWith("group:") ? { group: Number(series.slice(6)) } : null;
+    const note = choice && xi >= 0 ? drawSeries($("chart"), this.view, this.answer.vars, xi, yi, choice)
+      : drawChart($("chart"), this.view, this.answer.vars, xi, yi);
     $("chart-note").textContent = note;
   }
 }

@@ -141,7 +141,10 @@ async def index(request: Request) -> Response:
                 "graph_view": "/api/graph?component=LABEL or ?node=IRI",
                 "bound_query": "/api/queries/<name>/bound?param=value",
                 "terms": "/api/terms",
+                "cell": "/api/cell",
                 "plan": "/api/plan",
+                "changes": "/api/changes",
+                "info": "/api/info",
                 "scene": "/api/scene",
                 "mesh": "/api/mesh/<ck:meshUri>",
             },
@@ -432,6 +435,10 @@ async def info(request: Request) -> Response:
                         "max_body_bytes": limits.max_body,
                     },
                     "update": endpoint.settings.allow_update,
+                    # Whether the served graph can change (a store directory is rebuilt under it;
+                    # with the token, /reload): the page follows /api/changes only then.
+                    "changes": bool(endpoint.settings.token)
+                    or getattr(served.graph, "directory", None) is not None,
                     "formats": {"results": list(RESULT_FORMATS), "graph": list(GRAPH_FORMATS)},
                     "cache": {
                         "entries": len(endpoint.cache),

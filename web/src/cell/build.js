@@ -8,6 +8,7 @@ import * as THREE from "three";
 const BALL = new THREE.SphereGeometry(1, 12, 8);
 export const COLOURS = {
   highlight: new THREE.Color("#f7c873"),
+  hover: new THREE.Color("#cfe0ff"),
   screw: new THREE.Color("#dc2626"),
   hole: new THREE.Color("#1d4ed8"),
   picked: new THREE.Color("#e0457b"),

@@ -43,6 +43,7 @@ export class Objects {
     this.geometries = new Map(); // mesh index -> geometry, as they come
     this.colours = scene.objects.map((o) => tint(o.component));
     this.painted = new Map();
+    this.hidden = new Set(); // object indices the model tree hides
     this.placed = []; // [object index, world matrix]
     scene.objects.forEach((object, index) => {
       const world = matrixOf(object.frame);
@@ -75,6 +76,7 @@ export class Objects {
       vertices = 0;
     };
     for (const [index, world] of this.placed) {
+      if (this.hidden.has(index)) continue;
       const [geometry, matrix] = this.shape(index, world);
       const count = geometry.attributes.position.count;
       if (vertices + count > CHUNK) flush();
@@ -179,6 +181,27 @@ export class Objects {
   /** Every mesh file has come (or failed): the merged geometry is made again with them. */
   finish() {
     if (this.drawing === "merged") this.merge();
+  }
+
+  /** Hide some objects (a set of indices), showing every other. */
+  hide(indices) {
+    this.hidden = new Set(indices);
+    if (this.drawing === "merged") {
+      this.merge();
+      return;
+    }
+    const zero = new THREE.Matrix4().makeScale(0, 0, 0);
+    for (const [mesh, list] of this.owners) {
+      if (!mesh.isInstancedMesh) {
+        mesh.visible = !this.hidden.has(list[0]);
+        continue;
+      }
+      if (!mesh.userData.matrices) {
+        mesh.userData.matrices = list.map((_, i) => { const m = new THREE.Matrix4(); mesh.getMatrixAt(i, m); return m; });
+      }
+      list.forEach((index, i) => mesh.setMatrixAt(i, this.hidden.has(index) ? zero : mesh.userData.matrices[i]));
+      mesh.instanceMatrix.needsUpdate = true;
+    }
   }
 
   /** The object a ray hit, or undefined. */

@@ -1,31 +1,32 @@
 // The 3D view of the cell: what /api/scene gives, drawn with three.js; meshes streamed as
 // binary STL from /api/mesh. Click an object for its label and facts (a DESCRIBE); pick a
-// component for its pins with their screw and hole poses (cad_service); step through the
+// component for its pins with their screw and hole poses (cad_service); step through
 // the robot's wires in the order group_connection_provider gives them. It renders only when something changed.
 
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
-import { STLLoader } from "three/examples/jsm/loaders/STLLoader.js";
-import { EndpointError, getJson } from "../api.js";
-import { shorten } from "../prefixes.js";
-import { factsOf, valueText } from "../facts.js";
-import { isTypedNumber, termTitle } from "../terms.js";
+import { EndpointError } from "../api.js";
 import { COLOURS, axes, balls, buildHarness, buildRoutes, tube, worldMatrices } from "./build.js";
 import { Labels } from "./labels.js";
+import { Occlusion } from "./occlusion.js";
+import { ScaleBar, buildGround } from "./ground.js";
+import { tagsOf } from "./tags.js";
+import { Hover } from "./hover.js";
+import { ModelTree } from "./tree.js";
+import { Marks } from "./marks.js";
+import { PlanSteps } from "./plan.js";
+import { ChangeFeed } from "./changes.js";
 import { Objects } from "./objects.js";
 import { Measure } from "./measure.js";
 import { sceneThings } from "./things.js";
+import { PRESETS, camera } from "./camera.js";
+import { loading } from "./loading.js";
+import { probes } from "./probes.js";
+import { pickFacts } from "./pickfacts.js";
+import { cabinet } from "./cabinet.js";
 
 const $ = (id) => document.getElementById(id);
-const CLIENT = "web-3d";
-const MESH_REQUESTS = 6;
 const MOVING_MS = 40;
-// Where a harness's node positions come from (the scene's `coordinates`).
-const COORDINATES = {
-  graph: "their poses in the cell",
-  file: "the coordinates of their harness file",
-  layout: "a layout (the graph has no coordinates)",
-};
 
 /** Whether WebGL is drawn on the CPU here (SwiftShader, llvmpipe). */
 function softwareRenderer() {
@@ -36,18 +37,6 @@ function softwareRenderer() {
   return /swiftshader|llvmpipe|software/i.test(name);
 }
 
-// The view presets, in the axes of the frame most objects hang from (a cabinet's plate: x to
-// the right, y up, z out of it): face on, from above, from the right, and from a corner.
-const PRESETS = {
-  front: (b) => ({ eye: b.z.clone(), up: b.y.clone() }),
-  top: (b) => ({ eye: b.y.clone(), up: b.z.clone().negate() }),
-  side: (b) => ({ eye: b.x.clone(), up: b.y.clone() }),
-  iso: (b) => ({ eye: b.x.clone().add(b.y).add(b.z).normalize(), up: b.y.clone() }),
-};
-
-function vector(p) {
-  return new THREE.Vector3(p.position.x, p.position.y, p.position.z);
-}
 
 export class CellView {
   constructor(container, { onIri, drawing = "merged" }) {
@@ -66,6 +55,8 @@ export class CellView {
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
     container.appendChild(this.renderer.domElement);
     this.labels = new Labels(container);
+    this.occlusion = new Occlusion(this.renderer);
+    this.scaleBar = new ScaleBar(container);
     this.camera = new THREE.PerspectiveCamera(40, 1, 0.001, 1000);
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color("#eef1f6");
@@ -80,6 +71,7 @@ export class CellView {
     this.root.add(this.extras);
     this.makeControls();
     this.installPicking();
+    this.hover = new Hover(this);
     this.installControls();
     new ResizeObserver(() => this.resize()).observe(container);
   }
@@ -96,6 +88,7 @@ export class CellView {
     const read = performance.now();
     this.build();
     const built = performance.now();
+    this.placeGround();
     this.fit();
     this.describeScene();
     let moved = false;
@@ -104,6 +97,8 @@ export class CellView {
     await this.loadMeshes();
     this.controls.removeEventListener("start", onMove);
     if (!moved) this.fit(); // now with the meshes' own sizes
+    this.placeGround();
+    this.setLabels(); // the tags, at the meshes' own boxes
     this.describeScene();
     // Milliseconds from the start: scene read, objects built, every mesh in (benchmarks/bench_page.py).
     this.timings = { scene: read - started, built: built - started, meshes: performance.now() - started };
@@ -145,6 +140,10 @@ export class CellView {
     this.axes.visible = $("layer-axes").checked;
     this.root.add(this.axes);
     this.things = sceneThings(data, this.points, this.harnesses, this.routes.paths);
+    this.tree = new ModelTree(this, $("cell-tree"));
+    this.markers = new Marks(this);
+    this.plan = new PlanSteps(this);
+    this.changes = new ChangeFeed(this);
     this.ruler = new Measure(this);
     this.root.add(this.ruler.group);
     const names = this.things.labels();
@@ -171,76 +170,6 @@ export class CellView {
     for (const r of this.routes.paths) for (const p of r) box.expandByPoint(p);
     if (box.isEmpty()) for (const f of this.data.frames) box.expandByPoint(at(f.name));
     return box.isEmpty() ? 1 : Math.max(box.getSize(new THREE.Vector3()).length(), 0.05);
-  }
-
-  async loadMeshes() {
-    const loader = new STLLoader();
-    const queue = this.data.meshes.map((mesh, index) => ({ mesh, index }));
-    let failed = 0;
-    const worker = async () => {
-      while (queue.length) {
-        const { mesh, index } = queue.shift();
-        const path = mesh.path.split("/").map(encodeURIComponent).join("/");
-        try {
-          const response = await fetch(`/api/mesh/${path}?g=${encodeURIComponent(this.generation)}`);
-          if (!response.ok) throw new Error(String(response.status));
-          const geometry = loader.parse(await response.arrayBuffer());
-          geometry.computeVertexNormals();
-          this.objects.setGeometry(index, geometry);
-        } catch (err) {
-          failed += 1;
-        }
-        done += 1;
-        // A frame of a large cell can take longer than a mesh: the view is drawn again once,
-        // when every mesh is in, not after each.
-        if (done % 25 === 0) $("cell-status").textContent = `loading meshes: ${done} of ${total}…`;
-      }
-    };
-    const total = queue.length;
-    let done = 0;
-    await Promise.all(Array.from({ length: MESH_REQUESTS }, worker));
-    this.meshFailures = failed;
-    this.pickables = this.pickables.filter((o) => o.parent !== this.objects.group);
-    this.objects.finish();
-    this.pickables.push(...this.objects.group.children);
-    this.requestRender();
-  }
-
-  describeScene() {
-    const d = this.data;
-    const parts = [`${d.profile} cell`, `${d.objects.length.toLocaleString()} objects`
-      + ` (${d.meshes.length.toLocaleString()} distinct meshes)`];
-    if (d.routes.length) parts.push(`${d.routes.length.toLocaleString()} wires`);
-    if (d.points.length) parts.push(`${d.points.length} points of interest`);
-    for (const h of d.harnesses) {
-      parts.push(`harness ${h.label}: ${h.nodes.length} nodes at ${COORDINATES[h.coordinates] || COORDINATES.layout}`);
-    }
-    parts.push(`${d.frames.length.toLocaleString()} frames`);
-    const problems = [...d.problems];
-    if (this.meshFailures) problems.push(`${this.meshFailures} mesh(es) could not be loaded`);
-    $("cell-status").textContent = parts.join(" · ") + (problems.length ? ` — ${problems.join("; ")}` : "");
-    const empty = !d.objects.length && !d.routes.length && !d.points.length && !d.harnesses.length;
-    if (empty) {
-      $("cell-status").textContent = `${d.profile || "this"} cell: nothing to draw`
-        + (problems.length ? ` — ${problems.join("; ")}` : "");
-    }
-    this.showEmpty(empty ? `Nothing to draw: the ${d.profile || ""} cell's graph places no objects, wires, `
-      + "points or harnesses in 3D. Its facts are in the graph: query them, or open them in the graph view." : null);
-  }
-
-  /** A message over the view in place of a blank canvas (null: none). */
-  showEmpty(message) {
-    let note = this.container.querySelector(".cell-empty");
-    if (!message) {
-      if (note) note.remove();
-      return;
-    }
-    if (!note) {
-      note = document.createElement("div");
-      note.className = "cell-empty";
-      this.container.appendChild(note);
-    }
-    note.textContent = message;
   }
 
   // -- drawing -----------------------------------------------------------------------------
@@ -279,33 +208,6 @@ export class CellView {
     this.requestRender();
   }
 
-  /** The orthographic camera's box: `half` high each way, as wide as the view is. */
-  frustum() {
-    const half = this.half || 1;
-    const aspect = this.camera.aspect || 1;
-    Object.assign(this.camera, { left: -half * aspect, right: half * aspect, top: half, bottom: -half, zoom: 1 });
-    this.camera.updateProjectionMatrix();
-  }
-
-  /** Look from a preset direction (front, top, side, iso; null: the first view) at everything. */
-  view(preset) {
-    this.preset = PRESETS[preset] ? preset : null;
-    this.container.dataset.preset = this.preset || "";
-    this.fit();
-  }
-
-  /** An orthographic camera (no perspective: parallel edges stay parallel, sizes compare), or not. */
-  setOrthographic(on) {
-    const aspect = this.camera.aspect || 1;
-    this.camera = on ? new THREE.OrthographicCamera(-1, 1, 1, -1, 0.001, 1000) : new THREE.PerspectiveCamera(40, aspect, 0.001, 1000);
-    this.camera.aspect = aspect;
-    this.controls.dispose();
-    this.makeControls();
-    this.controlsUp = null;
-    this.container.dataset.projection = on ? "orthographic" : "perspective";
-    this.fit();
-  }
-
   /** The view as a PNG file of the user's (the drawing; the HTML labels are not in it). */
   screenshot() {
     this.render();
@@ -331,98 +233,50 @@ export class CellView {
     this.renderer.render(this.scene, this.camera);
     this.lastFrame = performance.now() - started;
     this.labels.update(this.camera, this.root, this.container);
+    this.scaleBar.update(this.camera, this.controls.target, this.container.clientHeight);
+    this.counted();
+    // Which labels solid geometry hides: checked once the view rests.
+    clearTimeout(this.occluding);
+    this.occluding = setTimeout(() => this.occludeLabels(), 120);
+  }
+
+  counted() {
     this.frames = (this.frames || 0) + 1;
     this.container.dataset.frames = String(this.frames); // the tests wait for the view to settle
   }
 
-  /** Everything drawn (not the frame axes, which reach to the world's origin), in world coordinates. */
-  contentBox() {
-    const box = new THREE.Box3();
+  occludeLabels() {
+    if (!this.objects) return;
+    const margin = this.size * 0.01;
+    this.labels.occlude(this.root, (points, margins) => this.occlusion.hidden(this.scene, this.camera, this.objects.group, points, margin, margins));
+    this.labels.update(this.camera, this.root, this.container);
+    this.container.dataset.behind = String(this.labels.entries.filter((e) => e.behind).length);
+    this.counted();
+  }
+
+  /** The grid and plate under the cell (made again when the meshes have come). */
+  placeGround() {
+    if (this.ground) this.scene.remove(this.ground);
     this.root.updateMatrixWorld(true);
-    const parts = [this.objects.group, this.routes.lines, ...this.harnesses.map((h) => h.group)];
-    if (this.points.length) parts.push(this.pointMesh, this.haloMesh);
-    for (const part of parts) {
-      part.traverse((object) => {
-        if (!object.geometry || !object.visible || (object.isInstancedMesh && object.count === 0)) return;
-        if (object.isInstancedMesh) {
-          if (!object.boundingBox) object.computeBoundingBox();
-          box.union(object.boundingBox.clone().applyMatrix4(object.matrixWorld));
-        } else {
-          box.expandByObject(object);
-        }
-      });
-    }
-    return box;
-  }
-
-  /**
-   * How to look at the cell: towards the z axis of the frame most objects hang from (a cabinet's
-   * mounting plate, a platform's top), its y axis up on the screen, from a little above and to
-   * the right. A cell without objects (a harness) is looked at along its thinnest side.
-   */
-  viewAxes(size) {
-    const parents = new Map();
-    const parentOf = new Map(this.data.frames.map((f) => [f.name, f.parent]));
-    for (const object of this.data.objects) {
-      const parent = parentOf.get(object.frame);
-      if (parent) parents.set(parent, (parents.get(parent) || 0) + 1);
-    }
-    const toView = this.root.matrixWorld;
-    if (parents.size) {
-      const [frame] = [...parents].sort((a, b) => b[1] - a[1])[0];
-      const matrix = new THREE.Matrix4().multiplyMatrices(toView, this.matrixOf(frame) || new THREE.Matrix4());
-      const x = new THREE.Vector3();
-      const y = new THREE.Vector3();
-      const z = new THREE.Vector3();
-      matrix.extractBasis(x, y, z);
-      if (this.preset) return PRESETS[this.preset]({ x, y, z });
-      return { eye: z.clone().addScaledVector(y, 0.3).addScaledVector(x, 0.25).normalize(), up: y };
-    }
-    if (this.preset) {
-      return PRESETS[this.preset]({ x: new THREE.Vector3(1, 0, 0), y: new THREE.Vector3(0, 1, 0), z: new THREE.Vector3(0, 0, 1) });
-    }
-    const thinnest = size.x <= size.y && size.x <= size.z ? 0 : size.y <= size.z ? 1 : 2;
-    const eye = [new THREE.Vector3(1, 0.3, 0.25), new THREE.Vector3(0.2, 1, 0.45), new THREE.Vector3(0.25, 0.3, 1)][thinnest];
-    return { eye: eye.normalize(), up: thinnest === 1 ? new THREE.Vector3(0, 0, -1) : new THREE.Vector3(0, 1, 0) };
-  }
-
-  /** Look at `box` (world coordinates), or at everything. */
-  fit(box = null) {
-    const target = box || this.contentBox();
-    if (target.isEmpty()) return;
-    const centre = target.getCenter(new THREE.Vector3());
-    const size = target.getSize(new THREE.Vector3());
-    const radius = Math.max(size.length() / 2, 0.02);
-    const { eye, up } = this.viewAxes(size);
-    let distance = (radius / Math.sin(THREE.MathUtils.degToRad(40 / 2))) * 1.05;
-    if (this.camera.isOrthographicCamera) {
-      // The same part of the cell in view as the perspective camera shows at the fitted distance.
-      this.half = radius * 1.05;
-      this.frustum();
-      distance = radius * 4;
-    }
-    this.camera.up.copy(up);
-    this.camera.position.copy(centre).addScaledVector(eye, distance);
-    this.camera.near = distance / 1000;
-    this.camera.far = distance * 100;
-    this.camera.updateProjectionMatrix();
-    if (!this.controlsUp || !this.controlsUp.equals(up)) {
-      this.controls.dispose(); // OrbitControls takes the camera's up when made
-      this.makeControls();
-      this.controlsUp = up.clone();
-    }
-    this.controls.target.copy(centre);
-    this.controls.update();
+    this.ground = buildGround(this.contentBox(), this.plateBasis());
+    this.ground.visible = $("layer-ground").checked;
+    this.scene.add(this.ground);
     this.requestRender();
+  }
+
+  /** Whether the model tree hides a thing (or what a pick or a label names). */
+  isHidden(thing) {
+    return Boolean(this.tree && this.tree.hides(thing));
   }
 
   setLabels() {
     const show = $("layer-labels").checked;
-    const entries = [];
+    // The picked thing's and the measure's first: they are drawn over everything.
+    const entries = [...(this.extraLabels || []), ...(this.ruler ? this.ruler.labels : [])].map((e) => ({ ...e, over: true }));
     if (show) {
       this.harnesses.forEach((h, i) => {
         // The harness's name over the middle of its top edge.
-        if (!h.positions.length) return;
+        if (!h.positions.length || this.data.harnesses[i].nodes.every((node) => this.isHidden({ node }))) return;
         const box = new THREE.Box3().setFromPoints(h.positions);
         const position = new THREE.Vector3((box.min.x + box.max.x) / 2, box.max.y + this.size * 0.05, box.max.z);
         entries.push({ text: `harness ${this.data.harnesses[i].label}`, position, className: "title" });
@@ -430,12 +284,11 @@ export class CellView {
       for (const h of this.harnesses) {
         h.positions.forEach((position, i) => {
           const node = this.data.harnesses[this.harnesses.indexOf(h)].nodes[i];
-          if (node.kind === "connector") entries.push({ text: node.connectors.join(", ") || node.label, position });
+          if (node.kind === "connector" && !this.isHidden({ node })) entries.push({ text: node.connectors.join(", ") || node.label, position });
         });
       }
-      for (const p of this.points) if (p.kind === "key" || p.kind === "bench-pin") entries.push({ text: p.label, position: p.position });
-      entries.push(...(this.extraLabels || []));
-      entries.push(...(this.ruler ? this.ruler.labels : []));
+      for (const p of this.points) if ((p.kind === "key" || p.kind === "bench-pin") && !this.isHidden(p)) entries.push({ text: p.label, position: p.position });
+      if ($("layer-tags").checked && this.things) entries.push(...tagsOf(this));
     }
     this.labels.set(entries.slice(0, 400));
     this.requestRender();
@@ -443,25 +296,31 @@ export class CellView {
 
   // -- picking and what it shows -----------------------------------------------------------
 
+  /** What is under a point of the screen: every hit (of things not hidden), and the one a click means. */
+  hitAt(clientX, clientY) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
+    const raycaster = new THREE.Raycaster();
+    raycaster.setFromCamera(ndc, this.camera);
+    raycaster.params.Line.threshold = this.camera.position.distanceTo(this.controls.target) * 0.006;
+    const visible = this.pickables.filter((o) => o.visible && (!o.parent || o.parent.visible));
+    const hits = raycaster.intersectObjects(visible, false).filter((h) => !this.tree || !this.tree.hides(this.whatIs(h)));
+    // A pin sits inside its component's box: a ray through both means the pin. A ray
+    // through a halo's middle means the key inside it.
+    let hit = hits.find((h) => h.object.userData.pinList) || hits[0];
+    if (hit && hit.object.userData.halo && hits[1] && hits[1].distance - hit.distance < 2 * hit.object.userData.halo) {
+      hit = hits[1];
+    }
+    return { hits, hit };
+  }
+
   installPicking() {
     const canvas = this.renderer.domElement;
-    const raycaster = new THREE.Raycaster();
     let down = null;
     canvas.addEventListener("pointerdown", (e) => { down = { x: e.clientX, y: e.clientY }; });
     canvas.addEventListener("pointerup", (e) => {
       if (!down || Math.hypot(e.clientX - down.x, e.clientY - down.y) > 4) return;
-      const rect = canvas.getBoundingClientRect();
-      const ndc = new THREE.Vector2(((e.clientX - rect.left) / rect.width) * 2 - 1, -((e.clientY - rect.top) / rect.height) * 2 + 1);
-      raycaster.setFromCamera(ndc, this.camera);
-      raycaster.params.Line.threshold = this.camera.position.distanceTo(this.controls.target) * 0.006;
-      const visible = this.pickables.filter((o) => o.visible && (!o.parent || o.parent.visible));
-      const hits = raycaster.intersectObjects(visible, false);
-      // A pin sits inside its component's box: a ray through both means the pin. A ray
-      // through a halo's middle means the key inside it.
-      let hit = hits.find((h) => h.object.userData.pinList) || hits[0];
-      if (hit && hit.object.userData.halo && hits[1] && hits[1].distance - hit.distance < 2 * hit.object.userData.halo) {
-        hit = hits[1];
-      }
+      const { hits, hit } = this.hitAt(e.clientX, e.clientY);
       if ($("cell-measure").checked) {
         // A pose the graph gives (a pin, a key, a node) before a wire or a surface in front of it.
         const exact = hits.find((h) => this.whatIs(h)?.position) || hits[0];
@@ -502,7 +361,8 @@ export class CellView {
       }
       if (object === h.lines) {
         const segment = harness.segments[Math.floor(hit.index / 2)];
-        return segment && { kind: "segment", label: `segment ${segment.label}`, iri: segment.iri };
+        return segment && { kind: "segment", label: `segment ${segment.label}`, iri: segment.iri,
+          ends: [harness.nodes[segment.from], harness.nodes[segment.to]] };
       }
     }
     const index = this.objects.pick(hit);
@@ -522,6 +382,7 @@ export class CellView {
   async select(what) {
     const panel = $("cell-pick");
     if (!what) {
+      this.picked = null;
       panel.hidden = true;
       delete panel.dataset.iri;
       this.highlight(null);
@@ -539,57 +400,10 @@ export class CellView {
     await this.describe(what.iri);
   }
 
-  async describe(iri) {
-    const body = $("pick-facts").tBodies[0];
-    body.replaceChildren();
-    this.facts = [];
-    if (!iri || iri.startsWith("_:")) return;
-    try {
-      this.facts = await factsOf(iri);
-      this.showFacts();
-    } catch (err) {
-      const tr = document.createElement("tr");
-      tr.textContent = err.message;
-      body.appendChild(tr);
-    }
-  }
-
-  /** The picked thing's facts, one row each; the named graphs stating it with "graphs" ticked. */
-  showFacts() {
-    const body = $("pick-facts").tBodies[0];
-    const graphs = $("pick-graphs").checked;
-    body.replaceChildren();
-    for (const { p, o, graphs: stated } of this.facts || []) {
-      const tr = document.createElement("tr");
-      const name = document.createElement("td");
-      name.textContent = shorten(p.value);
-      const value = document.createElement("td");
-      value.textContent = valueText(p.value, o);
-      value.title = termTitle(o);
-      if (o.type === "uri") {
-        value.className = "iri";
-        value.addEventListener("click", () => this.onIri(o.value));
-      } else if (isTypedNumber(o)) {
-        value.className = "num";
-      }
-      tr.append(name, value);
-      if (graphs) {
-        const where = document.createElement("td");
-        where.className = "graphs";
-        where.textContent = stated.map(shorten).join(", ");
-        tr.appendChild(where);
-      }
-      body.appendChild(tr);
-    }
-    $("pick-facts").dataset.count = String((this.facts || []).length);
-  }
-
   /** Show what was picked, all else as it was: its objects coloured, a wire as a tube, a point
    * or a harness node ringed by a ball drawn over everything. */
   highlight(what) {
-    const colours = new Map();
-    for (const index of (what && what.objects) || []) colours.set(index, COLOURS.highlight);
-    this.objects.paint(colours);
+    this.paintObjects(what);
     this.clearExtras();
     if (what && what.route) this.addRoute(this.routes.paths[this.data.routes.indexOf(what.route)]);
     if (what && what.position) {
@@ -602,6 +416,15 @@ export class CellView {
     this.requestRender();
   }
 
+  /** The picked thing's objects in the highlight colour, the hovered one's in a lighter one. */
+  paintObjects(picked = this.picked) {
+    const colours = new Map(this.marks || []);
+    for (const index of (this.hovered && this.hovered.objects) || []) colours.set(index, COLOURS.hover);
+    for (const index of (picked && picked.objects) || []) colours.set(index, COLOURS.highlight);
+    this.objects.paint(colours);
+    this.requestRender();
+  }
+
   clearExtras() {
     this.pickables = this.pickables.filter((o) => !o.userData.pinList);
     this.extras.clear();
@@ -611,37 +434,6 @@ export class CellView {
 
   addRoute(path) {
     if (path && path.length > 1) this.extras.add(tube(path, this.size * 0.0015, COLOURS.picked));
-  }
-
-  /** The pins of a component: screws (orange) and holes (blue) at their poses, named. */
-  async showPins(label) {
-    const component = this.data.components.find((c) => c.label === label);
-    if (!component || !component.frame || this.data.profile !== "iema") return;
-    const result = await getJson(`/api/cad_service?${new URLSearchParams({ label, client: CLIENT })}`);
-    if (!result.success) return;
-    const frame = this.matrixOf(component.frame) || new THREE.Matrix4();
-    const radius = Math.max(this.size * 0.002, 0.0015);
-    const screws = [];
-    const holes = [];
-    for (const pin of result.pins) {
-      for (const [pose, list] of [[pin.screw, screws], [pin.hole, holes]]) {
-        if (pose) list.push({ position: vector(pose).applyMatrix4(frame), pin });
-      }
-    }
-    for (const [list, colour, kind] of [[screws, COLOURS.screw, "screw"], [holes, COLOURS.hole, "hole"]]) {
-      if (!list.length) continue;
-      const mesh = balls(list.map((p) => ({ position: p.position, colour })), radius, `${kind}s`);
-      // Screws and holes lie inside their component's box: drawn over it, as markers.
-      Object.assign(mesh.material, { depthTest: false, transparent: true });
-      mesh.renderOrder = 10;
-      mesh.userData.pinList = list;
-      mesh.userData.kind = kind;
-      this.extras.add(mesh);
-    }
-    this.extraLabels = screws.map((p) => ({ text: `${p.pin.pin}`, position: p.position, className: "pin" }));
-    for (const mesh of this.extras.children) if (mesh.userData.pinList) this.pickables.unshift(mesh);
-    $("cell-status").dataset.pins = String(result.pins.length);
-    this.setLabels();
   }
 
   /** Show what a search or a result row names (a label or an IRI of anything drawn): highlight
@@ -657,61 +449,6 @@ export class CellView {
     await this.select(thing);
   }
 
-  /** Where a thing is, as a box in the root's frame (null when it is nowhere). */
-  whereIs(thing) {
-    const box = new THREE.Box3();
-    const corner = new THREE.Vector3();
-    if (thing.position) box.expandByPoint(thing.position);
-    for (const p of thing.path || []) box.expandByPoint(p);
-    for (const index of thing.objects || []) {
-      const object = this.data.objects[index];
-      const m = this.matrixOf(object.frame);
-      if (!m) continue;
-      const [x0, y0, z0, x1, y1, z1] = object.box || [0, 0, 0, 0, 0, 0];
-      for (const x of [x0, x1]) for (const y of [y0, y1]) for (const z of [z0, z1]) box.expandByPoint(corner.set(x, y, z).applyMatrix4(m));
-    }
-    return box.isEmpty() ? null : box;
-  }
-
-  /** Bring the camera close to a thing, with some of its neighbourhood around it. */
-  zoomTo(thing) {
-    const box = this.whereIs(thing);
-    if (!box) return;
-    const size = box.getSize(new THREE.Vector3()).length();
-    // A point (a key, a pin, a node) is shown with a twentieth of the cell around it.
-    box.expandByScalar(size > 0 ? Math.max(size * 0.3, this.size * 0.01) : this.size * 0.05);
-    box.applyMatrix4(this.root.matrixWorld);
-    this.fit(box);
-  }
-
-  /** The next wire the robot makes, in the order group_connection_provider hands them out (the
-   * scene's routes, robot's first to last): its path as a tube, its ends as the pins. The page
-   * keeps its own place, so looking at wires moves no cursor of the served cell. */
-  async nextWire() {
-    const robot = this.data.routes.filter((r) => r.performer === "robot");
-    this.wireIndex = this.wireIndex === undefined ? 0 : this.wireIndex + 1;
-    if (this.wireIndex >= robot.length) {
-      this.wireIndex = undefined;
-      $("cell-status").textContent = "the connection list is done; Next wire starts it again";
-      return;
-    }
-    const route = robot[this.wireIndex];
-    const frame = this.matrixOf(route.frame) || new THREE.Matrix4();
-    const path = [];
-    for (let i = 0; i + 2 < route.points.length; i += 3) {
-      path.push(new THREE.Vector3(route.points[i], route.points[i + 1], route.points[i + 2]).applyMatrix4(frame));
-    }
-    await this.select({ kind: "wire", label: `wire ${route.label} (list position ${route.position})`, iri: route.iri });
-    this.addRoute(path);
-    const box = new THREE.Box3().setFromPoints(path).expandByScalar(this.size * 0.03);
-    this.fit(box.applyMatrix4(this.root.matrixWorld)); // the wire, end to end
-    this.extraLabels = [
-      { text: route.origin, position: path[0] },
-      { text: route.destination, position: path[path.length - 1] },
-    ];
-    this.setLabels();
-  }
-
   installControls() {
     const layer = (id, apply) => $(id).addEventListener("change", () => { apply($(id).checked); this.requestRender(); });
     layer("layer-objects", (on) => { this.objects.group.visible = on; });
@@ -719,8 +456,14 @@ export class CellView {
     layer("layer-points", (on) => { this.pointMesh.visible = on; this.haloMesh.visible = on; });
     layer("layer-harness", (on) => { for (const h of this.harnesses) h.group.visible = on; });
     layer("layer-axes", (on) => { this.axes.visible = on; });
+    layer("layer-ground", (on) => { if (this.ground) this.ground.visible = on; });
+    layer("layer-tags", () => this.setLabels());
     layer("layer-labels", () => this.setLabels());
     $("cell-fit").addEventListener("click", () => this.fit());
+    $("cell-tree-toggle").addEventListener("click", () => {
+      $("cell-tree").hidden = !$("cell-tree").hidden;
+      $("cell-tree-toggle").classList.toggle("active", !$("cell-tree").hidden);
+    });
     for (const preset of Object.keys(PRESETS)) $(`view-${preset}`).addEventListener("click", () => this.view(preset));
     $("view-ortho").addEventListener("change", () => this.setOrthographic($("view-ortho").checked));
     $("cell-screenshot").addEventListener("click", () => this.screenshot());
@@ -738,80 +481,6 @@ export class CellView {
       $("cell-status").textContent = err.message;
     }));
   }
-
-  // -- for tests and the benchmark ---------------------------------------------------------
-
-  /** Where a component's first object (or a harness node of that label or connector, or a
-   * point of interest) is on the screen, in client coordinates; null when there is none. */
-  screenPosition(label) {
-    const centre = new THREE.Vector3();
-    const component = this.data.components.find((c) => c.label === label);
-    if (component && component.objects.length) {
-      const object = this.data.objects[component.objects[0]];
-      if (object.box) {
-        const [x0, y0, z0, x1, y1, z1] = object.box;
-        centre.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
-      }
-      centre.applyMatrix4(this.matrixOf(object.frame));
-    } else {
-      // Anything else drawn: a point or a node where it is, an item at its box's middle, a
-      // wire at its middle keypoint (on the line, where a click finds it).
-      const thing = this.things.find(label);
-      const box = thing && this.whereIs(thing);
-      if (!box) return null;
-      if (thing.path) centre.copy(thing.path[Math.floor(thing.path.length / 2)]);
-      else box.getCenter(centre);
-    }
-    this.root.localToWorld(centre);
-    centre.project(this.camera);
-    const rect = this.renderer.domElement.getBoundingClientRect();
-    return { x: rect.left + ((centre.x + 1) / 2) * rect.width, y: rect.top + ((1 - centre.y) / 2) * rect.height };
-  }
-
-  /** Milliseconds to pick what is under `count` points across the view (median), as a click does. */
-  measurePick(count = 20) {
-    const raycaster = new THREE.Raycaster();
-    raycaster.params.Line.threshold = this.camera.position.distanceTo(this.controls.target) * 0.006;
-    const visible = this.pickables.filter((o) => o.visible);
-    const times = [];
-    let hits = 0;
-    for (let i = 0; i < count; i++) {
-      const start = performance.now();
-      raycaster.setFromCamera(new THREE.Vector2(-0.8 + (1.6 * i) / count, 0.1), this.camera);
-      hits += raycaster.intersectObjects(visible, false).length > 0;
-      times.push(performance.now() - start);
-    }
-    times.sort((a, b) => a - b);
-    return { median: times[Math.floor(count / 2)], hits };
-  }
-
-  /** Milliseconds per frame (median of `frames`) while the camera turns around the cell, with
-   * everything drawn, and (`moving`) as while the camera is dragged. */
-  measure(frames = 30) {
-    const full = this.measureFrames(frames);
-    const visible = this.routes.lines.visible;
-    this.routes.lines.visible = false;
-    const moving = this.measureFrames(frames);
-    this.routes.lines.visible = visible;
-    return { ...full, moving: moving.median };
-  }
-
-  measureFrames(frames) {
-    const gl = this.renderer.getContext();
-    const pixel = new Uint8Array(4);
-    const times = [];
-    const target = this.controls.target.clone();
-    const offset = this.camera.position.clone().sub(target);
-    for (let i = 0; i < frames; i++) {
-      offset.applyAxisAngle(new THREE.Vector3(0, 1, 0), (2 * Math.PI) / frames);
-      this.camera.position.copy(target).add(offset);
-      this.camera.lookAt(target);
-      const start = performance.now();
-      this.renderer.render(this.scene, this.camera);
-      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel); // waits for the frame
-      times.push(performance.now() - start);
-    }
-    times.sort((a, b) => a - b);
-    return { median: times[Math.floor(times.length / 2)], calls: this.renderer.info.render.calls, triangles: this.renderer.info.render.triangles };
-  }
 }
+
+Object.assign(CellView.prototype, camera, loading, probes, pickFacts, cabinet);
