@@ -188,6 +188,23 @@ def write_diagram() -> None:
     _save_ods(document, "schema-morsetti.ods")
 
 
+# The makers of the parts whose codes are the distributor's (digits only, as the cell's real
+# cabinets write them), for the bill of materials' Produttore column.
+MAKERS = {
+    "6400750": "PILZ",
+    "6400772": "PILZ",
+    "6503515": "SIEMENS",
+    "6503522": "SIEMENS",
+    "6503202": "SIEMENS",
+    "6800212": "SIEMENS",
+    "6800221": "SIEMENS",
+    "6800222": "SIEMENS",
+    "6800241": "SIEMENS",
+    "6400553": "FINDER",
+    "6720232": "IFM",
+}
+
+
 def write_bill_of_materials() -> None:
     names = {}
     text = (HERE / "components.xml").read_text(encoding="utf-8")
@@ -209,7 +226,6 @@ def write_bill_of_materials() -> None:
         if code:
             key = ("=-" + _bare(label) if not label.startswith("-SSB") else "=" + label, code)
             lines[key] = lines.get(key, 0) + 1
-    makers = {"SIE.": "SIEMENS", "PILZ.": "PILZ", "FIND.": "FINDER", "IFM ": "IFM", "SIEMENS ": "SIEMENS"}
     book = openpyxl.Workbook()
     sheet = book.active
     sheet.title = "QE01_Distinta_Componenti_Z"
@@ -228,7 +244,7 @@ def write_bill_of_materials() -> None:
     ):
         _text_cell(sheet, 8, c, name)
     for r, ((label, code), quantity) in enumerate(sorted(lines.items()), start=9):
-        maker = next((m for prefix, m in makers.items() if code.startswith(prefix)), None)
+        maker = MAKERS.get(code)
         _text_cell(sheet, r, 2, label)
         _text_cell(sheet, r, 3, code)
         sheet.cell(row=r, column=4, value=float(quantity))
@@ -244,7 +260,7 @@ def write_bill_of_materials() -> None:
 # Product, commercial code and the marker item of its model (components.xml), per block.
 MARKERS = [
     ("3RV2011-1JA10", 6503372.0, (0.0225, 0.06, 0.097)),
-    ("3RT2015-1BB41", "SIE.3RT2015-1BB41", (0.0225, 0.03, 0.073)),
+    ("3RT2015-1BB41", 6503515.0, (0.0225, 0.03, 0.073)),
 ]
 
 

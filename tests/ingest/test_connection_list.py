@@ -190,9 +190,13 @@ def test_the_example_list_in_the_real_exports_shape(lista) -> None:
     assert b"\r" not in data and data.startswith(b"\t\tNome Progetto:\tREMODEL_QE01\t")
     info, connections = split(read_connection_list(EXAMPLE_LISTA))
     assert info == ConnectionListInfo(project="REMODEL_QE01", job="24-0117", header_line=4)
-    # The older form's wires, one line up.
-    old = [dataclasses.replace(c, line=c.line - 1) for c in lista[1]]
+    # The older form's wires, one line up, their duct paths written with gearbox_demo's ' for ;.
+    old = [
+        dataclasses.replace(c, line=c.line - 1, duct_text=c.duct_text and c.duct_text.replace(";", "'"))
+        for c in lista[1]
+    ]
     assert connections == old and [c.line for c in connections] == list(range(5, 115))
+    assert at_line(connections, 8).duct_text == "=-CN2'=-CN5'=-CN3"
 
 
 def test_lista_preamble_and_header(lista) -> None:
@@ -218,7 +222,7 @@ def test_lista_preamble_and_header(lista) -> None:
                 potential_type="+",
                 potential_name="24V",
                 length_m=Decimal("0.746"),
-                duct_path=("U2",),
+                duct_path=("CN2",),
                 origin_termination="PUNTALINO_vite",
                 destination_termination="PUNTALINO_vite",
             ),
@@ -233,7 +237,7 @@ def test_lista_preamble_and_header(lista) -> None:
                 section_mm2=Decimal("1"),
                 potential_name="24V",
                 length_m=Decimal("1.112"),
-                duct_path=("U2", "U5", "U3"),
+                duct_path=("CN2", "CN5", "CN3"),
                 origin_termination="ELETTROSALDATO_molla",
                 destination_termination="ELETTROSALDATO_molla",
             ),
@@ -250,7 +254,7 @@ def test_lista_preamble_and_header(lista) -> None:
                 potential_type="L",
                 potential_name="L1",
                 length_m=Decimal("0.412"),
-                duct_path=("U1",),
+                duct_path=("CN1",),
                 origin_termination="CAPICORDA_vite",
                 destination_termination="PUNTALINO_vite",
                 origin_page="+0010/1.1",
@@ -281,7 +285,7 @@ def test_lista_preamble_and_header(lista) -> None:
                 potential_type="N",
                 potential_name="N",
                 length_m=Decimal("1.645"),
-                duct_path=("U1", "U6", "U4"),
+                duct_path=("CN1", "CN6", "CN4"),
                 origin_termination="PUNTALINO_vite",
                 destination_termination="ELETTROSALDATO_molla",
             ),
@@ -306,11 +310,11 @@ def test_lista_decimal_commas_and_units(lista) -> None:
 
 def test_lista_duct_paths_are_normalized_labels(lista) -> None:
     _, connections = lista
-    assert at_line(connections, 9).duct_path == ("U2", "U5", "U3")
-    assert at_line(connections, 11).duct_path == ("U2", "U7", "U3")
-    assert at_line(connections, 42).duct_path == ("U6", "U2")
+    assert at_line(connections, 9).duct_path == ("CN2", "CN5", "CN3")
+    assert at_line(connections, 11).duct_path == ("CN2", "CN7", "CN3")
+    assert at_line(connections, 42).duct_path == ("CN6", "CN2")
     ducts = {d for c in connections for d in c.duct_path}
-    assert ducts == {f"U{i}" for i in range(1, 10)}
+    assert ducts == {f"CN{i}" for i in range(1, 10)}
 
 
 def test_lista_terminations(lista) -> None:

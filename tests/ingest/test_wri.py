@@ -62,15 +62,15 @@ def test_example_has_110_entries_on_lines_1_to_110(ids: list[IdEntry]) -> None:
 def test_example_has_62_labels(ids: list[IdEntry]) -> None:
     labels = {e.label for e in ids}
     assert len(labels) == 62
-    assert {"F1500.1", "Q0010", "X1500", "X1600", "U1", "U8", "X00005.1", "B0040.3"} <= labels
+    assert {"F1500.1", "Q0010", "X1500", "X1600", "CN1", "CN8", "X00005.1", "B0040.3"} <= labels
     # With the EPLAN prefixes stripped no label starts with a structure sign.
     assert not [label for label in labels if label[0] in "=+-"]
 
 
 def test_first_and_last_rows(ids: list[IdEntry]) -> None:
     assert ids[0] == IdEntry("ID000012", "Q0010", "=-Q0010", "6100231", 1)
-    assert ids[57] == IdEntry("ID000098", "U8", "=-U8", None, 58)
-    assert ids[-1] == IdEntry("ID000221", "SSB-10Q1", "-SSB-10Q1", "SIEMENS 5SL4202-8", 110)
+    assert ids[57] == IdEntry("ID000098", "CN8", "=-CN8", None, 58)
+    assert ids[-1] == IdEntry("ID000221", "SSB-10Q1", "-SSB-10Q1", "6503202", 110)
 
 
 @pytest.mark.parametrize(
@@ -93,7 +93,7 @@ def test_figure5_rows(ids: list[IdEntry], line: int, cad_id: str, label: str, co
         (5, "ID000018", "-T0020.1", "T0020.1"),
         (21, "ID000043", "-K0060.1", "K0060.1"),
         (28, "ID000052", "=-Q1500.1", "Q1500.1"),
-        (53, "ID000093", "=-U3", "U3"),
+        (53, "ID000093", "=-CN3", "CN3"),
     ],
 )
 def test_prefixes_are_normalized_and_raw_label_kept(

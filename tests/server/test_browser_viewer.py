@@ -29,7 +29,7 @@ CELLS = {
         "iema-switchgear",
         ("Q1500.1", "https://example.org/cell/iema-qe01/component/Q1500.1"),
         "A0080.1",
-        {"U1", "U2"},
+        {"CN1", "CN2"},
     ),
     "elvez": (
         "elvez-cell",

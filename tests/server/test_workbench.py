@@ -123,7 +123,7 @@ def test_iema_scene(scene: dict) -> None:
     assert len(routes) == len(scene["routes"]) == 110  # three wires numbered 0V, one IRI each
     first = routes[f"{BASE}wire/1500.51"]
     assert first["label"] == "1500.51" and first["frame"] == "cabinet"
-    # group_connection_provider's keypoints of the same wire: hole, duct U2 twice, hole.
+    # group_connection_provider's keypoints of the same wire: hole, duct CN2 twice, hole.
     keypoints = [0.1195, 0.565, 0.0595, 0.1195, 0.73, 0.03, 0.283, 0.73, 0.03, 0.283, 0.605, 0.0545]
     assert first["points"] == keypoints
 

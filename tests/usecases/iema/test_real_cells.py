@@ -27,6 +27,7 @@ from cadkg.ingest.wri import read_wri
 from cadkg.query.validate import validate
 from cadkg.services.session import Session
 from cadkg.usecases.iema import cursors
+from cadkg.usecases.iema.component_model import read_component_models
 from tests.conftest import ROOT
 
 DATA = os.environ.get("CADKG_IEMA_CELLS", "")
@@ -91,8 +92,19 @@ PYTHON2 = os.environ.get("CADKG_PYTHON2") or shutil.which("python2.7") or ""
 EXAMPLE = ROOT / "examples" / "iema-switchgear"
 STUBS = {
     "rospy.py": "# ROS stub: the readers run outside ROS\n",
-    "PyKDL.py": "# stub: the readers compared place nothing\n",
-    "xmltodict.py": "# stub: the component models are not compared\n",
+    # Frames that hold nothing: of the model dictionary only its keys are compared.
+    "PyKDL.py": (
+        "class Vector(object):\n    def __init__(self, *xyz):\n        self.xyz = xyz\n"
+        "class Rotation(object):\n    def DoRotX(self, angle):\n        pass\n    DoRotY = DoRotZ = DoRotX\n"
+        "class Frame(object):\n    def __init__(self):\n        self.p, self.M = Vector(), Rotation()\n"
+    ),
+    # The models' attributes, which is all the node takes from this parse.
+    "xmltodict.py": (
+        "import xml.etree.ElementTree as ET\n"
+        "def parse(text):\n"
+        "    codes = [dict(('@' + k, v) for k, v in c.attrib.items()) for c in ET.fromstring(text)]\n"
+        "    return {'data': {'code': codes}}\n"
+    ),
     "pyexcel_ods.py": "def get_data(*args, **kwargs):\n    raise NotImplementedError\n",
 }
 DRIVER = """
@@ -104,7 +116,11 @@ def ends(c):
 wires = [[i] + ends(c) + [c['wire'], c['path']]
          for i, c in enumerate(GearboxPartsData._createConnectionList(sys.argv[3]))]
 board = GearboxPartsData._createBoardDict(sys.argv[4])
-print(json.dumps({'wires': wires, 'labels': dict((k, v['label']) for k, v in board.items())}))
+out = {'wires': wires, 'labels': dict((k, v['label']) for k, v in board.items())}
+out['products'] = dict((k, v['product']) for k, v in board.items())
+if len(sys.argv) > 5:
+    out['models'] = sorted(GearboxPartsData._generateComponentDict(sys.argv[5]))
+print(json.dumps(out))
 """
 WIRE_FIELDS = (
     "list_position",
@@ -124,7 +140,7 @@ NODE_CASES = {
 }
 
 
-def _node_answers(tmp_path: Path, ids: Path, wiring: Path) -> dict[str, Any]:
+def _node_answers(tmp_path: Path, ids: Path, wiring: Path, models: Path | None = None) -> dict[str, Any]:
     stubs = tmp_path / "stubs"
     stubs.mkdir()
     for name, text in STUBS.items():
@@ -133,7 +149,8 @@ def _node_answers(tmp_path: Path, ids: Path, wiring: Path) -> dict[str, Any]:
     driver.write_text(DRIVER, encoding="utf-8")
     # -B: no bytecode is written into the node's checkout.
     run = subprocess.run(
-        [PYTHON2, "-B", str(driver), str(stubs), str(NODE_SCRIPTS), str(wiring), str(ids)],
+        [PYTHON2, "-B", str(driver), str(stubs), str(NODE_SCRIPTS), str(wiring), str(ids)]
+        + ([str(models)] if models else []),
         capture_output=True,
         text=True,
         timeout=600,
@@ -179,6 +196,22 @@ def test_the_nodes_reader_and_cadkg_serve_the_same_wires(tmp_path: Path, case: s
     assert len(_differences(node["wires"], ours)) == sum(
         (row[1] in hyphens) + (row[3] in hyphens) for row in ours
     )
+
+
+@pytest.mark.skipif(not PYTHON2 or not NODE_SCRIPTS.is_dir(), reason="no Python 2.7 or no node scripts")
+def test_the_nodes_dictionaries_meet_every_example_label_with_its_model(tmp_path: Path) -> None:
+    # The node's cabling handler looks every scene item up in its ID dictionary, then the
+    # item's code in its model dictionary: no row may be dropped, no code go unmatched.
+    node = _node_answers(
+        tmp_path, EXAMPLE / "ids.wri", EXAMPLE / "lista-cablaggio.csv", EXAMPLE / "components.xml"
+    )
+    rows = read_wri(EXAMPLE / "ids.wri")
+    assert set(node["labels"]) == {row.cad_id for row in rows}
+    coded = {row.cad_id: row.commercial for row in rows if row.commercial}
+    assert {cad: node["products"][cad] for cad in coded} == coded  # digits only: nothing stripped
+    assert set(coded.values()) <= set(node["models"])
+    assert set(coded.values()) <= {m.key for m in read_component_models(EXAMPLE / "components.xml")}
+    assert len({row.label for row in rows if row.commercial}) == 61
 
 
 @pytest.mark.parametrize("case", sorted(CASES))

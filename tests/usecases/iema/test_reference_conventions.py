@@ -163,27 +163,30 @@ def test_positions_count_from_0_and_paths_are_as_written(built: list[KnowledgeGr
     first = cursors.group_connection_provider(session)
     assert first.origin is not None and first.destination is not None
     assert (first.list_position, first.origin.label, first.origin.pin) == (0, "F1500.1", "14")
-    assert (first.destination.label, first.destination.pin, first.wire_path) == ("Q1500.1", "A1", "=-U2")
+    assert (first.destination.label, first.destination.pin, first.wire_path) == ("Q1500.1", "A1", "=-CN2")
+    fourth = next(s for s in session.model.steps if s.position == 3)
+    assert (fourth.wire, fourth.path) == ("1500.50", "=-CN2'=-CN5'=-CN3")  # as gearbox_demo writes it
     assert cursors.reset_to_connection_list(session, 0, "dest").success
     end = cursors.full_connection_provider(session)
     assert (end.source, end.label, end.pin, end.list_position) == ("dest", "Q1500.1", "A1", 0)
 
 
-def test_a_quote_separated_duct_path_gives_the_same_keypoints(
+def test_a_semicolon_separated_duct_path_gives_the_same_keypoints(
     tmp_path: Path, built: list[KnowledgeGraph]
 ) -> None:
+    # The example writes gearbox_demo's "'", gearbox_zero's list and the Komax export ';'.
     cell = tmp_path / "example"
     shutil.copytree(EXAMPLE, cell)
     listing = cell / "lista-cablaggio.csv"
-    listing.write_bytes(listing.read_bytes().replace(b";=-", b"'=-"))
-    semicolons = _build(built, EXAMPLE / "manifest.toml").cell_model()
-    quotes = _build(built, cell / "manifest.toml").cell_model()
-    several = [s for s in semicolons.steps if len(s.ducts) > 1]
-    assert several and several[0].path.count(";") == len(several[0].ducts) - 1
-    by_wire = {s.iri: s for s in quotes.steps}
-    for step in semicolons.steps:
+    listing.write_bytes(listing.read_bytes().replace(b"'=-", b";=-"))
+    quotes = _build(built, EXAMPLE / "manifest.toml").cell_model()
+    semicolons = _build(built, cell / "manifest.toml").cell_model()
+    several = [s for s in quotes.steps if len(s.ducts) > 1]
+    assert several and several[0].path.count("'") == len(several[0].ducts) - 1
+    by_wire = {s.iri: s for s in semicolons.steps}
+    for step in quotes.steps:
         other = by_wire[step.iri]
-        assert other.path == step.path.replace(";", "'")
+        assert other.path == step.path.replace("'", ";")
         assert (other.ducts, other.keypoints) == (step.ducts, step.keypoints)
 
 
