@@ -3,6 +3,7 @@
 // thing into the view.
 
 import * as THREE from "three";
+import { pieces } from "./tasks.js";
 
 // The view presets, in the axes of the frame most objects hang from (a cabinet's plate: x to
 // the right, y up, z out of it): face on, from above, from the right, and from a corner.
@@ -133,8 +134,10 @@ export const camera = {
   whereIs(thing) {
     const box = new THREE.Box3();
     const corner = new THREE.Vector3();
-    if (thing.position) box.expandByPoint(thing.position);
-    for (const p of thing.path || []) box.expandByPoint(p);
+    for (const part of pieces(thing)) {
+      if (part.position) box.expandByPoint(part.position);
+      for (const p of part.path || []) box.expandByPoint(p);
+    }
     for (const index of thing.objects || []) {
       const object = this.data.objects[index];
       const m = this.matrixOf(object.frame);

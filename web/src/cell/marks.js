@@ -4,6 +4,7 @@
 
 import * as THREE from "three";
 import { balls, tube } from "./build.js";
+import { pieces } from "./tasks.js";
 
 export class Marks {
   constructor(view) {
@@ -26,7 +27,7 @@ export class Marks {
     const colours = new Map();
     this.group.clear();
     for (const entries of this.owners.values()) {
-      for (const { thing, colour } of entries) {
+      for (const { thing: marked, colour } of entries) for (const thing of pieces(marked)) {
         for (const index of thing.objects || []) colours.set(index, colour);
         if (thing.path && thing.path.length > 1) {
           const line = tube(thing.path, view.size * 0.001, colour);

@@ -1,11 +1,13 @@
 // The robot's task list in the 3D view (/api/plan, made by `cadkg plan`): step through it, the
 // current task picked (highlighted, its facts shown) and the next NEXT tasks marked in a dim
-// blue. A task is drawn where its name, or a word of it (an operation's labels), names
-// something drawn: a wire by its number, a component, a jig, a guide or a spot.
+// blue. An operation is drawn as what it works on (./tasks.js: its jigs, guides, spots and
+// cables); any other task where its name, or a word of it, names something drawn: a wire by its
+// number, a component, a jig, a guide or a spot.
 
 import * as THREE from "three";
 import { getJson, postQuery } from "../api.js";
 import { prefixes } from "../prefixes.js";
+import { pieces, taskThings } from "./tasks.js";
 
 const $ = (id) => document.getElementById(id);
 const NEXT = 5;
@@ -15,6 +17,7 @@ export class PlanSteps {
   constructor(view) {
     this.view = view;
     this.steps = null;
+    this.tasks = new Map();
     this.index = 0;
     $("cell-plan-toggle").addEventListener("click", () => this.toggle());
     $("plan-prev").addEventListener("click", () => this.go(this.index - 1));
@@ -38,6 +41,8 @@ export class PlanSteps {
         const ask = await (await postQuery(`ASK { GRAPH <${prefixes.cell}plan> { ?s ?p ?o } }`)).json();
         if (!ask.boolean) throw new Error("none yet");
         const plan = await getJson("/api/plan");
+        this.tasks = await taskThings(this.view.things, `${prefixes.cell}plan`);
+        for (const step of plan.steps) if (this.tasks.has(step.key)) this.tasks.get(step.key).label = step.task;
         this.steps = plan.steps;
         this.summary = plan.summary;
       } catch (err) {
@@ -51,6 +56,7 @@ export class PlanSteps {
 
   /** What a task names in the view, or null. */
   thingOf(step) {
+    if (this.tasks.has(step.key)) return this.tasks.get(step.key);
     const things = this.view.things;
     const words = [step.task, step.key, ...step.task.split(/\s+/).slice(1)];
     for (const word of words) {
@@ -74,6 +80,7 @@ export class PlanSteps {
     const current = this.thingOf(step);
     this.view.container.dataset.planStep = String(step.step);
     this.view.container.dataset.planNext = next.map((t) => t.iri || t.label).join(" ");
+    this.view.container.dataset.planParts = current ? pieces(current).map((t) => t.label).join("|") : "";
     this.view.markers.set("plan", next.filter((t) => t !== current).map((thing) => ({ thing, colour: DIM })));
     if (current) {
       await this.view.select(current);

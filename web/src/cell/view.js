@@ -19,6 +19,7 @@ import { ChangeFeed } from "./changes.js";
 import { Objects } from "./objects.js";
 import { Measure } from "./measure.js";
 import { sceneThings } from "./things.js";
+import { pieces } from "./tasks.js";
 import { PRESETS, camera } from "./camera.js";
 import { loading } from "./loading.js";
 import { probes } from "./probes.js";
@@ -405,12 +406,14 @@ export class CellView {
   highlight(what) {
     this.paintObjects(what);
     this.clearExtras();
-    if (what && what.route) this.addRoute(this.routes.paths[this.data.routes.indexOf(what.route)]);
-    if (what && what.position) {
-      const marker = balls([{ position: what.position, colour: COLOURS.picked }], Math.max(this.size * 0.012, 0.004), "picked");
-      Object.assign(marker.material, { depthTest: false, transparent: true, opacity: 0.55 });
-      marker.renderOrder = 9;
-      this.extras.add(marker);
+    for (const part of what ? pieces(what) : []) {
+      if (part.route) this.addRoute(this.routes.paths[this.data.routes.indexOf(part.route)]);
+      if (part.position) {
+        const marker = balls([{ position: part.position, colour: COLOURS.picked }], Math.max(this.size * 0.012, 0.004), "picked");
+        Object.assign(marker.material, { depthTest: false, transparent: true, opacity: 0.55 });
+        marker.renderOrder = 9;
+        this.extras.add(marker);
+      }
     }
     this.container.dataset.highlighted = what ? what.iri || what.label : "";
     this.requestRender();
