@@ -2,10 +2,14 @@
 into a store and planned (``cadkg plan``), served writable with a token: Plan steps through the
 task list, the current task picked and the next five marked; an assignment made over HTTP
 (``/api/assign``) arrives as a change set whose changed wire is listed under "What changed"
-and marked, a click on it showing it. A cell without a plan says how to make one.
+and marked, a click on it showing it. A cell without a plan says how to make one. On the
+ELVEZ example, planned likewise, each operation shows what it works on.
 
 Expected values: the tasks come from ``/api/plan`` of the same server; wire IRIs are the
-example's (``cell:wire/<number>``).
+example's (``cell:wire/<number>``). ELVEZ's parts are read off its files:
+``Assembly_sequence.csv`` (line 2: EC WH1 at C1.1; line 4: RC GR11 through J1.1-J2.1-J3.1;
+line 6: T WH1 at J1.1-J2.1) and ``WH_configuration.xml`` (harness 1: cables CA1-CA5 from WH1,
+branch GR11: CA1-CA3).
 """
 
 from __future__ import annotations
@@ -17,13 +21,15 @@ import httpx
 import pytest
 from selenium.webdriver.common.by import By
 
-from tests.conftest import IEMA
+from tests.conftest import EXAMPLES, IEMA
 from tests.server.browser import health, settled, text_of, wait
 from tests.server.cell_view import open_cell, picked
 from tests.server.serving import cadkg_serve
 from tests.test_cli import run
 
 WIRE = "https://example.org/cell/iema-qe01/wire/"
+OPERATION = "https://example.org/cell/elvez/operation/Assembly_sequence/"
+HARNESS_1 = [f"wire CA{n}" for n in range(1, 6)]
 TOKEN = "plan-and-changes"
 VIEW = "const v = document.getElementById('cell-view').cellView;"
 
@@ -36,6 +42,17 @@ def planned(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     plan = run("plan", store)
     assert plan.returncode == 0, plan.stderr
     with cadkg_serve(str(store), "--allow-update", "--token", TOKEN, "--watch", "0") as base:
+        yield base
+
+
+@pytest.fixture(scope="module")
+def planned_elvez(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    store = tmp_path_factory.mktemp("planned") / "elvez"
+    built = run("build", EXAMPLES / "elvez-cell" / "manifest.toml", "--store", store)
+    assert built.returncode == 0, built.stderr
+    plan = run("plan", store)
+    assert plan.returncode == 0, plan.stderr
+    with cadkg_serve(str(store), "--watch", "0") as base:
         yield base
 
 
@@ -69,6 +86,51 @@ def test_stepping_through_the_plan(browser: Any, planned: str) -> None:
     driver.find_element(By.ID, "cell-plan-toggle").click()
     assert driver.execute_script(f"{VIEW} return v.markers.group.children.length") == 0
     assert health(driver, planned) == []
+    driver.get("about:blank")
+
+
+def test_elvez_operations_show_what_they_work_on(browser: Any, planned_elvez: str) -> None:
+    driver = browser
+    steps = httpx.get(f"{planned_elvez}/api/plan", timeout=60).json()["steps"]
+    expected = {  # task: (the operation's source line, what is shown)
+        "EC WH1": (2, {"C1", "C1 guide 1", *HARNESS_1}),
+        "RC GR11": (4, {"J1", "J2", "J3", "J1 guide 1", "J2 guide 1", "J3 guide 1", *HARNESS_1[:3]}),
+        "T WH1": (6, {"J1", "J2", "J1.1: taping (operation 5)", "J2.1: taping (operation 5)", *HARNESS_1}),
+    }
+    open_cell(driver, planned_elvez)
+    driver.find_element(By.ID, "cell-plan-toggle").click()
+    wait(driver, lambda d: text_of(d, "plan-step") == f"step 1 of {len(steps)}", 30, "the plan")
+    shown = {}
+    for index, step in enumerate(steps):
+        if index:
+            driver.find_element(By.ID, "plan-next").click()
+        wait(
+            driver,
+            lambda d, s=step: picked(d).startswith(OPERATION) and data(d, "plan-step") == str(s["step"]),
+            30,
+            f"step {index}",
+        )
+        shown[step["task"]] = set(data(driver, "plan-parts").split("|")) - {""}
+        assert shown[step["task"]], f"{step['task']} shows nothing"
+        assert "not drawn" not in text_of(driver, "cell-status")
+        if step["task"] not in expected:
+            continue
+        line, parts = expected[step["task"]]
+        assert picked(driver) == f"{OPERATION}{line}"
+        assert shown[step["task"]] == parts
+        settled(driver)
+        # A tube for each route, a ball for each guide key and taping spot; the jigs painted.
+        assert driver.execute_script(f"{VIEW} return v.extras.children.length") == len(
+            [p for p in parts if " " in p]
+        )
+        painted = driver.execute_script(f"{VIEW} return v.picked.objects.map((i) => v.data.objects[i].label)")
+        assert set(painted) == {p for p in parts if " " not in p}
+        if index + 1 < len(steps):
+            assert data(driver, "plan-next").split()[0].startswith(OPERATION)
+            assert driver.execute_script(f"{VIEW} return v.markers.group.children.length") > 0
+    assert expected.keys() <= shown.keys()
+    assert shown["EC WH2"] >= {"C2", "C2 guide 1", "wire CA6", "wire CA7"}
+    assert health(driver, planned_elvez) == []
     driver.get("about:blank")
 
 
