@@ -41,7 +41,9 @@ export async function taskThings(things, plan) {
   const out = new Map();
   for (const [key, { iri, parts }] of tasks) {
     if (!parts.size) continue;
-    const list = [...parts];
+    // Listed as the pick panel would read them: the jigs, their guides or spots, the routes.
+    const rank = (t) => ["item", "point", "wire"].indexOf(t.group);
+    const list = [...parts].sort((a, b) => rank(a) - rank(b) || a.label.localeCompare(b.label, undefined, { numeric: true }));
     const objects = [...new Set(list.flatMap((t) => t.objects || []))];
     out.set(key, { group: "task", kind: "operation", iri, parts: list, objects });
   }
