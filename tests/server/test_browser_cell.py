@@ -33,7 +33,7 @@ def test_the_iema_cell_in_3d(browser: Any, iema_site: str, tmp_path: Path) -> No
     driver = browser
     open_cell(driver, iema_site)
     status = text_of(driver, "cell-status")
-    assert "110 objects (55 distinct meshes)" in status and "110 wires" in status, status
+    assert "117 objects (56 distinct meshes)" in status and "110 wires" in status, status
     compare_with_golden(picture(driver), "iema-cell", tmp_path)
 
     click_on(driver, "F1500.1")
