@@ -102,7 +102,7 @@ def test_input_error_is_one_line_without_traceback(tmp_path: Path) -> None:
     assert "Traceback" not in result.stderr
     lines = [line for line in result.stderr.splitlines() if line.strip()]
     assert len(lines) == 1
-    assert "ids.wri:21: malformed CAD item ID (found '41'" in lines[0]
+    assert "ids.wri:23: malformed CAD item ID (found '41'" in lines[0]
 
 
 @pytest.mark.parametrize(

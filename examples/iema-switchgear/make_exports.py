@@ -7,8 +7,9 @@ Writes, in the shapes EPLAN and the cell's tools write them (see README.md):
 - ``lista-cablaggio.xlsx``: ``lista-cablaggio.csv`` cell for cell, as text, on sheet
   ``Lista Cablaggio_QE01``, with the zone legend on sheet ``configurazione gruppi``;
 - ``schema-morsetti.ods``: the terminal diagram, one sheet for all strips, its rows the
-  strips' terminals in rail order (``ids.wri``) and its destinations the other ends of the
-  wires ``lista-cablaggio.csv`` lands on each terminal;
+  strips' items in rail order (``terminals.csv``: pin ``0`` for the end stop before a strip's
+  first terminal, ``999999`` for the end stop or plate after its last) and its destinations
+  the other ends of the wires ``lista-cablaggio.csv`` lands on each terminal;
 - ``distinta-componenti.xlsx``: the bill of materials, one line per device and article;
 - ``qr-markers.ods``: the QR-code marker table, the marker positions of ``components.xml``;
 - ``pins.xml``: EPLAN's parts-management export of the interface relay ``6400170``.
@@ -174,15 +175,20 @@ def write_diagram() -> None:
         strips[strip].append(terminal)
     functions = {"X1500": "MOTORI", "X1600": "COMANDO TELERUTTORI", "X1700": "SENSORI"}
     for strip, terminals in strips.items():
-        for terminal in terminals:
-            if not terminal:  # the strip's end plate, after its last terminal
-                _ods_row(table, [f"=-{strip}", "Q", "999999", None, None, None, None, "FERMO MORSETTO"])
+        named = [t for t in terminals if t]
+        for at, terminal in enumerate(terminals):
+            if not terminal:
+                # An end stop or end plate: pin 0 before the first terminal, 999999 after the
+                # last, each followed by the strip's label alone, as EPLAN writes them.
+                pin = "0" if at == 0 else "999999"
+                _ods_row(table, [f"=-{strip}", "Q", pin, None, None, None, None, "FERMO MORSETTO"])
+                _ods_row(table, [f"=-{strip}"])
                 continue
             others = ends.get((strip, terminal), [])[:2]
             cells: list[object] = [f"=-{strip}", "Q", terminal]
             for other in [*others, None, None][:2]:
                 cells += [other, "Q" if other else None]
-            cells.append(functions.get(strip) if terminal == terminals[0] else None)
+            cells.append(functions.get(strip) if terminal == named[0] else None)
             _ods_row(table, cells)
     document.spreadsheet.addElement(table)
     _save_ods(document, "schema-morsetti.ods")

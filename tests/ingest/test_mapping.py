@@ -124,14 +124,14 @@ def test_duplicate_wire_numbers_get_distinct_iris(fig3_triples: Triples) -> None
 def test_wri_example_maps_items_labels_and_models() -> None:
     data = read_source(EXAMPLE / "ids.wri", "ids.wri", "wri", BASE)
     triples = Triples(data.ntriples)
-    # 110 items and the cabinet's root item ID000001 (=-1, no code): one component more.
-    assert data.report.records == 111
-    assert len(triples.of_type("CadItem")) == 111
+    # 117 items and the cabinet's root item ID000001 (=-1, no code): one component more.
+    assert data.report.records == 118
+    assert len(triples.of_type("CadItem")) == 118
     assert len(triples.of_type("Component")) == 63
     item = BASE + "item/ID000041"
     assert triples.value(item, "cadId") == "ID000041"
     assert triples.value(item, "instanceOf") == BASE + "model/6013277"
-    assert triples.value(item, "sourceLine") == "21"
+    assert triples.value(item, "sourceLine") == "23"
     assert ox.NamedNode(item) in triples.objects(BASE + "component/X00005.2", "hasItem")
     assert triples.value(BASE + "label/Q0010", "rawLabel") == "=-Q0010"
     assert triples.objects(BASE + "item/ID000039", "instanceOf") == []

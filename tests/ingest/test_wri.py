@@ -38,7 +38,7 @@ def by_line(entries: list[IdEntry]) -> dict[int, IdEntry]:
 
 def test_example_begins_with_the_root_item_and_writes_every_label_with_its_prefix() -> None:
     entries = read_wri(EXAMPLE_IDS)
-    assert len(entries) == 111 and [e.line for e in entries] == list(range(1, 112))
+    assert len(entries) == 118 and [e.line for e in entries] == list(range(1, 119))
     assert entries[0] == IdEntry("ID000001", "1", "=-1", None, 1)
     assert all(e.raw_label == "=-" + e.label for e in entries)
     assert len({e.label for e in entries}) == 63
@@ -46,17 +46,17 @@ def test_example_begins_with_the_root_item_and_writes_every_label_with_its_prefi
     assert [(e.cad_id, e.label, e.commercial, e.line + 1) for e in read_wri(IDS)] == [
         (e.cad_id, e.label, e.commercial, e.line) for e in entries[1:]
     ]
-    assert by_line(entries)[21] == IdEntry("ID000041", "X00005.2", "=-X00005.2", "6013277", 21)
-    assert [e.line for e in entries if e.commercial is None] == [1, 19, 51, 59]
+    assert by_line(entries)[23] == IdEntry("ID000041", "X00005.2", "=-X00005.2", "6013277", 23)
+    assert [e.line for e in entries if e.commercial is None] == [1, 21, 56, 64]
 
 
 # --- the example's older form ----------------------------------------------------------------------------
 
 
-def test_example_has_110_entries_on_lines_1_to_110(ids: list[IdEntry]) -> None:
-    assert len(ids) == 110
-    assert [e.line for e in ids] == list(range(1, 111))
-    assert len({e.cad_id for e in ids}) == 110
+def test_example_has_117_entries_on_lines_1_to_117(ids: list[IdEntry]) -> None:
+    assert len(ids) == 117
+    assert [e.line for e in ids] == list(range(1, 118))
+    assert len({e.cad_id for e in ids}) == 117
 
 
 def test_example_has_62_labels(ids: list[IdEntry]) -> None:
@@ -69,17 +69,17 @@ def test_example_has_62_labels(ids: list[IdEntry]) -> None:
 
 def test_first_and_last_rows(ids: list[IdEntry]) -> None:
     assert ids[0] == IdEntry("ID000012", "Q0010", "=-Q0010", "6100231", 1)
-    assert ids[57] == IdEntry("ID000098", "CN8", "=-CN8", None, 58)
-    assert ids[-1] == IdEntry("ID000221", "SSB-10Q1", "-SSB-10Q1", "6503202", 110)
+    assert ids[62] == IdEntry("ID000098", "CN8", "=-CN8", None, 63)
+    assert ids[-1] == IdEntry("ID000221", "SSB-10Q1", "-SSB-10Q1", "6503202", 117)
 
 
 @pytest.mark.parametrize(
     ("line", "cad_id", "label", "commercial"),
     [
-        (20, "ID000041", "X00005.2", "6013277"),
-        (22, "ID000045", "F1500.1", "6503372"),
-        (23, "ID000046", "F1500.1", "6503373"),
-        (24, "ID000047", "F1500.2", "6503373"),
+        (22, "ID000041", "X00005.2", "6013277"),
+        (24, "ID000045", "F1500.1", "6503372"),
+        (25, "ID000046", "F1500.1", "6503373"),
+        (26, "ID000047", "F1500.2", "6503373"),
     ],
 )
 def test_figure5_rows(ids: list[IdEntry], line: int, cad_id: str, label: str, commercial: str) -> None:
@@ -91,9 +91,9 @@ def test_figure5_rows(ids: list[IdEntry], line: int, cad_id: str, label: str, co
     [
         (1, "ID000012", "=-Q0010", "Q0010"),
         (5, "ID000018", "-T0020.1", "T0020.1"),
-        (21, "ID000043", "-K0060.1", "K0060.1"),
-        (28, "ID000052", "=-Q1500.1", "Q1500.1"),
-        (53, "ID000093", "=-CN3", "CN3"),
+        (23, "ID000043", "-K0060.1", "K0060.1"),
+        (30, "ID000052", "=-Q1500.1", "Q1500.1"),
+        (58, "ID000093", "=-CN3", "CN3"),
     ],
 )
 def test_prefixes_are_normalized_and_raw_label_kept(
@@ -109,11 +109,11 @@ def test_unprefixed_label_has_raw_equal_to_label(ids: list[IdEntry]) -> None:
 
 
 def test_empty_commercial_code_is_none(ids: list[IdEntry]) -> None:
-    # Lines 18, 50 and 58 end in a tab: the code is empty, not ''.
+    # Lines 20, 55 and 63 end in a tab: the code is empty, not ''.
     assert [(e.line, e.cad_id) for e in ids if e.commercial is None] == [
-        (18, "ID000039"),
-        (50, "ID000085"),
-        (58, "ID000098"),
+        (20, "ID000039"),
+        (55, "ID000085"),
+        (63, "ID000098"),
     ]
     assert all(e.commercial for e in ids if e.commercial is not None)
 
@@ -123,8 +123,9 @@ def test_component_made_of_several_items(ids: list[IdEntry]) -> None:
         ("ID000045", "6503372"),
         ("ID000046", "6503373"),
     ]
-    assert sum(1 for e in ids if e.label == "X1500") == 12
-    assert sum(1 for e in ids if e.label == "X1600") == 5
+    # 12 terminals between two end stops; 4 terminals after an end stop, then an end plate.
+    assert sum(1 for e in ids if e.label == "X1500") == 14
+    assert sum(1 for e in ids if e.label == "X1600") == 6
 
 
 # --- malformed and unusual samples -------------------------------------------------------------------

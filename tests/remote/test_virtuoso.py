@@ -357,7 +357,7 @@ def test_the_page_draws_the_cell_from_the_store(
     with cadkg_serve(virtuoso["VIRTUOSO_SPARQL"]) as base:
         open_cell(browser, base)
         status = text_of(browser, "cell-status")
-        assert "110 objects" in status and "110 wires" in status, status
+        assert "117 objects" in status and "110 wires" in status, status
         click_on(browser, "F1500.1")
         component = "https://example.org/cell/iema-qe01/component/F1500.1"
         wait(browser, lambda d: picked(d) == component, 60, "F1500.1 picked")

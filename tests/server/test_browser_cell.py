@@ -4,8 +4,8 @@ shows it (within a tolerance), a click picks an object and shows its label, IRI,
 a component) its pins, a result row naming a component highlights it, and group_connection_provider
 steps through the wires.
 
-Expected values come from the examples (see tests/server/test_workbench.py): IEMA's 110 items
-(55 distinct meshes) and 110 wires, ``cad_service`` giving ``F1500.1`` 10 pins with screw and
+Expected values come from the examples (see tests/server/test_workbench.py): IEMA's 117 items
+(56 distinct meshes) and 110 wires, ``cad_service`` giving ``F1500.1`` 10 pins with screw and
 hole; ELVEZ's 7 guides (a key and a key corner each) and 3 taping spots; ELIMCO's 6 bench pins
 (one double) and 3 routes; the KBL harness's 31 nodes and its connector ``TMR.2A1`` at
 ``Cartesian_point_231``.
@@ -33,7 +33,7 @@ def test_the_iema_cell_in_3d(browser: Any, iema_site: str, tmp_path: Path) -> No
     driver = browser
     open_cell(driver, iema_site)
     status = text_of(driver, "cell-status")
-    assert "110 objects (55 distinct meshes)" in status and "110 wires" in status, status
+    assert "117 objects (56 distinct meshes)" in status and "110 wires" in status, status
     compare_with_golden(picture(driver), "iema-cell", tmp_path)
 
     click_on(driver, "F1500.1")

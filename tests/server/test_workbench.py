@@ -112,7 +112,7 @@ def test_iema_scene(scene: dict) -> None:
     assert scene["profile"] == "iema" and scene["problems"] == []
     frames = {f["name"]: f for f in scene["frames"]}
     assert frames["cabinet"]["parent"] == "world"
-    assert len(scene["objects"]) == 110 and len(scene["meshes"]) == 55
+    assert len(scene["objects"]) == 117 and len(scene["meshes"]) == 56
     assert all(o["frame"] in frames and o["mesh"] is not None for o in scene["objects"])
     components = {c["label"]: c for c in scene["components"]}
     fuse = components["F1500.1"]
@@ -245,7 +245,7 @@ def test_the_workbench_routes_on_a_remote_store(remote: tuple[str, str], scene: 
     # The same cell, frames, routes and components; no mesh files, so every item is a box.
     assert far["frames"] == scene["frames"] and far["routes"] == scene["routes"]
     assert far["components"] == scene["components"]
-    assert far["meshes"] == [] and len(far["objects"]) == 110
+    assert far["meshes"] == [] and len(far["objects"]) == 117
     assert all(o["box"] and o["mesh"] is None for o in far["objects"])
     assert "drawn as boxes" in far["problems"][0]
     assert httpx.get(f"{base}/api/mesh/meshes/ID000012.stl").status_code == 404

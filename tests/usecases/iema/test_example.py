@@ -134,12 +134,14 @@ def test_hand_computed_pin_frames(model: CellModel, label: str, pin: str) -> Non
 
 def test_hand_computed_terminal_blocks(model: CellModel) -> None:
     x1500 = iema.get_terminal_data(model, "X1500")
-    assert math.isclose(x1500.length, 0.0654) and math.isclose(x1500.height, 0.0675)
-    assert x1500.terminal_start and _near(x1500.terminal_start.position, (0.2649, 0.28, 0.0075))
+    # The end stops before and after the 12 terminals (0.005 each) are part of the strip; its
+    # start is the first end stop's corner (the diagram's pin 0 row), as in the node.
+    assert math.isclose(x1500.length, 0.0754) and math.isclose(x1500.height, 0.0675)
+    assert x1500.terminal_start and _near(x1500.terminal_start.position, (0.2599, 0.28, 0.0075))
     # 12 terminals of two levels each, in block order.
     assert len(x1500.pins) == 24 and x1500.pins[:4] == ("1:a", "1:b", "2:a", "2:b")
     x1600 = iema.get_terminal_data(model, "X1600")
-    assert math.isclose(x1600.length, 0.023) and math.isclose(x1600.height, 0.06)
+    assert math.isclose(x1600.length, 0.028) and math.isclose(x1600.height, 0.06)
 
 
 def test_vrml_scene_gives_the_same_geometry_as_x3d(model: CellModel, vrml_model: CellModel) -> None:
@@ -303,6 +305,31 @@ def test_the_older_forms_give_the_same_cell(model: CellModel, tmp_path: Path) ->
     assert [(s.wire, s.path, s.ducts, s.keypoints, s.performer) for s in old.steps] == [
         (s.wire, s.path.replace("'", ";"), s.ducts, s.keypoints, s.performer) for s in model.steps
     ]
+
+
+def test_a_diagram_without_start_rows_places_the_same_terminals(model: CellModel, tmp_path: Path) -> None:
+    """The example's terminal diagram as it was, without pin 0 rows, and the ID table without end stops."""
+    import shutil
+
+    cell = tmp_path / "example"
+    shutil.copytree(IEMA.parent, cell)
+    old_forms = ROOT / "tests" / "data" / "iema-old-forms"
+    shutil.copyfile(old_forms / "schema-morsetti.ods", cell / "schema-morsetti.ods")
+    wri = (IEMA.parent / "ids.wri").read_bytes().split(b"\r\n")
+    (cell / "ids.wri").write_bytes(b"\r\n".join(line for line in wri if not line.endswith(b"\t6013270")))
+    with KnowledgeGraph.build(cell / "manifest.toml") as kg:
+        old = kg.cell_model()
+    blocks = ["X0030.1", "X0030.2", "X0031", "X1500", "X1600", "X1700"]
+    for label in blocks:
+        pins, now = old.components[label].pins, model.components[label].pins
+        assert pins and pins.keys() == now.keys(), label
+        for name, pin in pins.items():
+            other = now[name].screw
+            assert pin.screw is not None and other is not None, (label, name)
+            assert pin.screw.close_to(other, 1e-9), (label, name)
+    # Without a start row the strip starts at its first terminal's corner.
+    start = iema.get_terminal_data(old, "X1500").terminal_start
+    assert start is not None and _near(start.position, (0.2649, 0.28, 0.0075))
 
 
 def _same_pose(a: object, b: object) -> bool:
