@@ -312,3 +312,26 @@ def test_the_example_answers_full_cad_service_by_cad_item(built: list[KnowledgeG
     assert [(c.wire, c.source, c.target_item, c.target_pin, c.list_position) for c in first] == [
         ("1500.51", "orig", "ID000052", "A1", 0)
     ]
+
+
+def test_the_example_keeps_a_wire_whose_end_the_workbook_lost(
+    tmp_path: Path, built: list[KnowledgeGraph]
+) -> None:
+    # As on the real gearbox_zero workbook: a destination EPLAN could not evaluate shows #NAME?.
+    cell = tmp_path / "cell"
+    shutil.copytree(EXAMPLE, cell)
+    replace_in_member(
+        cell / "lista-cablaggio.xlsx",
+        "xl/worksheets/sheet1.xml",
+        b'<c r="F5" t="inlineStr"><is><t>=-Q1500.1:A1</t></is></c>',
+        b'<c r="F5" t="e"><f>-basta</f><v>#NAME?</v></c>',
+    )
+    kg = _build(built, cell / "manifest-vrml.toml")
+    session = Session(kg.cell_model())
+    first = cursors.group_connection_provider(session)
+    assert (first.wire, first.list_position, first.missing_pin_data) == ("1500.51", 0, "?:?")
+    assert first.origin is not None and (first.origin.label, first.origin.pin) == ("F1500.1", "14")
+    assert len(session.model.steps) == 110  # no wire left out
+    assert [f.message for f in validate(kg, shacl=False) if f.check == "lost-wire-end"] == [
+        "wire 1500.51: the list gives no reference for its destination; it is kept with missing pin data"
+    ]
