@@ -337,7 +337,7 @@ def test_an_in_memory_build_writes_its_meshes_when_asked_where_they_are(
     kg = cadkg.build(IEMA)
     assert not list(tmp_path.iterdir())  # the build itself wrote no file
     uris = sorted({row["u"] for row in kg.query("SELECT ?u WHERE { ?m ck:meshUri ?u }").rows})
-    assert len(uris) == 110  # the scene's shapes and the models' meshes
+    assert len(uris) == 117  # the scene's shapes (seven end stops among them) and the models' meshes
     files = kg.files_dir
     assert files.parent == tmp_path
     written = sorted(str(p.relative_to(files)) for p in files.rglob("*") if p.is_file())
