@@ -3,6 +3,7 @@ build, unless a live process holds it."""
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -126,3 +127,42 @@ def test_a_killed_servers_memory_snapshot_is_removed_by_the_next(
         holder.wait(30)
     # The killed holder's lock stays with its snapshot, both for the next sweep.
     assert sorted(p.name for p in tmp_path.iterdir()) == [f".{held.name}.lock", held.name]
+
+
+OPEN = "import sys, time; import pyoxigraph as ox; store = ox.Store(sys.argv[1]); " \
+    "print('open', flush=True); time.sleep(float(sys.argv[2]))"  # fmt: skip
+
+
+def test_a_change_waits_for_the_process_that_holds_the_live_database(tmp_path: Path) -> None:
+    """A build keeps the generation it published open until its command ends; a change started
+    right after it opens the store once it is let go, not with an error."""
+    store = tmp_path / "store"
+    cadkg.build(IEMA, store).close()
+    holder = subprocess.Popen(
+        [
+            sys.executable,
+            "-c",
+            OPEN,
+            str(store / _live(store)),
+            "8",
+        ],  # longer than the command takes to start
+        stdout=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        assert holder.stdout is not None and holder.stdout.readline().strip() == "open"
+        done = subprocess.run(
+            [*CADKG, "assign", str(store), "wire", "1500.51", "human"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            timeout=600,
+            check=False,
+        )
+        assert done.returncode == 0 and "→ human" in done.stderr, done.stderr
+        assert holder.poll() is not None  # it waited for the holder to end
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(holder.pid, signal.SIGKILL)
+        holder.wait(30)

@@ -24,6 +24,7 @@ from cadkg.generations import (
     Snapshot,
     current_generation,
     new_generation,
+    open_writable,
     publish_generation,
     read_pointer,
     take_snapshot,
@@ -165,10 +166,14 @@ class GraphStore:
         """
         directory = Path(directory)
         generation = current_generation(directory)
-        try:
-            store = ox.Store.read_only(str(generation)) if read_only else ox.Store(str(generation))
-        except OSError as err:
-            raise StoreError(f"{directory}: cannot open the store: {err}") from err
+        if read_only:
+            try:
+                store = ox.Store.read_only(str(generation))
+            except OSError as err:
+                raise StoreError(f"{directory}: cannot open the store: {err}") from err
+        else:
+            # The build that published it may still hold it until its command ends.
+            store = open_writable(generation)
         kg = cls(store, directory, read_only)
         kg._files_dir = generation / FILES
         kg._generation = generation
