@@ -269,6 +269,13 @@ class KnowledgeGraph(GraphStore):
                         self._keep_model(self._model)
         return self._model
 
+    def derived_model(self) -> Any:
+        """The cell model if it is derived already or kept beside the store, else None; never
+        derives (a served store's readers must not pause the collector for it)."""
+        if self._model is None and not self._changing:
+            self._model = self._kept_model()
+        return self._model
+
     def _kept_model(self) -> Any:
         if self._model_file is None:
             return None

@@ -25,7 +25,7 @@ from cadkg.services.display import Frame, MarkerSpec
 from cadkg.services.service import Service
 from cadkg.services.session import Session
 
-__all__ = ["Collector", "Derivation", "ExportOptions", "ExportView", "Planner", "UseCase"]
+__all__ = ["Collector", "Derivation", "DerivedKind", "ExportOptions", "ExportView", "Planner", "UseCase"]
 
 
 class Collector(Protocol):
@@ -58,6 +58,19 @@ class Derivation:
     dump: Callable[[Any], bytes]
     load: Callable[[bytes], Any]
     base: Callable[[Any], str] = lambda model: str(getattr(model, "base", ""))
+    # Kinds of things a revision diff compares that the model gives itself (below).
+    things: Mapping[str, DerivedKind] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class DerivedKind:
+    """A kind of thing a revision diff compares (:mod:`cadkg.changes.kinds`) that the derived
+    model gives itself: ``read(model)`` is what the kind's first ``queries`` queries find in the
+    graph written from it, read without querying it back (the placed pins and the wires' ends
+    are most of a cabinet's rows); its other queries add their attributes as usual."""
+
+    read: Callable[[Any], list[Any]]
+    queries: int = 1
 
 
 @dataclass(frozen=True)

@@ -122,6 +122,8 @@ def _order(change: Change) -> tuple[str, str]:
 
 
 def _compare(a: Thing, b: Thing, tolerances: Tolerances) -> Change | None:
+    if a.attributes == b.attributes and a.pose == b.pose:
+        return None  # most things of a revision: nothing to work out
     attributes: dict[str, tuple[Any, Any]] = {}
     for name in sorted({*a.attributes, *b.attributes}):
         before, after = a.attributes.get(name), b.attributes.get(name)

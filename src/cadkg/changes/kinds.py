@@ -31,10 +31,15 @@ or with several values of an attribute, is gathered by ``?thing``, else by its i
 with equal keys are the same thing. ``match`` lists, separated by ``;``, what the things
 left over are matched by next, in order, when it is unique on both sides (same ends, new
 number: a renumbered wire). ``detail`` is added to the id of things that share one.
+
+A use case whose derivation writes a kind's things from its cell model may give them from the
+model instead (``Derivation.things``: the first queries it stands for), where the graph holds
+one cell of that use case and its model; a test holds both ways to the same things.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -66,6 +71,8 @@ class ThingKind:
     key: tuple[str, ...] = ("id",)
     match: tuple[tuple[str, ...], ...] = ()
     detail: tuple[str, ...] = ()
+    # The use case that declares it ("" for cadkg's own): its model may give the things.
+    profile: str = ""
 
 
 def parse_kind(name: str, text: str) -> ThingKind:
@@ -112,7 +119,9 @@ def _folder_kinds(folder: Traversable | Path) -> list[ThingKind]:
 @cache
 def _kinds_of(profile: str) -> tuple[ThingKind, ...]:
     case = registry.use_case(profile)
-    return tuple(_folder_kinds(case.changes)) if case.changes is not None else ()
+    if case.changes is None:
+        return ()
+    return tuple(dataclasses.replace(kind, profile=profile) for kind in _folder_kinds(case.changes))
 
 
 def kinds_for(profiles: Iterable[str]) -> list[ThingKind]:

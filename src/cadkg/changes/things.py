@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from datetime import date, datetime
 from decimal import Decimal
 from typing import Any
 
+import cadkg.registry as registry
 from cadkg.changes.kinds import POSE, REFERENCE, ThingKind
 from cadkg.geometry.poses import Pose
 
@@ -93,15 +94,32 @@ class _Gathered:
         self.reference: Pose | None = None
         self.referent: str | None = None
 
+    @classmethod
+    def of(cls, thing: Thing) -> _Gathered:
+        """A thing found otherwise (a use case's model), to add the rows of queries to."""
+        gathered = cls({"id": thing.id, "thing": thing.iri})
+        gathered.merge(thing)
+        return gathered
+
+    def merge(self, thing: Thing) -> None:
+        """Add what another statement of the same thing says, as another row would."""
+        for name, value in (*thing.attributes.items(), *thing.keys.items()):
+            bucket = self.values.setdefault(name, set())
+            if value is not None:
+                bucket.update((value,) if isinstance(value, str) else value)
+        if self.pose is None:
+            self.pose = thing.pose
+
     def add(self, row: Mapping[str, Any], columns: _Columns) -> None:
         values = self.values
         for name in columns.attributes:
+            value = row[name]
             bucket = values.get(name)
             if bucket is None:
-                bucket = values[name] = set()
-            value = row[name]
-            if value is not None:
-                bucket.add(normal(value))
+                # Most attributes have one value: its set made with it.
+                values[name] = set() if value is None else {value if type(value) is str else normal(value)}
+            elif value is not None:
+                bucket.add(value if type(value) is str else normal(value))
         # Only the columns a query selects: most rows carry no pose.
         if columns.pose and self.pose is None:
             self.pose = _pose(row, POSE)
@@ -137,33 +155,9 @@ def read_things(graph: Any, kind: ThingKind) -> list[Thing]:
     QueryError
         When a query of the kind fails.
     """
-    gathered: dict[Any, _Gathered] = {}
-    first, *more = kind.queries
-    rows = graph.query(first).rows
-    columns = _Columns(rows[0] if rows else {})
-    for row in rows:
-        if row.get("id") is None:
-            continue
-        handle = row.get("thing") or ("id", normal(row["id"]))
-        found = gathered.get(handle)
-        if found is None:
-            found = gathered[handle] = _Gathered(row)
-        found.add(row, columns)
-    references: dict[str, Pose] = {}
-    for query in more:
-        rows = graph.query(query).rows
-        columns = _Columns(rows[0] if rows else {})
-        if columns.table:
-            for row in rows:
-                pose = _pose(row, REFERENCE)
-                if row["relativeTo"] is not None and pose is not None:
-                    references.setdefault(str(row["relativeTo"]), pose)
-            continue
-        for row in rows:
-            found = gathered.get(row.get("thing"))
-            if found is not None:
-                found.add(row, columns)
-    things = [g.thing(kind, references) for g in gathered.values()]
+    things = _derived_things(graph, kind)
+    if things is None:
+        things = _queried_things(graph, kind)
     if kind.id_name != "id":
         for thing in things:
             thing.attributes[kind.id_name] = thing.id
@@ -176,6 +170,75 @@ def read_things(graph: Any, kind: ThingKind) -> list[Thing]:
                 detail = " ".join(_text(thing.value(n)) for n in kind.detail)
                 thing.id = f"{thing.id} ({detail})"
     return things
+
+
+def _derived_things(graph: Any, kind: ThingKind) -> list[Thing] | None:
+    """The things of ``kind`` found in the graph's derived model, where the kind's use case
+    derives it and says so (``Derivation.things``) and the graph holds one cell, of that use
+    case, and its model; with the attributes of the kind's queries the model does not stand
+    for. Else None."""
+    derivation = registry.use_case(kind.profile).derivation if kind.profile else None
+    model_of = getattr(graph, "derived_model", None)
+    if derivation is None or model_of is None or kind.name not in derivation.things:
+        return None
+    cells = graph.query("SELECT ?profile WHERE { ?cell a ck:Cell ; ck:profile ?profile }").rows
+    if [str(row["profile"]) for row in cells] != [kind.profile]:
+        return None
+    derived = derivation.things[kind.name]
+    model = model_of()
+    if model is None or not derivation.base(model):
+        return None
+    found = derived.read(model)
+    rest = kind.queries[derived.queries :]
+    if not rest and len({thing.iri or ("id", thing.id) for thing in found}) == len(found):
+        return found  # each thing once and whole: nothing to gather
+    gathered: dict[Any, _Gathered] = {}
+    for thing in found:
+        handle = thing.iri or ("id", thing.id)
+        seen = gathered.get(handle)
+        if seen is None:
+            gathered[handle] = _Gathered.of(thing)
+        else:
+            seen.merge(thing)
+    return _gather(graph, kind, gathered, rest)
+
+
+def _queried_things(graph: Any, kind: ThingKind) -> list[Thing]:
+    """The things of ``kind`` as its queries find them in ``graph``."""
+    gathered: dict[Any, _Gathered] = {}
+    first, *more = kind.queries
+    rows = graph.query(first).rows
+    columns = _Columns(rows[0] if rows else {})
+    for row in rows:
+        if row.get("id") is None:
+            continue
+        handle = row.get("thing") or ("id", normal(row["id"]))
+        found = gathered.get(handle)
+        if found is None:
+            found = gathered[handle] = _Gathered(row)
+        found.add(row, columns)
+    return _gather(graph, kind, gathered, more)
+
+
+def _gather(
+    graph: Any, kind: ThingKind, gathered: dict[Any, _Gathered], queries: Iterable[str]
+) -> list[Thing]:
+    """The things ``gathered`` with the attributes ``queries`` add to them."""
+    references: dict[str, Pose] = {}
+    for query in queries:
+        rows = graph.query(query).rows
+        columns = _Columns(rows[0] if rows else {})
+        if columns.table:
+            for row in rows:
+                pose = _pose(row, REFERENCE)
+                if row["relativeTo"] is not None and pose is not None:
+                    references.setdefault(str(row["relativeTo"]), pose)
+            continue
+        for row in rows:
+            found = gathered.get(row.get("thing"))
+            if found is not None:
+                found.add(row, columns)
+    return [g.thing(kind, references) for g in gathered.values()]
 
 
 def _text(value: Value) -> str:

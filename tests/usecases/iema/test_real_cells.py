@@ -28,6 +28,7 @@ from cadkg.query.validate import validate
 from cadkg.services.session import Session
 from cadkg.usecases.iema import cursors
 from cadkg.usecases.iema.component_model import read_component_models
+from tests.changes.test_derived_things import check_derived
 from tests.conftest import ROOT
 
 DATA = os.environ.get("CADKG_IEMA_CELLS", "")
@@ -264,3 +265,12 @@ def test_the_plan_gives_the_robot_the_wires_the_node_serves(tmp_path: Path) -> N
         assert people == {"zone"}
         assert (plan.files.tool_changes, plan.measure.tool_changes, plan.lower_bound) == (57, 35, 30)
         assert plan.files.violations == plan.measure.violations == 0
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_the_diff_reads_the_models_wires_as_its_queries_find_them(tmp_path: Path, case: str) -> None:
+    cabinet, ids, wiring, *_ = CASES[case]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        kg = _build(tmp_path, cabinet, ids, wiring)
+    check_derived(kg)

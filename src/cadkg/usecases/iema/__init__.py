@@ -13,7 +13,7 @@ from __future__ import annotations
 from importlib import resources
 
 from cadkg.ingest.reader import Reader
-from cadkg.usecase import Derivation, Planner, UseCase
+from cadkg.usecase import Derivation, DerivedKind, Planner, UseCase
 from cadkg.usecases.iema import mapping as _mapping  # noqa: F401  (registers the record mappings)
 from cadkg.usecases.iema.checks import cabinet_checks
 from cadkg.usecases.iema.component_list import looks_like_component_list, read_component_list
@@ -23,6 +23,7 @@ from cadkg.usecases.iema.derive.collect import InputCollector
 from cadkg.usecases.iema.derive.emit import derived_graph, derived_ntriples
 from cadkg.usecases.iema.derive.extract import extract
 from cadkg.usecases.iema.derive.persist import dump_model, load_model
+from cadkg.usecases.iema.derive.things import placed_pins, wire_ends
 from cadkg.usecases.iema.marker_table import looks_like_marker_table, read_marker_table
 from cadkg.usecases.iema.plan_tasks import DEFAULT_RULES, SETTINGS, iema_problem, order_check
 from cadkg.usecases.iema.services import SERVICES, cabinet_frames
@@ -39,6 +40,7 @@ CABINET = Derivation(
     ntriples=derived_ntriples,
     dump=dump_model,
     load=load_model,
+    things={"pin": DerivedKind(placed_pins, queries=3), "wire": DerivedKind(wire_ends)},
 )
 
 USE_CASE = UseCase(
