@@ -13,7 +13,7 @@ from cadkg_interfaces import srv
 from cadkg_interfaces.msg import GraphChanges
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from tests.ros.live.conftest import MINI, Server, wait_for
+from tests.ros.live.conftest import MINI, Server, call_service, wait_for
 
 NAMESPACE = "/changes_test"
 
@@ -33,14 +33,7 @@ def feeding(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
 
 
 def _call(ros: Any, server: Server, srv_type: Any, name: str, **fields: Any) -> Any:
-    client = ros.create_client(srv_type, f"{NAMESPACE}/gearbox_handler/{name}")
-    try:
-        wait_for(ros, client.service_is_ready, 60.0, server)
-        future = client.call_async(srv_type.Request(**fields))
-        wait_for(ros, future.done, 60.0, server)
-        return future.result()
-    finally:
-        ros.destroy_client(client)
+    return call_service(ros, server, srv_type, f"{NAMESPACE}/gearbox_handler/{name}", **fields)
 
 
 def _heard(ros: Any, server: Server, wanted: str) -> Any:

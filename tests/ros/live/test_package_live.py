@@ -26,7 +26,7 @@ from cadkg_interfaces import srv
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from visualization_msgs.msg import MarkerArray
 
-from tests.ros.live.conftest import MINI, ROOT, wait_for
+from tests.ros.live.conftest import MINI, ROOT, call_service, wait_for
 
 PACKAGE = ROOT / "ros2" / "cadkg_ros"
 LAUNCH = PACKAGE / "launch" / "cadkg.launch.py"
@@ -264,14 +264,7 @@ def test_a_volatile_subscriber_receives_the_markers(ros: Any, cell2: _Node) -> N
 
 
 def _call(ros: Any, node: _Node, srv_type: Any, name: str, **fields: Any) -> Any:
-    client = ros.create_client(srv_type, f"/cell2/gearbox_handler/{name}")
-    try:
-        wait_for(ros, client.service_is_ready, 60.0, node)
-        future = client.call_async(srv_type.Request(**fields))
-        wait_for(ros, future.done, 60.0, node)
-        return future.result()
-    finally:
-        ros.destroy_client(client)
+    return call_service(ros, node, srv_type, f"/cell2/gearbox_handler/{name}", **fields)
 
 
 def test_label_frames_maps_labels_to_frame_ids(ros: Any, cell2: _Node) -> None:

@@ -17,7 +17,7 @@ from cadkg_interfaces import srv
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
-from tests.ros.live.conftest import ROOT, Server, wait_for
+from tests.ros.live.conftest import ROOT, Server, call_service, wait_for
 from tests.ros.live.test_node_live import _latched
 
 NAMESPACES = {"elvez": "/elvez", "elimco": "/elimco", "vw": "/vw_harness", "enki": "/enki"}
@@ -38,14 +38,7 @@ def profile(
 
 def _call(ros: Any, server: Server, namespace: str) -> Callable[..., Any]:
     def run(srv_type: Any, service: str, **fields: Any) -> Any:
-        client = ros.create_client(srv_type, f"{namespace}/{service}")
-        try:
-            wait_for(ros, client.service_is_ready, 60.0, server)
-            future = client.call_async(srv_type.Request(**fields))
-            wait_for(ros, future.done, 30.0, server)
-            return future.result()
-        finally:
-            ros.destroy_client(client)
+        return call_service(ros, server, srv_type, f"{namespace}/{service}", **fields)
 
     return run
 
