@@ -58,8 +58,10 @@ class Thing:
 
     def key(self, names: tuple[str, ...]) -> tuple[Value, ...] | None:
         """The values of ``names``, or None when one is missing."""
-        values = tuple(self.value(n) for n in names)
-        return None if any(v is None for v in values) else values
+        if names == ("id",):  # most kinds' key: one per thing of a revision
+            return (self.identity,)
+        values = tuple([self.value(n) for n in names])
+        return None if None in values else values
 
 
 def _pose(row: Mapping[str, Any], names: tuple[str, ...]) -> Pose | None:

@@ -56,11 +56,12 @@ class Pose:
         """``self · other``: ``other`` expressed in the frame of ``self``, re-expressed in self's parent."""
         moved = _rotate(self.orientation, other.position)
         px, py, pz = self.position
-        q = _qmul(self.orientation, other.orientation)
-        norm = math.sqrt(sum(c * c for c in q))
+        qx, qy, qz, qw = _qmul(self.orientation, other.orientation)
+        # Summed in the order sum() would, written out: a diff composes one pose per pin.
+        norm = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
         return Pose(
             (px + moved[0], py + moved[1], pz + moved[2]),
-            (q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm),
+            (qx / norm, qy / norm, qz / norm, qw / norm),
         )
 
     def inverse(self) -> Pose:
