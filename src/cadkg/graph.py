@@ -36,6 +36,7 @@ from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
 from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
 from cadkg.loading import BackgroundLoader, paused_gc
 from cadkg.mapping.writer import node_iri
+from cadkg.model_file import MODEL_FILE, read_model, write_model
 from cadkg.ontology.terms import CK_NS
 from cadkg.query.named import run_named
 from cadkg.query.views import graph_view, write_graphml
@@ -47,7 +48,6 @@ if TYPE_CHECKING:
 
 __all__ = ["ASSIGNABLE", "PERFORMERS", "KnowledgeGraph", "build", "open_store"]
 
-_MODEL_FILE = "cell-model.json"
 PERFORMERS = ("robot", "human")
 ASSIGNABLE = ("wire", "component", "operation")
 
@@ -86,7 +86,7 @@ class KnowledgeGraph(GraphStore):
 
     @property
     def _model_file(self) -> Path | None:
-        return self._generation / _MODEL_FILE if self._generation is not None else None
+        return self._generation / MODEL_FILE if self._generation is not None else None
 
     # -- building -----------------------------------------------------------------
     @classmethod
@@ -171,7 +171,7 @@ class KnowledgeGraph(GraphStore):
             reports = kg._load_sources(manifest, on_source, clock, bulk=True, edits=edits)
             clock.start("indexing the store")
             model = kg.cell_model()
-            if not (generation / _MODEL_FILE).exists():
+            if not (generation / MODEL_FILE).exists():
                 kg._keep_model(model)
             store.flush()
             store.optimize()
@@ -277,22 +277,11 @@ class KnowledgeGraph(GraphStore):
         return self._model
 
     def _kept_model(self) -> Any:
-        if self._model_file is None:
-            return None
-        try:
-            data = self._model_file.read_bytes()
-        except OSError:
-            return None
-        return _derivation().load(data)
+        return None if self._model_file is None else read_model(self._model_file, _derivation())
 
     def _keep_model(self, model: Any) -> None:
-        if self._model_file is None:
-            return
-        # Written whole and renamed into place, so a reader finds the old copy, none, or this one.
-        partial = self._model_file.with_name(self._model_file.name + ".partial")
-        with contextlib.suppress(OSError):
-            partial.write_bytes(_derivation().dump(model))
-            partial.replace(self._model_file)
+        if self._model_file is not None:
+            write_model(self._model_file, _derivation(), model)
 
     def _forget_model(self) -> None:
         """Drop the model and its kept copy; called before the graph changes, so no copy outlives it."""
