@@ -430,9 +430,13 @@ def _source(text: str) -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the node until interrupted; arguments as ``cadkg ros`` (plus ``--ros-args ...``)."""
     import sys
+    import warnings
 
     from rclpy.parameter import Parameter
 
+    # rclpy warns when a response cannot be sent (the client's reader not yet discovered): each
+    # is a client left waiting, so each is logged, not only the first of the process.
+    warnings.filterwarnings("always", message="failed to send response", category=RuntimeWarning)
     args, ros_args = _arguments(list(sys.argv[1:] if argv is None else argv))
     overrides = [
         Parameter(name, value=value)

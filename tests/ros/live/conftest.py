@@ -112,28 +112,46 @@ def _reads(path: str) -> bool:
     return service is not None and not service.effect.changes
 
 
+def _lost_since(server: Any, mark: int) -> bool:
+    """Whether the node logged a lost response after byte ``mark`` of its log."""
+    with server.log.open("rb") as log:
+        log.seek(mark)
+        return LOST.encode() in log.read()
+
+
+def _pause(node: Any, seconds: float, server: Any) -> None:
+    """Spin ``node`` for ``seconds``."""
+    until = time.monotonic() + seconds
+    wait_for(node, lambda: time.monotonic() > until, seconds + 1, server)
+
+
+def _send(node: Any, client: Any, request: Any, timeout: float, server: Any) -> Any:
+    """The answered future of one request, or None when the node lost its response."""
+    mark = server.log.stat().st_size
+    future = client.call_async(request)
+    wait_for(node, lambda: future.done() or _lost_since(server, mark), timeout, server)
+    if future.done():
+        return future
+    client.remove_pending_request(future)
+    return None
+
+
 def answer(node: Any, client: Any, request: Any, timeout: float, server: Any, *, fresh: bool = True) -> Any:
     """The response to ``request``, sent through ``client`` once its service is ready. A
     request to a reading service whose response the node says it lost is sent again; a call
-    that changes something is never sent twice: a new client settles before it instead."""
+    that changes something is never sent twice: a new client settles before it instead.
+
+    ``server`` is the node's process: ``check_alive()``, ``output()`` and its ``log`` file."""
     wait_for(node, client.service_is_ready, timeout, server)
     reads = _reads(client.srv_name)
     if fresh and not reads:
-        settled = time.monotonic() + SETTLE
-        wait_for(node, lambda: time.monotonic() > settled, timeout, server)
-    for _ in range(5 if reads else 1):
-        lost = server.output().count(LOST)
-        future = client.call_async(request)
-        deadline = time.monotonic() + timeout
-        while not future.done():
-            server.check_alive()
-            if server.output().count(LOST) > lost:
-                client.remove_pending_request(future)
-                break
-            if time.monotonic() > deadline:
-                pytest.fail(f"timed out after {timeout} s; node output:\n{server.output()}")
-            rclpy.spin_once(node, timeout_sec=0.05)
-        else:
+        _pause(node, SETTLE, server)
+    for attempt in range(5 if reads else 1):
+        # A loss means the node has not yet discovered this client: give discovery longer
+        # before each new attempt.
+        _pause(node, SETTLE * attempt, server)
+        future = _send(node, client, request, timeout, server)
+        if future is not None:
             return future.result()
     pytest.fail(f"the node lost the response to {client.srv_name}; node output:\n{server.output()}")
 
