@@ -260,10 +260,9 @@ class KnowledgeGraph(GraphStore):
         opening the store again reads it instead of deriving.
         """
         if self._model is None:
-            derivation = _derivation()
             with paused_gc():
-                self._model = self._kept_model()
-                if self._model is None:
+                if self.derived_model() is None:
+                    derivation = _derivation()
                     self._model = derivation.derive(derivation.extract(self))
                     if not self.read_only:
                         self._keep_model(self._model)

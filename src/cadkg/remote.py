@@ -267,6 +267,7 @@ class RemoteGraph(KnowledgeGraph):
         self.read_only = True
         self.reports = []
         self._model = None
+        self._changing = False
         self._scratch = None
         self._files_dir = None
         self._unwritten = {}
