@@ -15,7 +15,7 @@ from typing import Any
 
 from cadkg.changes.changeset import Change, ChangeSet
 from cadkg.changes.kinds import ThingKind, kinds_for
-from cadkg.changes.things import Thing, read_things
+from cadkg.changes.things import Thing, cell_profiles, read_things
 from cadkg.geometry.poses import Pose
 from cadkg.loading import paused_gc
 
@@ -32,8 +32,7 @@ class Tolerances:
 
 def profiles_of(graph: Any) -> list[str]:
     """The use-case profiles of the cells a graph holds."""
-    rows = graph.query("SELECT DISTINCT ?p WHERE { ?c a ck:Cell ; ck:profile ?p }").rows
-    return sorted(str(row["p"]) for row in rows)
+    return sorted(set(cell_profiles(graph)))
 
 
 def diff_graphs(
@@ -58,12 +57,14 @@ def diff_graphs(
     QueryError
         When a kind's query fails on either graph.
     """
+    cells = cell_profiles(old), cell_profiles(new)
     if kinds is None:
-        kinds = kinds_for(sorted({*profiles_of(old), *profiles_of(new)}))
+        kinds = kinds_for(sorted({*cells[0], *cells[1]}))
     changes = ChangeSet(*names)
     with paused_gc():
         for kind in kinds:
-            for change in diff_things(kind, read_things(old, kind), read_things(new, kind), tolerances):
+            before, after = read_things(old, kind, cells[0]), read_things(new, kind, cells[1])
+            for change in diff_things(kind, before, after, tolerances):
                 changes.of(change)
     return changes
 

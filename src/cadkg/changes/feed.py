@@ -13,10 +13,10 @@ from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from cadkg.changes.changeset import ChangeSet
-from cadkg.changes.compare import Tolerances, diff_things, profiles_of
+from cadkg.changes.compare import Tolerances, diff_things
 from cadkg.changes.impact import plan_impact
 from cadkg.changes.kinds import ThingKind, kinds_for
-from cadkg.changes.things import Thing, read_things
+from cadkg.changes.things import Thing, cell_profiles, read_things
 from cadkg.plan.graph import StoredPlan, cell_base, read_plan
 from cadkg.services.session import Work
 
@@ -70,8 +70,9 @@ class ChangeFeed:
         QueryError
             When a kind's query fails on the graph.
         """
-        kinds = kinds_for(profiles_of(graph))
-        things = {kind.name: (kind, read_things(graph, kind)) for kind in kinds}
+        cells = cell_profiles(graph)
+        kinds = kinds_for(sorted(set(cells)))
+        things = {kind.name: (kind, read_things(graph, kind, cells)) for kind in kinds}
         plan = read_plan(graph, cell_base(graph))
         with self._lock:
             before, old, old_plan = self._things, self._revision, self._plan

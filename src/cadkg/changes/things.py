@@ -12,7 +12,7 @@ import cadkg.registry as registry
 from cadkg.changes.kinds import POSE, REFERENCE, ThingKind
 from cadkg.geometry.poses import Pose
 
-__all__ = ["Thing", "Value", "normal", "read_things"]
+__all__ = ["Thing", "Value", "cell_profiles", "normal", "read_things"]
 
 # An attribute's value: one text, or the sorted texts of a thing stated with several.
 Value = str | tuple[str, ...] | None
@@ -86,12 +86,13 @@ class _Columns:
 
 
 class _Gathered:
-    """The rows of one thing, merged."""
+    """The rows of one thing, merged: each attribute's one value, or the set of its values once
+    a second arrives (most attributes have one: no set made for them)."""
 
     def __init__(self, row: Mapping[str, Any]) -> None:
         self.id = normal(row["id"])
         self.iri = None if row.get("thing") is None else str(row["thing"])
-        self.values: dict[str, set[str]] = {}
+        self.values: dict[str, str | set[str] | None] = {}
         self.pose: Pose | None = None
         self.reference: Pose | None = None
         self.referent: str | None = None
@@ -100,28 +101,56 @@ class _Gathered:
     def of(cls, thing: Thing) -> _Gathered:
         """A thing found otherwise (a use case's model), to add the rows of queries to."""
         gathered = cls({"id": thing.id, "thing": thing.iri})
-        gathered.merge(thing)
+        values = gathered.values = {**thing.attributes, **thing.keys}  # type: ignore[dict-item]
+        for name, value in values.items():
+            if isinstance(value, tuple):
+                values[name] = set(value)
+        gathered.pose = thing.pose
         return gathered
+
+    def _put(self, name: str, value: str | None) -> None:
+        values = self.values
+        held = values.get(name)
+        if held is None:
+            if value is not None or name not in values:
+                values[name] = value
+        elif value is None or held == value:
+            pass
+        elif type(held) is str:
+            values[name] = {held, value}
+        else:
+            held.add(value)  # type: ignore[union-attr]
 
     def merge(self, thing: Thing) -> None:
         """Add what another statement of the same thing says, as another row would."""
         for name, value in (*thing.attributes.items(), *thing.keys.items()):
-            bucket = self.values.setdefault(name, set())
-            if value is not None:
-                bucket.update((value,) if isinstance(value, str) else value)
+            if isinstance(value, tuple):
+                for each in value:
+                    self._put(name, each)
+            else:
+                self._put(name, value)
         if self.pose is None:
             self.pose = thing.pose
 
     def add(self, row: Mapping[str, Any], columns: _Columns) -> None:
         values = self.values
-        for name in columns.attributes:
+        for name in columns.attributes:  # _put inlined: the loop over every cell of every row
             value = row[name]
-            bucket = values.get(name)
-            if bucket is None:
-                # Most attributes have one value: its set made with it.
-                values[name] = set() if value is None else {value if type(value) is str else normal(value)}
-            elif value is not None:
-                bucket.add(value if type(value) is str else normal(value))
+            held = values.get(name)
+            if value is None:
+                if held is None and name not in values:
+                    values[name] = None
+                continue
+            if type(value) is not str:
+                value = normal(value)
+            if held is None:
+                values[name] = value
+            elif held == value:
+                pass
+            elif type(held) is str:
+                values[name] = {held, value}
+            else:
+                held.add(value)  # type: ignore[union-attr]
         # Only the columns a query selects: most rows carry no pose.
         if columns.pose and self.pose is None:
             self.pose = _pose(row, POSE)
@@ -133,11 +162,9 @@ class _Gathered:
     def thing(self, kind: ThingKind, references: Mapping[str, Pose]) -> Thing:
         attributes: dict[str, Value] = {}
         keys: dict[str, Value] = {}
-        for name, values in self.values.items():
-            value: Value = (
-                None if not values else next(iter(values)) if len(values) == 1 else tuple(sorted(values))
-            )
-            (keys if name.startswith("key_") else attributes)[name] = value
+        for name, held in self.values.items():
+            value: Value = held if held is None or type(held) is str else tuple(sorted(held))
+            (keys if name[:4] == "key_" else attributes)[name] = value
         pose, reference = self.pose, self.reference
         if self.referent is not None:
             reference = references.get(self.referent)
@@ -148,16 +175,23 @@ class _Gathered:
         return Thing(kind.name, self.id, self.iri, attributes, pose, keys)
 
 
-def read_things(graph: Any, kind: ThingKind) -> list[Thing]:
+def cell_profiles(graph: Any) -> list[str]:
+    """The use-case profile of each cell ``graph`` holds, sorted (one entry per cell)."""
+    rows = graph.query("SELECT ?profile WHERE { ?cell a ck:Cell ; ck:profile ?profile }").rows
+    return sorted(str(row["profile"]) for row in rows)
+
+
+def read_things(graph: Any, kind: ThingKind, cells: list[str] | None = None) -> list[Thing]:
     """The things of ``kind`` in ``graph`` (anything with ``query``), ids made unique with the
-    kind's ``detail`` where several share one.
+    kind's ``detail`` where several share one. ``cells``: the graph's :func:`cell_profiles`,
+    where the caller has them.
 
     Raises
     ------
     QueryError
         When a query of the kind fails.
     """
-    things = _derived_things(graph, kind)
+    things = _derived_things(graph, kind, cells)
     if things is None:
         things = _queried_things(graph, kind)
     if kind.id_name != "id":
@@ -174,7 +208,7 @@ def read_things(graph: Any, kind: ThingKind) -> list[Thing]:
     return things
 
 
-def _derived_things(graph: Any, kind: ThingKind) -> list[Thing] | None:
+def _derived_things(graph: Any, kind: ThingKind, cells: list[str] | None = None) -> list[Thing] | None:
     """The things of ``kind`` found in the graph's derived model, where the kind's use case
     derives it and says so (``Derivation.things``) and the graph holds one cell, of that use
     case, and its model; with the attributes of the kind's queries the model does not stand
@@ -183,8 +217,7 @@ def _derived_things(graph: Any, kind: ThingKind) -> list[Thing] | None:
     model_of = getattr(graph, "derived_model", None)
     if derivation is None or model_of is None or kind.name not in derivation.things:
         return None
-    cells = graph.query("SELECT ?profile WHERE { ?cell a ck:Cell ; ck:profile ?profile }").rows
-    if [str(row["profile"]) for row in cells] != [kind.profile]:
+    if (cell_profiles(graph) if cells is None else cells) != [kind.profile]:
         return None
     derived = derivation.things[kind.name]
     model = model_of()
