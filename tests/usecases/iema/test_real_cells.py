@@ -89,7 +89,22 @@ def _build(tmp_path: Path, cabinet: str, ids: str, wiring: str, folder: Path | N
 # The node's scripts sit beside its data folder; its list and ID-table readers are run as they
 # are with a Python 2.7, only the modules of ROS and of unused readers stubbed.
 NODE_SCRIPTS = Path(DATA).parent / "scripts" if DATA else Path()
-PYTHON2 = os.environ.get("CADKG_PYTHON2") or shutil.which("python2.7") or ""
+
+
+def _python2() -> str:
+    """``CADKG_PYTHON2`` as given, else a ``python2.7`` on the path that runs (a version
+    manager's shim may stand there without a Python 2.7 behind it), else ""."""
+    given = os.environ.get("CADKG_PYTHON2")
+    if given:
+        return given
+    found = shutil.which("python2.7")
+    if found is None:
+        return ""
+    runs = subprocess.run([found, "-c", "pass"], capture_output=True, timeout=60, check=False)
+    return found if runs.returncode == 0 else ""
+
+
+PYTHON2 = _python2()
 EXAMPLE = ROOT / "examples" / "iema-switchgear"
 STUBS = {
     "rospy.py": "# ROS stub: the readers run outside ROS\n",
