@@ -21,6 +21,7 @@ import pyoxigraph as ox
 from cadkg.confined import write_files
 from cadkg.errors import QueryError, StoreError
 from cadkg.generations import (
+    GENERATION,
     Snapshot,
     current_generation,
     new_generation,
@@ -156,27 +157,40 @@ class GraphStore:
         return kg
 
     @classmethod
-    def open(cls, directory: str | Path, *, read_only: bool = True) -> Self:
-        """Open a store directory written by a build.
+    def open(cls, directory: str | Path, *, read_only: bool = True, generation: str | None = None) -> Self:
+        """Open a store directory written by a build: its live generation, or the generation
+        named ``generation`` (a kept earlier one, read-only), with what it keeps beside it.
 
         Raises
         ------
         StoreError
-            When the directory is not a cadkg store or cannot be opened.
+            When the directory is not a cadkg store or cannot be opened, or the generation is
+            gone or asked for writing.
         """
         directory = Path(directory)
-        generation = current_generation(directory)
+        if generation is None:
+            at = current_generation(directory)
+        elif (
+            read_only
+            and Path(generation).name == generation
+            and generation.startswith(GENERATION)
+            and (directory / generation).is_dir()
+        ):
+            at = directory / generation
+        else:
+            raise StoreError(f"{directory}: no generation {generation!r} to open read-only")
         if read_only:
             try:
-                store = ox.Store.read_only(str(generation))
+                store = ox.Store.read_only(str(at))
             except OSError as err:
-                raise StoreError(f"{directory}: cannot open the store: {err}") from err
+                what = "the store" if generation is None else f"the generation {generation}"
+                raise StoreError(f"{directory}: cannot open {what}: {err}") from err
         else:
             # The build that published it may still hold it until its command ends.
-            store = open_writable(generation)
+            store = open_writable(at)
         kg = cls(store, directory, read_only)
-        kg._files_dir = generation / FILES
-        kg._generation = generation
+        kg._files_dir = at / FILES
+        kg._generation = at
         return kg
 
     def _load_ontology(self) -> None:

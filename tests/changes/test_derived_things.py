@@ -13,7 +13,9 @@ import pytest
 import cadkg
 from cadkg.changes import diff_graphs
 from cadkg.changes.kinds import kinds_for
+from cadkg.changes.revisions import open_generation, open_previous
 from cadkg.changes.things import Thing, _derived_things, _queried_things, read_things
+from cadkg.errors import StoreError
 from cadkg.ontology.terms import CK, RDF_TYPE
 from cadkg.store import GraphStore
 from tests.changes.cells import MINI, copy_cell, edit
@@ -81,6 +83,33 @@ def test_the_same_on_a_synthetic_cabinet_and_its_store(tmp_path: Path) -> None:
         assert _derived_things(kg, PIN) is None
         assert len(read_things(kg, PIN)) == count
     assert not model.exists()
+
+
+def test_the_previous_generation_is_read_with_its_kept_model(tmp_path: Path) -> None:
+    """``cadkg diff STORE``: the generation served before the live one keeps its model too."""
+    manifest = copy_cell(MINI, tmp_path / "cell")
+    store = _built(manifest, tmp_path / "store")
+    edit(manifest.parent / "connections.tsv", "\tW1\t", "\tW11\t")
+    _built(manifest, store)
+    before, old_name, new_name = open_previous(store)
+    with before, cadkg.KnowledgeGraph.open(store) as after:
+        assert before.open_generation == old_name != new_name == after.open_generation
+        assert _derived_things(before, PIN) is not None
+        assert check_derived(before) == check_derived(after) > 0
+        changes = diff_graphs(before, after)
+        plain = (GraphStore.of_quads(list(kg.quads())) for kg in (before, after))
+        assert changes.to_json() == diff_graphs(*plain, kinds=kinds_for(["iema"])).to_json()
+    assert [c.id for c in changes.changed if c.kind != "file"] == ["W11"]
+
+
+@pytest.mark.parametrize("name", ["../store", "..", "gen-missing", "CURRENT", "", "gen-x/../.."])
+def test_only_a_kept_generation_of_the_store_opens(tmp_path: Path, name: str) -> None:
+    store = _built(copy_cell(MINI, tmp_path / "cell"), tmp_path / "store")
+    with pytest.raises(StoreError, match="no generation"):
+        open_generation(store, name)
+    live = (store / "CURRENT").read_text().strip()
+    with pytest.raises(StoreError, match="no generation"):
+        cadkg.KnowledgeGraph.open(store, read_only=False, generation=live)
 
 
 def _built(manifest: Path, store: Path) -> Path:

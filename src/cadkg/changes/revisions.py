@@ -3,9 +3,6 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
-
-import pyoxigraph as ox
 
 from cadkg.errors import StoreError
 from cadkg.generations import PREVIOUS, current_generation, read_pointer
@@ -35,15 +32,12 @@ def open_previous(directory: str | Path) -> tuple[KnowledgeGraph, str, str]:
 
 
 def open_generation(directory: str | Path, name: str) -> KnowledgeGraph:
-    """The generation ``name`` of a store directory, read-only.
+    """The generation ``name`` of a store directory, read-only, with what it keeps beside its
+    database (its cell model, so a diff reads the model's things from it as from the live one).
 
     Raises
     ------
     StoreError
         When it cannot be opened (removed by a later build).
     """
-    try:
-        store: Any = ox.Store.read_only(str(Path(directory) / name))
-    except OSError as err:
-        raise StoreError(f"{directory}: cannot open the generation {name}: {err}") from err
-    return KnowledgeGraph(store, None, read_only=True)
+    return KnowledgeGraph.open(directory, generation=name)
