@@ -8,8 +8,8 @@ from pathlib import Path
 import cadkg
 from cadkg.graph import KnowledgeGraph
 from cadkg.ingest.manifest import load_manifest
+from tests.cli import run
 from tests.conftest import IEMA
-from tests.test_cli import run
 
 FILES = [source.rel for source in load_manifest(IEMA).sources]
 

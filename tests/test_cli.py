@@ -4,20 +4,13 @@ import csv
 import io
 import json
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import networkx as nx
 import pytest
 
-from tests.conftest import BAD, IEMA, ROOT
-
-CADKG = [sys.executable, "-m", "cadkg.cli"]
-
-
-def run(*args: str | Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([*CADKG, *map(str, args)], capture_output=True, text=True, cwd=ROOT, check=False)
+from tests.cli import run
+from tests.conftest import BAD, IEMA
 
 
 @pytest.fixture(scope="module")

@@ -11,9 +11,9 @@ import time
 import zipfile
 from pathlib import Path
 
+from tests.cli import CADKG, run
 from tests.conftest import EXAMPLES, IEMA, ROOT
 from tests.server.listener import Listener
-from tests.test_cli import CADKG, run
 
 CUBE = "SELECT (COUNT(*) AS ?n) WHERE { ?a ?b ?c . ?d ?e ?f . ?g ?h ?i }"
 

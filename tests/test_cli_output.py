@@ -13,8 +13,8 @@ import pyoxigraph as ox
 
 import cadkg
 from cadkg.services.service import to_jsonable
+from tests.cli import run
 from tests.conftest import IEMA
-from tests.test_cli import run
 
 WIRES = "SELECT ?n WHERE { ?w a ck:Wire ; ck:wireNumber ?n } ORDER BY ?n LIMIT 3"
 

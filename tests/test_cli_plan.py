@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.cli import run
 from tests.conftest import ROOT
-from tests.test_cli import run
 from tests.test_cli_services import call
 
 CABINET = ROOT / "tests" / "data" / "plan" / "cabinet"

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.test_cli import run
+from tests.cli import run
 from tests.usecases.iema.test_services import MINI
 
 

@@ -16,8 +16,8 @@ import pytest
 
 import cadkg
 from cadkg.generations import claim
+from tests.cli import CADKG
 from tests.conftest import IEMA, ROOT, synthetic_manifest
-from tests.test_cli import CADKG
 
 HOLD = "import sys, time; from pathlib import Path; from cadkg.generations import claim; " \
     "held = claim(Path(sys.argv[1])); print('held', flush=True); time.sleep(600)"  # fmt: skip

@@ -5,8 +5,6 @@ from __future__ import annotations
 import csv
 import io
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import pyoxigraph as ox
@@ -15,15 +13,7 @@ import pytest
 import cadkg
 from cadkg.changes.statements import read_changes
 from tests.changes.cells import MINI, copy_cell, edit
-from tests.conftest import ROOT
-
-CADKG = [sys.executable, "-m", "cadkg.cli"]
-
-
-def run(*args: str | Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [*CADKG, *map(str, args)], capture_output=True, text=True, cwd=ROOT, check=False, timeout=600
-    )
+from tests.cli import run
 
 
 @pytest.fixture(scope="module")

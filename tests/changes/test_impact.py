@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 
 from tests.changes.cells import MINI, copy_cell, edit
-from tests.changes.test_cli_diff import run
+from tests.cli import run
 
 NEW_WIRE = (
     "1\tQ\t=-K2:A1\t1\tQ\t=-X1:2:a\t{number}\t0,75 mm²\tBU\t+\t24V\t0,2 m\t\tPUNTALINO_vite\tPUNTALINO_vite\n"

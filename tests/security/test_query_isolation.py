@@ -31,11 +31,11 @@ from cadkg.server import Limits, Settings, create_app
 from cadkg.server.isolation import pool_maker
 from cadkg.server.limits import Deadline, Evaluator
 from cadkg.services.table import SERVICES
+from tests.cli import run
 from tests.conftest import IEMA
 from tests.security.outbound_variants import Variant, load_update, service_query
 from tests.server.listener import Listener
 from tests.server.serving import serving_app
-from tests.test_cli import run
 
 TOKEN = "s3cret"
 RAW = "tests.security.test_query_isolation:raw"

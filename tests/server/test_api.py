@@ -8,9 +8,9 @@ import httpx
 
 import cadkg
 from cadkg.server import Settings
+from tests.cli import run
 from tests.conftest import IEMA
 from tests.server.serving import serving
-from tests.test_cli import run
 
 BASE = "https://example.org/cell/iema-qe01/"
 

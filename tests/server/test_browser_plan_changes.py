@@ -21,11 +21,11 @@ import httpx
 import pytest
 from selenium.webdriver.common.by import By
 
+from tests.cli import run
 from tests.conftest import EXAMPLES, IEMA
 from tests.server.browser import health, settled, text_of, wait
 from tests.server.cell_view import open_cell, picked
 from tests.server.serving import cadkg_serve
-from tests.test_cli import run
 
 WIRE = "https://example.org/cell/iema-qe01/wire/"
 OPERATION = "https://example.org/cell/elvez/operation/Assembly_sequence/"

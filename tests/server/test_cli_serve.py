@@ -10,10 +10,10 @@ from pathlib import Path
 import httpx
 import pytest
 
+from tests.cli import run
 from tests.conftest import IEMA
 from tests.server.listener import Listener
 from tests.server.serving import cadkg_serve, cadkg_serve_process
-from tests.test_cli import run
 
 
 def test_refuses_a_non_loopback_host_unless_allowed() -> None:

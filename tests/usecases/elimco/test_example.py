@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.cli import run
 from tests.conftest import EXAMPLES
-from tests.test_cli import run
 
 BENCH = EXAMPLES / "elimco-bench"
 HOSE = EXAMPLES / "enki-hose"

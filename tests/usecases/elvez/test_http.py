@@ -11,9 +11,9 @@ import pytest
 
 from cadkg.graph import KnowledgeGraph
 from cadkg.server import Settings
+from tests.cli import run
 from tests.conftest import ROOT
 from tests.server.serving import serving
-from tests.test_cli import run
 
 TOKEN = "t0ken"
 AUTH = {"Authorization": f"Bearer {TOKEN}"}

@@ -11,8 +11,8 @@ import pytest
 
 from cadkg.errors import IngestError
 from cadkg.graph import KnowledgeGraph
+from tests.cli import run
 from tests.conftest import EXAMPLES
-from tests.test_cli import run
 
 CELL = EXAMPLES / "vw-harness"
 KBL = "kblxml_2.3sr-1_000971619_ltgs_movo_170718.kbl"

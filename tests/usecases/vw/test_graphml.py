@@ -18,8 +18,8 @@ from cadkg.errors import QueryError
 from cadkg.graph import KnowledgeGraph
 from cadkg.usecases.vw.graphml import graphml_text, harness_graph, harness_graphml, write_harness_graphml
 from cadkg.usecases.vw.views import View
+from tests.cli import run
 from tests.conftest import ROOT
-from tests.test_cli import run
 from tests.usecases.vw.test_views import VW, one_harness_cell, vw  # noqa: F401 - the fixture
 
 GOLDEN = ROOT / "tests" / "data" / "golden"

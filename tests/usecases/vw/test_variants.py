@@ -16,8 +16,8 @@ from cadkg.graph import KnowledgeGraph
 from cadkg.services.session import Session
 from cadkg.services.table import call
 from cadkg.usecases.vw.graphml import harness_graph, harness_graphml, harness_view
+from tests.cli import run
 from tests.conftest import ROOT
-from tests.test_cli import run
 
 DATA = ROOT / "tests" / "data"
 OWN = DATA / "kbl" / "modular-three-modules.kbl"
