@@ -54,7 +54,7 @@ PY="$VENV/bin/python"
 "$PY" -m pip install --quiet --upgrade pip >>"$LOG" 2>&1 || fail "pip upgrade" "$LOG"
 "$PY" -m pip install --quiet -r ros2/requirements.txt >>"$LOG" 2>&1 \
   || fail "pip install of the pinned ros-jazzy wheels (ros2/requirements.txt)" "$LOG"
-"$PY" -m pip install --quiet -e . pytest >>"$LOG" 2>&1 || fail "pip install -e . into $VENV" "$LOG"
+"$PY" -m pip install --quiet -e . pytest pytest-xdist >>"$LOG" 2>&1 || fail "pip install -e . into $VENV" "$LOG"
 
 # The wheels' exported CMake files name the wheel builder's include directories; point them
 # at this venv's Python headers and numpy.

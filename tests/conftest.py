@@ -52,6 +52,18 @@ def synthetic_manifest(directory: Path, wires: int, *, cabinet: bool) -> Path:
     return Path(writer(directory, wires))
 
 
+# A test that needs a live part the fast tier does without: the browser (Chromium and its
+# driver) or Virtuoso, known by the fixture that starts it. The nested ROS run and the demo on a
+# fresh copy are marked in their own modules.
+LIVE_FIXTURES = frozenset({"browser", "virtuoso"})
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    for item in items:
+        if LIVE_FIXTURES.intersection(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.live)
+
+
 @pytest.fixture(scope="session")
 def iema() -> cadkg.KnowledgeGraph:
     """The IEMA example built in memory once; tests must not change it."""

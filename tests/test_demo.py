@@ -18,6 +18,8 @@ import pytest
 
 from tests.conftest import ROOT, run_capped
 
+pytestmark = pytest.mark.slow
+
 # The set-up (a new .venv, npm ci, Vite) and five builds; measured at about 5 minutes on a
 # 2-core machine kept busy by other work.
 CAP_SECONDS = 1800

@@ -32,9 +32,11 @@ from cadkg.services.service import to_jsonable
 from cadkg.services.session import Session
 from cadkg.services.table import call, services_for
 from cadkg.store import QueryResult
+from tests.cli import run
 from tests.conftest import IEMA, ROOT
 from tests.remote.virtuoso import running_virtuoso
-from tests.test_cli import run
+
+pytestmark = pytest.mark.live
 
 # Sample parameters of the named queries: values of the IEMA cell (others answer nothing there).
 SAMPLES = {
