@@ -1,6 +1,7 @@
 """The README's commands, pasted into a fresh shell after the set-up command, work as written.
 
-Every ``cadkg ...`` line of the README's ``sh`` blocks runs in order in a new ``bash`` with a
+Every ``cadkg ...`` line of the ``sh`` blocks of the README and of the guides its reference
+material moved to (:data:`GUIDES`, read after it in this order) runs in a new ``bash`` with a
 bare environment that only sources ``.venv/bin/activate``, in a scratch folder where
 ``examples`` is the checkout's (so ``build/...`` and the exported files land there). The lines
 that start servers, reach an external store or need ROS are left to their own tests
@@ -19,6 +20,9 @@ import pytest
 from tests.conftest import ROOT
 
 README = (ROOT / "README.md").read_text(encoding="utf-8")
+# Where the README's reference material lives; every sh block of theirs runs as written too.
+GUIDES = ("docs/usage.md", "docs/use-cases.md")
+TEXTS = (README, *((ROOT / guide).read_text(encoding="utf-8") for guide in GUIDES))
 # Served, remote or ROS: each has its own end-to-end test.
 ELSEWHERE = ("cadkg serve", "cadkg push", "cadkg ros", "http://", "https://", "curl ")
 # What a command exits with when it works as documented; 0 for every other line.
@@ -26,7 +30,11 @@ EXPECTED_STATUS = {"cadkg validate examples/bad-cell/manifest.toml": 1}
 
 
 def _blocks(language: str) -> list[str]:
-    return re.findall(rf"^```{language}\n(.*?)^```", README, flags=re.M | re.S)
+    return [
+        block
+        for text in TEXTS
+        for block in re.findall(rf"^```{language}\n(.*?)^```", text, flags=re.M | re.S)
+    ]
 
 
 def _commands() -> list[str]:
@@ -63,7 +71,7 @@ def workdir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def test_the_readme_says_how_to_put_cadkg_on_the_path() -> None:
     assert "source .venv/bin/activate" in README
-    assert len(_commands()) >= 20  # the Use section and each use case's
+    assert len(_commands()) >= 20  # the tour, the usage guide and each use case's
 
 
 def test_every_readme_command_works_as_written(workdir: Path) -> None:
@@ -79,16 +87,22 @@ def test_every_readme_command_works_as_written(workdir: Path) -> None:
 
 def test_every_file_the_readme_names_exists() -> None:
     named = set(
-        re.findall(r"\b(?:examples|docs|scripts|benchmarks)/[\w./-]+\.(?:rq|toml|md|sh|py)\b", README)
+        name
+        for text in TEXTS
+        for name in re.findall(
+            r"\b(?:examples|docs|scripts|benchmarks)/[\w./-]+\.(?:rq|toml|md|sh|py)\b", text
+        )
     )
     assert named
     assert sorted(p for p in named if not (ROOT / p).exists()) == []
 
 
 def test_the_readme_python_block_runs(workdir: Path) -> None:
-    (code,) = _blocks("python")
-    done = _fresh_shell(workdir, f"python - <<'EOF'\n{code}\nEOF")
-    assert done.returncode == 0, done.stderr[-2000:]
+    blocks = _blocks("python")
+    assert blocks
+    for code in blocks:
+        done = _fresh_shell(workdir, f"python - <<'EOF'\n{code}\nEOF")
+        assert done.returncode == 0, done.stderr[-2000:]
     assert (workdir / "cell.ttl").stat().st_size > 0
 
 
