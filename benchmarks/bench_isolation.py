@@ -4,7 +4,7 @@ For each size a synthetic cell (``synthetic.write_cell``, as ``bench_build.py``)
 store directory and opened read-only, as ``cadkg serve STORE`` opens it. Each query the endpoint
 answers is then answered twice, alternately, ``--reps`` times each:
 
-- **in process** (the baseline): :func:`cadkg.server.isolation.answer` in this process, on the
+- **in process** (the baseline): :func:`cadkg.server.evaluation.answer` in this process, on the
   opened store: what the endpoint did before queries moved to workers (a thread evaluating
   the query and writing SPARQL JSON);
 - **in a worker**: the same call through :class:`cadkg.query.workers.WorkerPool` (one warm
@@ -62,7 +62,7 @@ def measure(wires: int, reps: int, workdir: Path) -> None:
     import cadkg
     from cadkg.query.named import coerce_params, named_queries
     from cadkg.query.workers import WorkerPool
-    from cadkg.server.isolation import GRACE, QuerySpec, answer
+    from cadkg.server.evaluation import GRACE, QuerySpec, answer
     from cadkg.server.results import RESULT_FORMATS, NotAcceptableError
 
     manifest = write_cell(workdir / f"cell-{wires}", wires)
@@ -83,7 +83,7 @@ def measure(wires: int, reps: int, workdir: Path) -> None:
         specs[name] = QuerySpec(text, results, not_graph, ROW_CAP)
 
     started = time.perf_counter()
-    pool = WorkerPool(kg, 1, preload=("cadkg.server.isolation",))
+    pool = WorkerPool(kg, 1, preload=("cadkg.server.evaluation",))
     snapshot = time.perf_counter() - started
     started = time.perf_counter()
     pool.prestart()
@@ -94,7 +94,7 @@ def measure(wires: int, reps: int, workdir: Path) -> None:
 
     def in_worker(spec: QuerySpec) -> Any:
         args = (spec, 300.0, time.monotonic() + 300)
-        return pool.call("cadkg.server.isolation:answer", args, seconds=300.0)
+        return pool.call("cadkg.server.evaluation:answer", args, seconds=300.0)
 
     print(f"\n### {wires:,} wires ({len(kg):,} triples; built in {built:.1f} s)\n")
     print(f"- snapshot of the store for the workers: {snapshot * 1000:,.1f} ms")
@@ -118,7 +118,7 @@ def measure(wires: int, reps: int, workdir: Path) -> None:
     at = time.monotonic() + 1.0
     with contextlib.suppress(cadkg.CadkgError):  # the TimeLimitError the endpoint answers 503
         runaway = (QuerySpec(RUNAWAY, results, not_graph, 1), 1.0, at)
-        pool.call("cadkg.server.isolation:answer", runaway, seconds=1.0, at=at, grace=GRACE)
+        pool.call("cadkg.server.evaluation:answer", runaway, seconds=1.0, at=at, grace=GRACE)
     stopped = time.perf_counter() - started
     started = time.perf_counter()
     in_worker(specs["ask"])

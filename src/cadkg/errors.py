@@ -13,10 +13,12 @@ __all__ = [
     "CadkgError",
     "IngestError",
     "IngestWarning",
+    "LimitError",
     "ManifestError",
     "MemoryLimitError",
     "NotFound",
     "QueryError",
+    "ReadLimitError",
     "RegistryError",
     "StoreError",
     "TimeLimitError",
@@ -139,12 +141,33 @@ class QueryError(CadkgError):
     """A SPARQL query is malformed, names an unknown query, or lacks a parameter."""
 
 
-class TimeLimitError(CadkgError):
+class LimitError(CadkgError):
+    """Untrusted work (reading a file, evaluating a query) stopped at one of its limits.
+
+    ``limit`` says which: ``"memory"``, ``"cpu"`` (CPU time) or ``"wall"`` (time). The message
+    names the file or the query, the limit and the setting that raises it (see
+    :mod:`cadkg.limited`).
+    """
+
+    limit: str = "wall"
+
+
+class TimeLimitError(LimitError):
     """A query or request ran past its time limit (and was stopped)."""
 
 
-class MemoryLimitError(QueryError):
+class MemoryLimitError(LimitError, QueryError):
     """A query needed more memory than a query may take (and was stopped)."""
+
+    limit = "memory"
+
+
+class ReadLimitError(IngestError, LimitError):
+    """An input file needed more memory, CPU time or time to read than a file may take."""
+
+    def __init__(self, path: str | Path | None, reason: str, *, limit: str) -> None:
+        super().__init__(path, reason)
+        self.limit = limit
 
 
 class NotFound(CadkgError):  # noqa: N818 - the name the design documents

@@ -18,7 +18,7 @@ at once; IRIs are compared after their ``\\u`` escapes, prefixes and ``BASE`` ar
 pyoxigraph would resolve them.
 
 This is the first, friendly refusal. What makes the promise hold is that queries from outside
-are evaluated where there is no network (:mod:`cadkg.query.confinement`).
+are evaluated where there is no network (:mod:`cadkg.limited`).
 """
 
 from __future__ import annotations

@@ -15,7 +15,7 @@ import httpx
 import pytest
 
 from cadkg.errors import IngestError
-from cadkg.ingest.bounded import read_bounded
+from cadkg.limited import read_limited
 from tests.conftest import EXAMPLES, ROOT
 from tests.security.ingest_bombs import BOMBS
 from tests.server.serving import cadkg_serve
@@ -103,7 +103,7 @@ def _allocates() -> list[bytes]:
 def test_a_reader_that_runs_out_of_memory_ends_its_child_not_the_caller(read: object) -> None:
     # Unit check beside the real files above: how the child's end is told to the caller.
     with pytest.raises(IngestError) as info:
-        list(read_bounded("f.xlsx", read))  # type: ignore[arg-type]
+        list(read_limited("f.xlsx", read))  # type: ignore[arg-type]
     assert str(info.value) == "f.xlsx: needs more than 1,024 MiB to read (limit set by CADKG_READ_LIMIT_MIB)"
 
 
@@ -113,7 +113,7 @@ def test_the_reader_s_own_errors_and_warnings_come_back(tmp_path: Path) -> None:
     with pytest.raises(IngestError) as info:
         from cadkg.registry import reader_for
 
-        list(read_bounded(broken, reader_for("pin-info").read, broken))
+        list(read_limited(broken, reader_for("pin-info").read, broken))
     assert info.value.path == str(broken) and info.value.line is not None
 
 

@@ -24,11 +24,11 @@ from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 import cadkg
-from cadkg.cli.confined import run_confined
+from cadkg.cli.limited_query import run_limited_query
 from cadkg.errors import QueryError
 from cadkg.query.workers import WorkerPool, query_within
 from cadkg.server import Limits, Settings, create_app
-from cadkg.server.isolation import pool_maker
+from cadkg.server.evaluation import pool_maker
 from cadkg.server.limits import Deadline, Evaluator
 from cadkg.services.table import SERVICES
 from tests.cli import run
@@ -126,12 +126,12 @@ def test_the_cli_child_reaches_no_address(listener: Listener) -> None:
 
     connections = listener.connections
     with click.Context(click.Command("query")), pytest.raises(SystemExit) as stopped:
-        run_confined(work, seconds=60, memory=0, network=False)
+        run_limited_query(work, seconds=60, memory=0, network=False)
     assert stopped.value.code == 2  # the child's one-line error: its connection failed
     assert listener.connections == connections
     # Given the network (an --allow-service), the same child does reach it.
     with click.Context(click.Command("query")):
-        run_confined(work, seconds=60, memory=0, network=True)
+        run_limited_query(work, seconds=60, memory=0, network=True)
     assert listener.connections == connections + 1
 
 

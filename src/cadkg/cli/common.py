@@ -24,7 +24,7 @@ from rich.table import Table
 
 from cadkg.errors import CadkgError, QueryError
 from cadkg.graph import KnowledgeGraph
-from cadkg.query.confinement import DEFAULT_QUERY_MEMORY
+from cadkg.limited import DEFAULT_QUERY_MEMORY
 from cadkg.store import QueryResult
 
 __all__ = [

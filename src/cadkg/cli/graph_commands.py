@@ -116,7 +116,7 @@ def query(
     A local graph is queried in a child process that has no network (unless --allow-service)
     and may take --max-query-memory MiB; a remote store evaluates the query itself.
     """
-    from cadkg.cli.confined import run_confined
+    from cadkg.cli.limited_query import run_limited_query
     from cadkg.remote import is_url
 
     bindings: dict[str, Any] = dict(parse_params(params))
@@ -146,7 +146,7 @@ def query(
     if is_url(target):  # a remote store evaluates the query: the timeout is its HTTP client's
         answer(lambda: None)
     else:
-        run_confined(answer, seconds=timeout, memory=max_query_memory, network=bool(allow_service))
+        run_limited_query(answer, seconds=timeout, memory=max_query_memory, network=bool(allow_service))
 
 
 @click.command()

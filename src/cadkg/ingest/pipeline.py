@@ -15,8 +15,8 @@ from itertools import chain, islice
 from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.bounded import read_bounded
 from cadkg.ingest.manifest import Manifest, SourceSpec
+from cadkg.limited import read_limited
 from cadkg.mapping import eplan as _eplan  # noqa: F401  (registers the EPLAN exports' mappings)
 from cadkg.mapping import harness as _harness  # noqa: F401  (registers the harness records' mappings)
 from cadkg.mapping.cell import map_manifest
@@ -73,7 +73,7 @@ def read_source(
     ------
     IngestError
         Located errors of the reader; an unknown kind; ``needs more than N MiB to read`` (see
-        :mod:`cadkg.ingest.bounded`).
+        :mod:`cadkg.limited`).
     """
     started = time.perf_counter()
     kind = kind or sniff_kind(path, profile=profile)
@@ -92,7 +92,7 @@ def read_source(
         # child then never holds every record. Without a sink nothing is written before the
         # last record is mapped, so a later row's error still leaves nothing behind.
         # Closed on an error in the mapping too, which stops the child at once.
-        with closing(read_bounded(path, reader.stream or reader.read, path)) as incoming:
+        with closing(read_limited(path, reader.stream or reader.read, path)) as incoming:
             # The first records (or the file's refusal) before the checksum, which reads every byte.
             first = list(islice(incoming, 1))
             if sink is not None:

@@ -24,7 +24,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cadkg.errors import IngestError, IngestWarning
-from cadkg.ingest.bounded import read_bounded
 from cadkg.ingest.sheet_bounds import (
     MAX_CELLS,
     MAX_ROWS,
@@ -34,6 +33,7 @@ from cadkg.ingest.sheet_bounds import (
     scan_xlsx,
 )
 from cadkg.ingest.xls_bounds import DamagedWorkbookError, scan_xls
+from cadkg.limited import read_limited
 
 __all__ = [
     "SHEET_SUFFIXES",
@@ -282,7 +282,7 @@ def sniff_head(path: str | Path, head: bytes) -> bytes:
         return head
     try:
         # Read as the readers read it: in a child process under the read limit.
-        lines = [str(line) for line in read_bounded(path, _first_rows, path)]
+        lines = [str(line) for line in read_limited(path, _first_rows, path)]
     except (IngestError, OSError, ValueError):
         return head
     return head + _SHEET_TEXT + "\n".join(lines).encode("utf-8", "replace")

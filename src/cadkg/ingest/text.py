@@ -46,7 +46,7 @@ _UTF16_WITHOUT_BOM = re.compile(rb"((?:[\t\n\r\x20-\x7e]\x00){8})|(?:\x00[\t\n\r
 _CONTROL_OK = {"\t", "\n", "\r", "\f"}
 # The largest text export read: a file is held whole while its rows are read one by one (its
 # bytes, then its text, up to four bytes a character), and that must fit the read limit of
-# cadkg.ingest.bounded. A connection list of a million wires is about 130 MiB.
+# cadkg.limited. A connection list of a million wires is about 130 MiB.
 MAX_TEXT_FILE = 256 << 20
 
 

@@ -14,7 +14,7 @@ new interpreter takes. A child dies with the fork server, which ends with its pa
 ``"module:function"``: ``function(graph, *args)`` with the snapshot opened as a read-only
 :class:`~cadkg.store.GraphStore` holding the parent's ``allowed_services``.
 
-A worker is confined (:mod:`cadkg.query.confinement`): it leaves the network as it starts,
+A worker is a limited child (:mod:`cadkg.limited`), long-lived: it leaves the network as it starts,
 unless its pool allows a ``SERVICE`` endpoint, and once the snapshot is open its memory may grow
 by ``memory`` MiB only; a worker that dies past it is answered as
 :class:`~cadkg.errors.MemoryLimitError` and replaced when next needed.
@@ -45,8 +45,10 @@ from typing import Any, Self
 import pyoxigraph as ox
 
 from cadkg.errors import CadkgError, QueryError, StoreError, TimeLimitError
-from cadkg.query.confinement import (
+from cadkg.limited import (
     DEFAULT_QUERY_MEMORY,
+    Limits,
+    cause,
     exceeded,
     leave_network,
     limit_memory,
@@ -131,7 +133,7 @@ def _serve(
         except CadkgError as err:
             reply = ("error", _portable(err))
         except MemoryError:
-            reply = ("error", exceeded(memory))
+            reply = ("error", exceeded(Limits(memory=memory), "memory"))
         except Exception as err:  # a task's bug: one line to the caller, the worker goes on
             reply = ("error", QueryError(f"{type(err).__name__}: {err}"))
         try:
@@ -164,12 +166,13 @@ class _Worker:
         self.memory = memory
         self.ready = False
 
-    def _died(self) -> QueryError:
+    def _died(self) -> CadkgError:
         self.process.join(1)
         code = self.process.exitcode
-        if self.ready and self.memory and code is not None and code < 0:
+        limits = Limits(memory=self.memory)
+        if self.ready and code is not None and cause(limits, code) == "memory":
             # Killed by a signal while answering: an allocation past the limit aborts pyoxigraph.
-            return exceeded(self.memory)
+            return exceeded(limits, "memory")
         return QueryError(f"the query's worker process ended unexpectedly (exit code {code})")
 
     def wait_ready(self, until: float) -> bool:
@@ -208,7 +211,7 @@ class _Worker:
         try:
             self.conn.send(request)
             if not self.conn.poll(_left(until)):
-                raise TimeLimitError(f"the query ran past the time limit of {seconds:g} s and was stopped")
+                raise exceeded(Limits(wall=seconds), "wall")
             reply: tuple[str, Any] = self.conn.recv()
         except (EOFError, OSError):
             raise self._died() from None

@@ -29,9 +29,9 @@ from visualization_msgs.msg import Marker, MarkerArray
 import cadkg.registry as registry
 import cadkg.services.table as services
 from cadkg.errors import CadkgError
+from cadkg.limited import DEFAULT_QUERY_MEMORY
 from cadkg.plan.graph import cell_base, read_plan
 from cadkg.plan.report import as_json, summary
-from cadkg.query.confinement import DEFAULT_QUERY_MEMORY
 from cadkg.query.frames import label_frames
 from cadkg.query.workers import WorkerPool
 from cadkg.ros_adapter import convert
@@ -221,7 +221,7 @@ class CadkgNode:
 
     def _query_workers(self) -> WorkerPool | None:
         """The worker answering ``sparql`` (no network, bounded memory: see
-        :mod:`cadkg.query.confinement`), made again once the graph has changed (an assignment,
+        :mod:`cadkg.limited`), made again once the graph has changed (an assignment,
         loaded files, a reload: the cell model is derived afresh after every change). Call under
         the lock."""
         kg = self.loaded.kg

@@ -29,9 +29,9 @@ from starlette.responses import Response
 from cadkg.errors import CadkgError, NotFound, QueryError
 from cadkg.query.named import coerce_params, named_queries
 from cadkg.server.context import Answer, Endpoint, ProtocolError, json_response, status_of
+from cadkg.server.evaluation import QuerySpec, embedded, query_job
 from cadkg.server.files_root import confine, files_root
 from cadkg.server.holder import Served
-from cadkg.server.isolation import QuerySpec, embedded, query_job
 from cadkg.server.limits import Deadline
 from cadkg.server.protocol import _FORM, fail, read_body
 from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, NotAcceptableError, negotiate

@@ -35,10 +35,10 @@ from cadkg.errors import StoreError
 from cadkg.server.api import CLIENT_HEADER
 from cadkg.server.caching import HttpCaching
 from cadkg.server.context import Endpoint, Settings
+from cadkg.server.evaluation import pool_maker
 from cadkg.server.feed import ServerFeed
 from cadkg.server.feed import changes as changes_feed
 from cadkg.server.holder import GraphHolder
-from cadkg.server.isolation import pool_maker
 from cadkg.server.protocol import graph_store, sparql
 
 __all__ = ["STATIC", "create_app", "is_loopback", "serve"]

@@ -15,7 +15,7 @@ from typing import Any
 from starlette.responses import Response
 
 from cadkg.errors import CadkgError, NotFound, QueryError, StoreError
-from cadkg.query.confinement import leave_network_or_warn
+from cadkg.limited import leave_network_or_warn
 from cadkg.server.holder import GraphHolder, Served
 from cadkg.server.limits import BodyTooLargeError, Deadline, Evaluator, Limits, TimeLimitError
 from cadkg.server.results import NotAcceptableError

@@ -6,7 +6,7 @@ Each request has a :class:`Deadline`, and its work runs in a bounded pool of thr
 - the client gets its answer, or a 503 time-out, within the limit (measured from the
   request's arrival, so waiting for a free worker counts);
 - a query still waiting for a worker when its time is up never starts;
-- a query's thread waits for a worker process (:mod:`cadkg.server.isolation`), where a query
+- a query's thread waits for a worker process (:mod:`cadkg.server.evaluation`), where a query
   whose solutions stream (no ``ORDER BY``, ``GROUP BY``, aggregate or ``DISTINCT`` over
   everything) stops at the next solution after its deadline, and any other (a sort, a
   grouping, a join that finds nothing for long: pyoxigraph cannot cancel them) is killed
@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import TypeVar
 
 from cadkg.errors import CadkgError, TimeLimitError
-from cadkg.query.confinement import DEFAULT_QUERY_MEMORY
+from cadkg.limited import DEFAULT_QUERY_MEMORY
 
 __all__ = ["BodyTooLargeError", "Deadline", "Evaluator", "Limits", "TimeLimitError"]
 

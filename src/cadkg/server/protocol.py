@@ -30,8 +30,8 @@ from cadkg.server.context import (
     status_of,
     syntax_message,
 )
+from cadkg.server.evaluation import QuerySpec, embedded, query_job
 from cadkg.server.holder import Served
-from cadkg.server.isolation import QuerySpec, embedded, query_job
 from cadkg.server.limits import BodyTooLargeError, Deadline
 from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, Format, NotAcceptableError, negotiate
 from cadkg.store import PREFIXES

@@ -18,7 +18,7 @@ from typing import Any
 
 from cadkg.errors import CadkgError
 from cadkg.geometry.poses import Pose
-from cadkg.ingest.bounded import read_bounded
+from cadkg.limited import read_limited
 from cadkg.registry import reader_for, sniff_kind
 from cadkg.services.display import Frame
 from cadkg.services.service import Effect, Paths, Service, model_services
@@ -315,7 +315,7 @@ def _plan(kg: Any, files: list[Path]) -> list[tuple[Path, str, str, list[object]
             rel = same[0] if same else path.name
             if not same and rel in taken:
                 raise CadkgError(f"{path}: the graph already has a source {rel!r} of another kind")
-        plan.append((path, kind, rel, list(read_bounded(path, reader_for(kind).read, path))))
+        plan.append((path, kind, rel, list(read_limited(path, reader_for(kind).read, path))))
     return plan
 
 

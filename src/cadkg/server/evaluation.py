@@ -37,7 +37,7 @@ __all__ = ["GRACE", "QuerySpec", "answer", "embedded", "evaluate", "pool_maker",
 
 GRACE = 0.5
 """Seconds past its deadline a worker has to stop a query by itself before it is killed."""
-_ANSWER = "cadkg.server.isolation:answer"
+_ANSWER = "cadkg.server.evaluation:answer"
 
 
 def embedded(graph: Any) -> bool:
@@ -139,7 +139,7 @@ def pool_maker(settings: Settings) -> Callable[[Any], WorkerPool | None]:
             graph,
             settings.limits.workers,
             allowed_services=settings.allowed_services,
-            preload=("cadkg.server.isolation",),
+            preload=("cadkg.server.evaluation",),
             memory=settings.limits.query_memory,
         )
 
