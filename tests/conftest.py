@@ -56,12 +56,19 @@ def synthetic_manifest(directory: Path, wires: int, *, cabinet: bool) -> Path:
 # driver) or Virtuoso, known by the fixture that starts it. The nested ROS run and the demo on a
 # fresh copy are marked in their own modules.
 LIVE_FIXTURES = frozenset({"browser", "virtuoso"})
+# The modules that take longest, longest first: run first, each in a worker of its own while the
+# other worker takes the many short ones, so that no long module is left running alone at the
+# end of a run on both cores (measured on a loaded 2-core machine, docs/testing.md).
+LONGEST = ("tests/ros/test_live.py", "tests/test_demo.py")
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     for item in items:
         if LIVE_FIXTURES.intersection(getattr(item, "fixturenames", ())):
             item.add_marker(pytest.mark.live)
+    rank = {name: place for place, name in enumerate(LONGEST)}
+    # A stable sort keeps each module's tests together and in their order.
+    items.sort(key=lambda item: rank.get(item.nodeid.partition("::")[0], len(rank)))
 
 
 @pytest.fixture(scope="session")
