@@ -62,7 +62,7 @@ def write_graphs(
     returned, or ``None`` when the records did not hold all the derivation needs and it
     must be read from the store.
     """
-    derivation = registry.derivation()
+    derivation = registry.derivation(manifest.cell.profile)
     collector = derivation.collector(manifest) if derivation is not None else None
     if collector is not None:
         collector.add_edits(edits)

@@ -58,6 +58,9 @@ class Derivation:
     dump: Callable[[Any], bytes]
     load: Callable[[bytes], Any]
     base: Callable[[Any], str] = lambda model: str(getattr(model, "base", ""))
+    # Also derives the cells of every use case that declares no derivation of its own; one
+    # registered derivation may.
+    default: bool = False
     # Kinds of things a revision diff compares that the model gives itself (below).
     things: Mapping[str, DerivedKind] = field(default_factory=dict)
 

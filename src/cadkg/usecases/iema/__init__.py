@@ -41,6 +41,9 @@ CABINET = Derivation(
     dump=dump_model,
     load=load_model,
     things={"pin": DerivedKind(placed_pins, queries=3), "wire": DerivedKind(wire_ends)},
+    # Any cell's components sit at their scene items: a cell of a use case without a
+    # derivation of its own gets the cabinet geometry without the cabinet's wiring.
+    default=True,
 )
 
 USE_CASE = UseCase(
