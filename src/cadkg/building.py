@@ -12,7 +12,7 @@ from typing import Any
 
 import cadkg.registry as registry
 from cadkg.ingest.manifest import Manifest, SourceSpec
-from cadkg.ingest.pipeline import GraphData, read_manifest_graphs
+from cadkg.mapping.pipeline import GraphData, read_manifest_graphs
 
 __all__ = ["StageClock", "write_graphs"]
 

@@ -33,8 +33,8 @@ from cadkg.generations import (
     writing,
 )
 from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
-from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
 from cadkg.loading import BackgroundLoader, paused_gc
+from cadkg.mapping.pipeline import GraphData, SourceReport, read_source
 from cadkg.mapping.writer import node_iri
 from cadkg.model_file import MODEL_FILE, read_model, write_model
 from cadkg.ontology.terms import CK_NS

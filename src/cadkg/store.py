@@ -30,7 +30,7 @@ from cadkg.generations import (
     read_pointer,
     take_snapshot,
 )
-from cadkg.ingest.pipeline import SourceReport
+from cadkg.mapping.pipeline import SourceReport
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
 from cadkg.outbound import check_outbound
 from cadkg.sparql_text import bind_values, syntax_error_message, term_value

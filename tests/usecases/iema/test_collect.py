@@ -9,7 +9,7 @@ import pytest
 
 import cadkg
 from cadkg.ingest.manifest import load_manifest
-from cadkg.ingest.pipeline import read_manifest_graphs
+from cadkg.mapping.pipeline import read_manifest_graphs
 from cadkg.usecases.iema.derive.cabinet import derive_cell
 from cadkg.usecases.iema.derive.collect import InputCollector
 from cadkg.usecases.iema.derive.extract import Placements, extract, placements
