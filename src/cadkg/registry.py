@@ -21,13 +21,14 @@ from cadkg.ingest.reader import Reader
 from cadkg.ingest.sheet import sniff_head
 from cadkg.ingest.text import sniffable_head
 from cadkg.services.service import Effect, Service
-from cadkg.usecase import Derivation, UseCase
+from cadkg.usecase import Derivation, Settings, UseCase
 
 __all__ = [
     "DEFAULT_PROFILE",
     "ENTRY_POINT_GROUP",
     "add_use_case",
     "derivation",
+    "derive_settings",
     "kinds",
     "query_folders",
     "reader_for",
@@ -155,6 +156,12 @@ def derivation(profile: str) -> Derivation | None:
     if own is not None:
         return own
     return table.default[1] if table.default is not None else None
+
+
+def derive_settings(profile: str) -> Settings | None:
+    """The settings (the manifest's ``[derive]`` table) of the derivation of a cell of ``profile``."""
+    found = derivation(profile)
+    return found.settings if found is not None else None
 
 
 def query_folders() -> list[Traversable | Path]:

@@ -15,7 +15,8 @@ from cadkg.ingest.reader import Reader
 from cadkg.ingest.sheet import SHEET_SUFFIXES
 from cadkg.ingest.wri import read_wri
 from cadkg.registry import kinds, reader_for, register, sniff_kind
-from cadkg.usecase import Derivation, UseCase
+from cadkg.usecase import UseCase
+from tests.toys import toy_derivation
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "iema-switchgear"
@@ -190,13 +191,6 @@ def test_reader_rejects_an_unterminated_quote_over_128_kib(tmp_path: Path, reade
     assert info.value.path == str(path)
 
 
-def _toy_derivation(default: bool = False) -> Derivation:
-    def nothing(*_: object) -> None:
-        return None
-
-    return Derivation(nothing, nothing, nothing, nothing, nothing, nothing, nothing, default=default)
-
-
 def test_each_profile_derives_by_its_own_derivation_else_by_the_default(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
@@ -207,7 +201,7 @@ def test_each_profile_derives_by_its_own_derivation_else_by_the_default(
     assert registry.derivation("elvez") is cabinet
     assert registry.derivation("") is cabinet
     assert registry.derivation("no-such-profile") is cabinet
-    own = _toy_derivation()
+    own = toy_derivation()
     registry.add_use_case(UseCase(name="toy-derives", title="a cell with its own model", derivation=own))
     assert registry.derivation("toy-derives") is own
     assert registry.derivation("iema") is cabinet
@@ -216,6 +210,6 @@ def test_each_profile_derives_by_its_own_derivation_else_by_the_default(
 
 def test_one_derivation_may_be_the_default(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(registry, "_TABLE", None)
-    second = UseCase(name="toy-default", title="a second default", derivation=_toy_derivation(default=True))
+    second = UseCase(name="toy-default", title="a second default", derivation=toy_derivation(default=True))
     with pytest.raises(RegistryError, match="iema and toy-default both derive"):
         registry.add_use_case(second)
