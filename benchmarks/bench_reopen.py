@@ -8,7 +8,7 @@ with the lowest and highest:
 - **kept**: ``cadkg.open(store).cell_model()``, which reads ``gen-*/cell-model.json``;
 - **from the graph** (the baseline): ``derive_cell(extract(kg))`` on the same opened store,
   what every reopening cost before the model was kept, split into its two parts;
-- **placements**: ``extract.placements(kg)``, the frames and meshes alone, which is what the
+- **placements**: ``cadkg.query.placements.placements(kg)``, the frames and meshes alone, which is what the
   ROS node reads from the graph beside the kept model;
 - **``cadkg call``**: the command line end to end (``cad_service`` of one component), with
   the kept model, and with the file moved aside for the run.
@@ -44,8 +44,9 @@ CHILD_FLAG = "--child-job"
 
 def child(job: str, store: str) -> dict[str, Any]:
     import cadkg
+    from cadkg.query.placements import placements
     from cadkg.usecases.iema.derive.cabinet import derive_cell
-    from cadkg.usecases.iema.derive.extract import extract, placements
+    from cadkg.usecases.iema.derive.extract import extract
 
     start = time.perf_counter()
     kg = cadkg.open(store)

@@ -1,6 +1,7 @@
 """The package layout keeps its rules: no import cycle (counting imports inside functions and
-under ``TYPE_CHECKING``), no module over 500 lines, no folder over 15 modules, each use case
-in its own folder importing no other use case, and only the ROS adapter importing rclpy."""
+under ``TYPE_CHECKING``), data flowing one way through the stages, no module over 500 lines,
+no folder over 15 modules, each use case in its own folder importing no other use case and
+no module outside them importing one, and only the ROS adapter importing rclpy."""
 
 from __future__ import annotations
 
@@ -96,18 +97,99 @@ def test_a_use_case_is_one_folder_that_imports_no_other(case: str) -> None:
     assert others == set()
 
 
-def test_the_core_imports_no_use_case_but_through_the_registry() -> None:
-    # Transports (CLI, server, ROS adapter) may call into a use case; the layers below them
-    # (ingest, mapping, store, build, query, services, registry) find use cases only as plug-ins.
+def test_no_module_outside_the_use_cases_imports_one() -> None:
+    # The core, transports included, finds use cases only as plug-ins, through the registry.
     graph = _graph()
-    core = [
-        m
-        for m in graph
-        if not m.startswith(("cadkg.usecases", "cadkg.cli", "cadkg.server", "cadkg.ros_adapter"))
-        and m not in ("cadkg", "cadkg.remote", "cadkg.push")
-    ]
-    reaching = {m: sorted(t for t in graph.successors(m) if t.startswith("cadkg.usecases")) for m in core}
+    outside = [m for m in graph if not m.startswith("cadkg.usecases")]
+    reaching = {m: sorted(t for t in graph.successors(m) if t.startswith("cadkg.usecases.")) for m in outside}
     assert {m: t for m, t in reaching.items() if t} == {}
+
+
+# Files -> records -> triples -> store -> queries/services -> transports: a module imports only
+# from its own stage or an earlier one. Each entry is a module or a package (its modules).
+STAGES: list[tuple[str, tuple[str, ...]]] = [
+    # What every stage may use: errors, terms, geometry, confined paths, SPARQL text.
+    (
+        "base",
+        (
+            "cadkg.errors",
+            "cadkg.ontology",
+            "cadkg.geometry",
+            "cadkg.confined",
+            "cadkg.sparql_text",
+            "cadkg.outbound",
+            "cadkg.loading",
+        ),
+    ),
+    ("records", ("cadkg.ingest",)),
+    ("triples", ("cadkg.mapping",)),
+    (
+        "store",
+        (
+            "cadkg.store",
+            "cadkg.graph",
+            "cadkg.building",
+            "cadkg.generations",
+            "cadkg.model_file",
+            "cadkg.remote",
+            "cadkg.push",
+        ),
+    ),
+    # A use case adds to every stage up to its services; the package's public API re-exports
+    # the store and validation.
+    ("queries", ("cadkg.query", "cadkg.services", "cadkg.plan", "cadkg.changes", "cadkg.usecases", "cadkg")),
+    ("transports", ("cadkg.cli", "cadkg.server", "cadkg.ros_adapter")),
+]
+# The plug-in table names what each stage plugs in (readers, derivations, services) and every
+# stage asks it: it stands outside the order.
+ACROSS_STAGES = ("cadkg.registry", "cadkg.usecase")
+# Known imports of a later stage, each with its reason.
+LATER_STAGE_IMPORTS = {
+    # KnowledgeGraph.named_query, .graph_view and .export(".graphml") are the public API's
+    # shortcuts (the README's first example) to the query layer.
+    ("cadkg.graph", "cadkg.query.named"),
+    ("cadkg.graph", "cadkg.query.views"),
+}
+
+
+def _stage(module: str) -> int | None:
+    for number, (_, members) in enumerate(STAGES):
+        for member in members:
+            # "cadkg" names the package's own module, not every module below it.
+            if module == member or (member != "cadkg" and module.startswith(member + ".")):
+                return number
+    return None
+
+
+def _later_stage_imports(graph: nx.DiGraph) -> set[tuple[str, str]]:
+    found = set()
+    for module, target in graph.edges:
+        here, there = _stage(module), _stage(target)
+        if here is not None and there is not None and there > here:
+            found.add((module, target))
+    return found - LATER_STAGE_IMPORTS
+
+
+def test_every_module_has_its_stage() -> None:
+    unplaced = sorted(m for m in _graph() if _stage(m) is None and m not in ACROSS_STAGES)
+    assert unplaced == []
+
+
+def test_no_module_imports_one_of_a_later_stage() -> None:
+    graph = _graph()
+    assert _later_stage_imports(graph) == set()
+    # Each known exception still holds: one that no longer does leaves the list.
+    assert set(graph.edges) >= LATER_STAGE_IMPORTS
+
+
+def test_the_stage_check_finds_a_later_stage_import() -> None:
+    graph = _graph()
+    graph.add_edge("cadkg.ingest.manifest", "cadkg.store")  # a reader reaching for the store
+    graph.add_edge("cadkg.query.views", "cadkg.server.app")  # a query reaching for a transport
+    assert _later_stage_imports(graph) == {
+        ("cadkg.ingest.manifest", "cadkg.store"),
+        ("cadkg.query.views", "cadkg.server.app"),
+    }
 
 
 def test_only_the_ros_adapter_imports_rclpy() -> None:

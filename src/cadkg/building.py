@@ -12,7 +12,7 @@ from typing import Any
 
 import cadkg.registry as registry
 from cadkg.ingest.manifest import Manifest, SourceSpec
-from cadkg.ingest.pipeline import GraphData, read_manifest_graphs
+from cadkg.mapping.pipeline import GraphData, read_manifest_graphs
 
 __all__ = ["StageClock", "write_graphs"]
 
@@ -62,7 +62,7 @@ def write_graphs(
     returned, or ``None`` when the records did not hold all the derivation needs and it
     must be read from the store.
     """
-    derivation = registry.derivation()
+    derivation = registry.derivation(manifest.cell.profile)
     collector = derivation.collector(manifest) if derivation is not None else None
     if collector is not None:
         collector.add_edits(edits)

@@ -33,14 +33,14 @@ from cadkg.generations import (
     writing,
 )
 from cadkg.ingest.manifest import Manifest, SourceSpec, load_manifest
-from cadkg.ingest.pipeline import GraphData, SourceReport, read_source
 from cadkg.loading import BackgroundLoader, paused_gc
+from cadkg.mapping.pipeline import GraphData, SourceReport, read_source
 from cadkg.mapping.writer import node_iri
 from cadkg.model_file import MODEL_FILE, read_model, write_model
 from cadkg.ontology.terms import CK_NS
 from cadkg.query.named import run_named
 from cadkg.query.views import graph_view, write_graphml
-from cadkg.store import FILES, GraphStore, QueryResult
+from cadkg.store import FILES, GraphStore, QueryResult, cell_profile
 from cadkg.usecase import Derivation
 
 if TYPE_CHECKING:
@@ -52,8 +52,8 @@ PERFORMERS = ("robot", "human")
 ASSIGNABLE = ("wire", "component", "operation")
 
 
-def _derivation() -> Derivation:
-    found = registry.derivation()
+def _derivation(graph: GraphStore) -> Derivation:
+    found = registry.derivation(cell_profile(graph))
     if found is None:
         raise StoreError("no registered use case derives a cell model")
     return found
@@ -253,8 +253,8 @@ class KnowledgeGraph(GraphStore):
 
     # -- derived model and assignments ----------------------------------------------
     def cell_model(self) -> Any:
-        """The cell model the registered derivation computes from the graph (the cabinet's
-        geometry, :mod:`cadkg.usecases.iema.derive.cabinet`), once per change.
+        """The cell model the derivation of the cell's profile computes from the graph
+        (:func:`cadkg.registry.derivation`), once per change.
 
         An on-disk store keeps a copy of it written with the store and after each change, so
         opening the store again reads it instead of deriving.
@@ -262,7 +262,7 @@ class KnowledgeGraph(GraphStore):
         if self._model is None:
             with paused_gc():
                 if self.derived_model() is None:
-                    derivation = _derivation()
+                    derivation = _derivation(self)
                     self._model = derivation.derive(derivation.extract(self))
                     if not self.read_only:
                         self._keep_model(self._model)
@@ -276,11 +276,11 @@ class KnowledgeGraph(GraphStore):
         return self._model
 
     def _kept_model(self) -> Any:
-        return None if self._model_file is None else read_model(self._model_file, _derivation())
+        return None if self._model_file is None else read_model(self._model_file, _derivation(self))
 
     def _keep_model(self, model: Any) -> None:
         if self._model_file is not None:
-            write_model(self._model_file, _derivation(), model)
+            write_model(self._model_file, _derivation(self), model)
 
     def _forget_model(self) -> None:
         """Drop the model and its kept copy; called before the graph changes, so no copy outlives it."""
@@ -293,7 +293,7 @@ class KnowledgeGraph(GraphStore):
         one transaction: a reader sees the old graph or the new one, never none."""
         self._forget_model()
         model = self.cell_model()
-        derivation = _derivation()
+        derivation = _derivation(self)
         base = derivation.base(model)
         if base and not self.read_only:
             graph = ox.NamedNode(derivation.graph(model))
@@ -448,7 +448,7 @@ class KnowledgeGraph(GraphStore):
         if self.read_only:
             raise StoreError("the store is open read-only")
         with paused_gc():
-            data = read_source(Path(path), rel_path, kind, base_iri, frame, profile=self._profile())
+            data = read_source(Path(path), rel_path, kind, base_iri, frame, profile=cell_profile(self))
         # One update request is one transaction: the old graph goes only if the new one lands.
         # The graph IRI is minted by us and every term of the data is escaped by the mapping.
         inserts = data.ntriples.decode("utf-8")
@@ -459,10 +459,6 @@ class KnowledgeGraph(GraphStore):
             )
         self.reports.append(data.report)
         return data.report
-
-    def _profile(self) -> str:
-        rows = self.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
-        return str(rows[0]["p"]) if rows else ""
 
     # -- views and exports ----------------------------------------------------------
     def export(self, path: str | Path, fmt: str | None = None) -> Path:

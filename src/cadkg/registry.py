@@ -21,13 +21,14 @@ from cadkg.ingest.reader import Reader
 from cadkg.ingest.sheet import sniff_head
 from cadkg.ingest.text import sniffable_head
 from cadkg.services.service import Effect, Service
-from cadkg.usecase import Derivation, UseCase
+from cadkg.usecase import Derivation, Settings, UseCase
 
 __all__ = [
     "DEFAULT_PROFILE",
     "ENTRY_POINT_GROUP",
     "add_use_case",
     "derivation",
+    "derive_settings",
     "kinds",
     "query_folders",
     "reader_for",
@@ -48,7 +49,9 @@ class _Table:
         self.readers: dict[str, Reader] = {}
         self.use_cases: dict[str, UseCase] = {}
         self.services: dict[str, Service] = {}
-        self.derivation: tuple[str, Derivation] | None = None
+        self.derivations: dict[str, Derivation] = {}
+        # The derivation of the cells whose use case declares none (Derivation.default).
+        self.default: tuple[str, Derivation] | None = None
 
 
 _TABLE: _Table | None = None
@@ -96,12 +99,15 @@ def _add(table: _Table, case: UseCase) -> None:
             owner = table.services[service.name].profile
             raise RegistryError(f"service {service.name!r} of {case.name} is already one of {owner}'s")
         table.services[service.name] = dataclasses.replace(service, profile=case.name)
-    if case.derivation is not None:
-        if table.derivation is not None:
+    if case.derivation is not None and case.derivation.default:
+        if table.default is not None:
             raise RegistryError(
-                f"use cases {table.derivation[0]} and {case.name} both derive the cell model; one may"
+                f"use cases {table.default[0]} and {case.name} both derive the cell model of every "
+                "other cell; one may"
             )
-        table.derivation = (case.name, case.derivation)
+        table.default = (case.name, case.derivation)
+    if case.derivation is not None:
+        table.derivations[case.name] = case.derivation
     table.use_cases[case.name] = case
 
 
@@ -141,11 +147,21 @@ def services() -> dict[str, Service]:
     return dict(_table().services)
 
 
-def derivation() -> Derivation | None:
-    """The derivation of the cell model, run for every cell (the cabinet geometry: components
-    at their items, pins at their couples, wires as the robot's steps)."""
-    found = _table().derivation
-    return found[1] if found is not None else None
+def derivation(profile: str) -> Derivation | None:
+    """The derivation of the cell model of a cell of ``profile`` (``""``: :data:`DEFAULT_PROFILE`):
+    its use case's own, else the one declared the default (the cabinet geometry places any
+    cell's components at their items), else None. An unknown profile gets the default."""
+    table = _table()
+    own = table.derivations.get(profile or DEFAULT_PROFILE)
+    if own is not None:
+        return own
+    return table.default[1] if table.default is not None else None
+
+
+def derive_settings(profile: str) -> Settings | None:
+    """The settings (the manifest's ``[derive]`` table) of the derivation of a cell of ``profile``."""
+    found = derivation(profile)
+    return found.settings if found is not None else None
 
 
 def query_folders() -> list[Traversable | Path]:

@@ -30,7 +30,7 @@ from cadkg.generations import (
     read_pointer,
     take_snapshot,
 )
-from cadkg.ingest.pipeline import SourceReport
+from cadkg.mapping.pipeline import SourceReport
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI, ontology_path
 from cadkg.outbound import check_outbound
 from cadkg.sparql_text import bind_values, syntax_error_message, term_value
@@ -44,6 +44,7 @@ __all__ = [
     "PREFIXES",
     "GraphStore",
     "QueryResult",
+    "cell_profile",
     "evaluation_errors",
     "new_generation",
     "publish_generation",
@@ -114,6 +115,12 @@ class QueryResult:
 
     def __repr__(self) -> str:
         return f"QueryResult(variables={list(self.variables)!r}, rows={len(self.rows)})"
+
+
+def cell_profile(graph: Any) -> str:
+    """The profile of the cell a graph (anything with ``query``) holds; ``""`` when it holds none."""
+    rows = graph.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
+    return str(rows[0]["p"]) if rows else ""
 
 
 class GraphStore:

@@ -25,7 +25,16 @@ from cadkg.services.display import Frame, MarkerSpec
 from cadkg.services.service import Service
 from cadkg.services.session import Session
 
-__all__ = ["Collector", "Derivation", "DerivedKind", "ExportOptions", "ExportView", "Planner", "UseCase"]
+__all__ = [
+    "Collector",
+    "Derivation",
+    "DerivedKind",
+    "ExportOptions",
+    "ExportView",
+    "Planner",
+    "Settings",
+    "UseCase",
+]
 
 
 class Collector(Protocol):
@@ -38,6 +47,23 @@ class Collector(Protocol):
     def source(self, rel: str) -> Callable[[object], None]: ...
 
     def inputs(self) -> Any: ...
+
+
+@dataclass(frozen=True)
+class Settings:
+    """The manifest's ``[derive]`` table, which the cell's derivation reads.
+
+    A key not in ``keys`` is refused (naming them), so a misspelt setting cannot silently leave
+    its default in force. ``read(table, fail)`` checks the values (``table`` is empty when the
+    manifest has none) and gives the settings a collector finds in ``Manifest.derive``; on a bad
+    value it raises ``fail(key, reason, found=..., expected=...)``, the manifest's error at that
+    key's line. ``state(settings)`` gives the (ontology term, value) pairs the cell states, which
+    an extraction reads back.
+    """
+
+    keys: frozenset[str]
+    read: Callable[[Mapping[str, Any], Callable[..., Exception]], Any]
+    state: Callable[[Any], Iterable[tuple[str, str | float]]] = lambda settings: ()
 
 
 @dataclass(frozen=True)
@@ -58,6 +84,14 @@ class Derivation:
     dump: Callable[[Any], bytes]
     load: Callable[[bytes], Any]
     base: Callable[[Any], str] = lambda model: str(getattr(model, "base", ""))
+    # ``adjust(inputs, settings)``: the inputs with some of the settings the manifest gave
+    # replaced, as a served cell's parameters ask (the ROS node's ``approach_distance``).
+    adjust: Callable[[Any, Mapping[str, Any]], Any] | None = None
+    # The manifest's [derive] table; without, a manifest may not have one.
+    settings: Settings | None = None
+    # Also derives the cells of every use case that declares no derivation of its own; one
+    # registered derivation may.
+    default: bool = False
     # Kinds of things a revision diff compares that the model gives itself (below).
     things: Mapping[str, DerivedKind] = field(default_factory=dict)
 
@@ -117,6 +151,10 @@ class UseCase:
     # The use case's own static frames and markers, from a session on its graph.
     frames: Callable[[Session], Iterable[Frame]] | None = None
     markers: Callable[[Session, Path], Iterable[MarkerSpec]] | None = None
+    # What it adds to the 3D workbench's scene: ``scene(graph, session, frames, out)`` appends
+    # points of interest and routes to ``out["points"]`` and ``out["routes"]``, drawn in the
+    # scene's ``frames`` (their names); a CadkgError leaves them out and is shown.
+    scene: Callable[[Any, Session, set[str], dict[str, list[Any]]], None] | None = None
     views: Mapping[str, ExportView] = field(default_factory=dict)
     # Its own checks of a graph for ``cadkg validate``: ``checks(graph)`` gives
     # :class:`cadkg.query.validate.Finding` s (names one file gives and no other defines ...).

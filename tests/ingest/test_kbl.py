@@ -28,7 +28,7 @@ from cadkg.ingest.harness.records import (
     WireEnd,
     WireRoute,
 )
-from cadkg.ingest.pipeline import read_source
+from cadkg.mapping.pipeline import read_source
 from cadkg.registry import sniff_kind
 
 KBL = Path(__file__).resolve().parents[1] / "data" / "kbl"

@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import Any
 
 import pytest
 
+import cadkg.registry as registry
 from cadkg.errors import IngestError, ManifestError
 from cadkg.ingest.manifest import CellSpec, load_manifest
+from cadkg.usecase import Settings, UseCase
+from tests.toys import toy_derivation
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "iema-switchgear"
@@ -336,6 +341,44 @@ def test_derive_settings_are_read(cell_dir: Path) -> None:
     assert spec.robot_zones == ("Q", "QE")  # the IEMA default
     zones = load_manifest(manifest(cell_dir, text + 'robot_zones = ["Q", "P"]\n')).derive.robot_zones
     assert zones == ("Q", "P")
+
+
+def _toy_case(name: str, settings: Settings | None) -> UseCase:
+    title = "a cell whose derivation has settings of its own"
+    return UseCase(name=name, title=title, derivation=toy_derivation(settings=settings))
+
+
+def _read_speed(table: Mapping[str, Any], fail: Callable[..., Exception]) -> float:
+    speed = table.get("speed", 1.0)
+    if not isinstance(speed, float):
+        raise fail("speed", "'speed' must be a number", found=speed)
+    return speed
+
+
+def test_the_derive_settings_are_those_the_derivation_of_the_profile_declares(
+    cell_dir: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(registry, "_TABLE", None)
+    registry.add_use_case(_toy_case("toy-speed", Settings(frozenset({"speed"}), _read_speed)))
+    registry.add_use_case(_toy_case("toy-none", None))
+    toy = CELL.replace('"iema"', '"toy-speed"') + SOURCES
+    assert load_manifest(manifest(cell_dir, toy)).derive == 1.0
+    assert load_manifest(manifest(cell_dir, toy + "\n[derive]\nspeed = 2.5\n")).derive == 2.5
+    err = error_of(manifest(cell_dir, toy + "\n[derive]\nspeed = true\n"))
+    assert (err.line, err.reason) == (14, "'speed' must be a number")
+    # The cabinet's settings are IEMA's derivation's, not every cell's.
+    err = error_of(manifest(cell_dir, toy + "\n[derive]\napproach_distance = 0.1\n"))
+    assert (err.line, err.reason, err.expected) == (
+        14,
+        "unknown key 'approach_distance' in [derive]",
+        "speed",
+    )
+    bare = CELL.replace('"iema"', '"toy-none"') + SOURCES
+    assert load_manifest(manifest(cell_dir, bare)).derive is None
+    err = error_of(manifest(cell_dir, bare + "\n[derive]\nspeed = 2.5\n"))
+    assert (
+        err.reason == "unknown key 'speed' in [derive]" and err.expected == "no [derive] in a toy-none cell"
+    )
 
 
 def test_plan_rules_are_a_file_beside_the_manifest(cell_dir: Path) -> None:

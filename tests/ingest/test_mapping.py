@@ -9,7 +9,7 @@ from urllib.parse import quote
 import pyoxigraph as ox
 import pytest
 
-from cadkg.ingest.pipeline import GraphData, read_source
+from cadkg.mapping.pipeline import GraphData, read_source
 from cadkg.mapping.writer import TripleWriter
 
 REPO = Path(__file__).resolve().parents[2]

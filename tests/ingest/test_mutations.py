@@ -24,7 +24,7 @@ import pytest
 
 from cadkg.errors import CadkgError
 from cadkg.ingest.manifest import load_manifest
-from cadkg.ingest.pipeline import manifest_graph, read_source
+from cadkg.mapping.pipeline import manifest_graph, read_source
 from cadkg.registry import sniff_kind
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"

@@ -8,12 +8,15 @@ from pathlib import Path
 
 import pytest
 
-from cadkg.errors import IngestError, IngestWarning
+import cadkg.registry as registry
+from cadkg.errors import IngestError, IngestWarning, RegistryError
 from cadkg.ingest.eplan.connection_files import read_connections
 from cadkg.ingest.reader import Reader
 from cadkg.ingest.sheet import SHEET_SUFFIXES
 from cadkg.ingest.wri import read_wri
 from cadkg.registry import kinds, reader_for, register, sniff_kind
+from cadkg.usecase import UseCase
+from tests.toys import toy_derivation
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "iema-switchgear"
@@ -186,3 +189,27 @@ def test_reader_rejects_an_unterminated_quote_over_128_kib(tmp_path: Path, reade
     with pytest.raises(IngestError) as info:
         reader.read(path)
     assert info.value.path == str(path)
+
+
+def test_each_profile_derives_by_its_own_derivation_else_by_the_default(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(registry, "_TABLE", None)
+    cabinet = registry.derivation("iema")
+    assert cabinet is not None and cabinet.default
+    # The shipped use cases besides IEMA derive nothing of their own: theirs is the default.
+    assert registry.derivation("elvez") is cabinet
+    assert registry.derivation("") is cabinet
+    assert registry.derivation("no-such-profile") is cabinet
+    own = toy_derivation()
+    registry.add_use_case(UseCase(name="toy-derives", title="a cell with its own model", derivation=own))
+    assert registry.derivation("toy-derives") is own
+    assert registry.derivation("iema") is cabinet
+    assert registry.derivation("elvez") is cabinet
+
+
+def test_one_derivation_may_be_the_default(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(registry, "_TABLE", None)
+    second = UseCase(name="toy-default", title="a second default", derivation=toy_derivation(default=True))
+    with pytest.raises(RegistryError, match="iema and toy-default both derive"):
+        registry.add_use_case(second)

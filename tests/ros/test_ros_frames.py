@@ -8,9 +8,9 @@ import pytest
 
 from cadkg.geometry.poses import Pose
 from cadkg.graph import KnowledgeGraph
+from cadkg.query.placements import placements
 from cadkg.services.display import Frame
 from cadkg.services.frames import ARROW_LENGTH, marker_specs, static_frames
-from cadkg.usecases.iema.derive.extract import placements
 from tests.conftest import ROOT
 
 MINI = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"
@@ -19,8 +19,8 @@ MINI = ROOT / "tests" / "data" / "cells" / "mini" / "manifest.toml"
 def test_frames_and_markers_of_the_mini_cell() -> None:
     with KnowledgeGraph.build(MINI) as kg:
         placed, model = placements(kg), kg.cell_model()
-        frames = {f.child: f for f in static_frames(placed, model)}
-        specs = marker_specs(placed, model, kg.files_dir)
+        frames = {f.child: f for f in static_frames(placed, model, "iema")}
+        specs = marker_specs(placed, model, kg.files_dir, "iema")
         assert frames["cabinet"].parent == "world" and frames["cabinet"].pose.position == (1.0, 0.0, 0.0)
         assert frames["K1/corner"].parent == "cabinet"
         assert frames["K1/corner"].pose.position == pytest.approx((0.15, 0.5, 0.0075))

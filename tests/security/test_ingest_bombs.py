@@ -28,7 +28,7 @@ _MEASURE = """
 import json, resource, sys
 from pathlib import Path
 from cadkg.errors import CadkgError
-from cadkg.ingest.pipeline import read_source
+from cadkg.mapping.pipeline import read_source
 path, kind, profile = sys.argv[1], sys.argv[2] or None, sys.argv[3]
 try:
     data = read_source(Path(path), "f", kind, "https://example.org/bomb/", profile=profile)

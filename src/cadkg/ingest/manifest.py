@@ -14,11 +14,8 @@ kind = "wri"                     # optional when the suffix or content tells
 path = "scene.x3d"
 frame = "cabinet"                # frame of the scene's root (scene readers only)
 
-[derive]                         # optional; these are the defaults
-approach_distance = 0.15         # metres in front of a component for its target pose
-rail_pattern = "^RAIL"           # labels of DIN rails (a regular expression)
-cluster_tolerance = 0.005        # metres: pins this close in height / column form a cluster
-robot_zones = ["Q", "QE"]        # a wire whose origin zone ('Zona') is not one of these is a person's
+[derive]                         # optional: the settings of the cell's derivation
+approach_distance = 0.15         # (IEMA's cabinet geometry: cadkg.usecases.iema.derive.settings)
 
 [[frame]]
 parent = "world"
@@ -27,7 +24,8 @@ xyz = [1.2, 0.0, 0.0]            # metres
 rpy = [0.0, 0.0, 1.5708]         # or quaternion = [x, y, z, w]
 ```
 Unknown keys are errors naming the key and its line, because a misspelt key
-(``kinds = ...``) would otherwise be ignored silently.
+(``kinds = ...``) would otherwise be ignored silently. The keys of ``[derive]`` are those the
+derivation of the cell's profile declares (:class:`cadkg.usecase.Settings`), checked by it.
 """
 
 from __future__ import annotations
@@ -43,15 +41,14 @@ import pyoxigraph as ox
 
 from cadkg.errors import ManifestError
 from cadkg.geometry.frames import Quaternion, normalize_quaternion, quaternion_from_rpy
-from cadkg.registry import kinds, use_cases
+from cadkg.registry import derive_settings, kinds, use_cases
 
-__all__ = ["CellSpec", "DeriveSpec", "FrameSpec", "Manifest", "SourceSpec", "load_manifest"]
+__all__ = ["CellSpec", "FrameSpec", "Manifest", "SourceSpec", "finite", "load_manifest"]
 
 _KEYS = {
     "": {"cell", "source", "frame", "derive", "plan"},
     "cell": {"name", "profile", "base_iri", "description"},
     "source": {"path", "kind", "description", "frame"},
-    "derive": {"approach_distance", "rail_pattern", "cluster_tolerance", "robot_zones"},
     "plan": {"rules"},
     "frame": {"parent", "child", "xyz", "rpy", "quaternion"},
 }
@@ -79,17 +76,6 @@ class SourceSpec:
 
 
 @dataclass(frozen=True, slots=True)
-class DeriveSpec:
-    """Settings of the derived geometry (see cadkg.usecases.iema.derive.cabinet)."""
-
-    approach_distance: float = 0.15
-    rail_pattern: str = "^RAIL"
-    cluster_tolerance: float = 0.005
-    # The connection-list zones of the cabinet itself: the robot's wires (cadkg.usecases.iema.robot_scope).
-    robot_zones: tuple[str, ...] = ("Q", "QE")
-
-
-@dataclass(frozen=True, slots=True)
 class FrameSpec:
     """A static transform: ``child`` expressed in ``parent`` (metres, unit quaternion)."""
 
@@ -106,7 +92,9 @@ class Manifest:
     cell: CellSpec
     sources: tuple[SourceSpec, ...]
     frames: tuple[FrameSpec, ...]
-    derive: DeriveSpec = DeriveSpec()
+    # The settings of the cell's derivation ([derive]) as its Settings.read gives them; None
+    # when it declares none, or for a manifest made in code.
+    derive: Any = None
     # [plan] rules: the robot's rules file for `cadkg plan` (docs/plan.md)
     plan_rules: Path | None = None
 
@@ -324,7 +312,7 @@ def load_manifest(path: str | Path) -> Manifest:
         cell=cell_spec,
         sources=tuple(sources),
         frames=tuple(frames),
-        derive=_derive_spec(fail, data.get("derive")),
+        derive=_derive_settings(fail, profile, data.get("derive")),
         plan_rules=_plan_rules(fail, path, data.get("plan")),
     )
 
@@ -343,41 +331,25 @@ def _plan_rules(fail: Any, path: Path, table: object) -> Path | None:
     return resolved
 
 
-def _derive_spec(fail: Any, table: object) -> DeriveSpec:
+def _derive_settings(fail: Any, profile: str, table: object) -> Any:
+    settings = derive_settings(profile)
     if table is None:
-        return DeriveSpec()
+        table = {}
     if not isinstance(table, dict):
         raise fail("derive", None, None, "'derive' must be a table", expected="[derive]")
+    keys = settings.keys if settings is not None else frozenset()
     for key in table:
-        if key not in _KEYS["derive"]:
+        if key not in keys:
             raise fail(
                 "derive",
                 None,
                 key,
                 f"unknown key {key!r} in [derive]",
-                expected=", ".join(sorted(_KEYS["derive"])),
+                expected=", ".join(sorted(keys)) or f"no [derive] in a {profile} cell",
             )
-    defaults = DeriveSpec()
-    values: dict[str, Any] = {}
-    for key in ("approach_distance", "cluster_tolerance"):
-        value = table.get(key, getattr(defaults, key))
-        if not _finite(value) or value < 0:
-            raise fail("derive", None, key, f"{key!r} must be a non-negative number of metres", found=value)
-        values[key] = float(value)
-    pattern = table.get("rail_pattern", defaults.rail_pattern)
-    try:
-        if not isinstance(pattern, str):
-            raise TypeError
-        re.compile(pattern)
-    except (re.error, TypeError):
-        raise fail(
-            "derive", None, "rail_pattern", "not a regular expression", found=pattern, expected="e.g. ^RAIL"
-        ) from None
-    zones = table.get("robot_zones", list(defaults.robot_zones))
-    if not isinstance(zones, list) or not all(isinstance(z, str) and z.strip() for z in zones):
-        expected = 'e.g. ["Q", "QE"]'
-        raise fail("derive", None, "robot_zones", "not a list of zone names", found=zones, expected=expected)
-    return DeriveSpec(rail_pattern=pattern, robot_zones=tuple(z.strip() for z in zones), **values)
+    if settings is None:
+        return None
+    return settings.read(table, lambda key, reason, **kw: fail("derive", None, key, reason, **kw))
 
 
 def _is_iri(text: str) -> bool:
@@ -389,7 +361,7 @@ def _is_iri(text: str) -> bool:
     return True
 
 
-def _finite(value: object) -> bool:
+def finite(value: object) -> bool:
     """A TOML number a float can hold: an integer of 400 digits is refused like ``inf``."""
     if isinstance(value, bool) or not isinstance(value, int | float):
         return False
@@ -410,7 +382,7 @@ def _vector(
     value = entry.get(key)
     if value is None and default is not None:
         return default
-    if not isinstance(value, list) or len(value) != size or not all(_finite(v) for v in value):
+    if not isinstance(value, list) or len(value) != size or not all(finite(v) for v in value):
         raise fail(
             "frame",
             index,

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 from operator import attrgetter
 
+import cadkg.registry as registry
 from cadkg.ingest.assignments import Assignment
 from cadkg.ingest.eplan.connection_list import Connection, ConnectionListInfo
-from cadkg.ingest.manifest import DeriveSpec, FrameSpec, Manifest
+from cadkg.ingest.manifest import FrameSpec, Manifest
 from cadkg.ingest.scene.records import SceneItem
 from cadkg.ingest.wri import IdEntry
 from cadkg.mapping.dispatch import map_record
@@ -141,13 +142,10 @@ def map_manifest(w: TripleWriter, manifest: Manifest) -> None:
     w.add(cell, term("profile"), w.text(manifest.cell.profile))
     if manifest.cell.description:
         w.add(cell, term("description"), w.text(manifest.cell.description))
-    w.add(cell, term("approachDistance"), w.typed(manifest.derive.approach_distance))
-    w.add(cell, term("railPattern"), w.text(manifest.derive.rail_pattern))
-    w.add(cell, term("clusterTolerance"), w.typed(manifest.derive.cluster_tolerance))
-    # Stated only when the manifest changes them: a cell without ck:robotZone has the default.
-    if manifest.derive.robot_zones != DeriveSpec().robot_zones:
-        for zone in manifest.derive.robot_zones:
-            w.add(cell, term("robotZone"), w.text(zone))
+    settings = registry.derive_settings(manifest.cell.profile)
+    if settings is not None and manifest.derive is not None:
+        for name, value in settings.state(manifest.derive):
+            w.add(cell, term(name), w.text(value) if isinstance(value, str) else w.typed(value))
     if manifest.plan_rules is not None:
         # The text itself, so that a store planned elsewhere plans by the manifest's rules.
         w.add(cell, term("planRules"), w.text(manifest.plan_rules.name))

@@ -14,13 +14,9 @@ from cadkg.errors import QueryError
 from cadkg.plan.graph import StoredPlan, cell_base, read_plan, write_plan
 from cadkg.plan.order import Plan, make_plan
 from cadkg.plan.rules import Rules, check_settings, load_rules, parse_rules
+from cadkg.store import cell_profile
 
 __all__ = ["cell_base", "cell_profile", "plan_cell", "rules_of", "store_plan"]
-
-
-def cell_profile(kg: Any) -> str:
-    rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
-    return str(rows[0]["p"]) if rows else ""
 
 
 def rules_of(kg: Any, rules: Path | None = None) -> Rules:

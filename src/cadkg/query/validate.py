@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Literal
 
 from cadkg.errors import format_location
 from cadkg.registry import derivation, use_case
+from cadkg.store import cell_profile
 
 if TYPE_CHECKING:
     from cadkg.store import GraphStore
@@ -117,9 +118,8 @@ def _semantic(kg: GraphStore, progress: Callable[[str, int, int], None] | None) 
 
 
 def _use_case_checks(kg: GraphStore) -> list[Finding]:
-    rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
     try:
-        checks = use_case(str(rows[0]["p"]) if rows else "").checks
+        checks = use_case(cell_profile(kg)).checks
     except KeyError:
         return []
     return list(checks(kg)) if checks is not None else []
@@ -128,7 +128,7 @@ def _use_case_checks(kg: GraphStore) -> list[Finding]:
 def _derived_graph(kg: GraphStore) -> list[Finding]:
     """An error when the derived graph is missing or empty while the cell model gives triples
     for it (a change cut short would leave it so): the robot's poses would be gone."""
-    derive = derivation()
+    derive = derivation(cell_profile(kg))
     cell_model = getattr(kg, "cell_model", None)
     if derive is None or cell_model is None:
         return []

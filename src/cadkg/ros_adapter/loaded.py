@@ -5,12 +5,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
+import cadkg.registry as registry
 from cadkg.errors import CadkgError
 from cadkg.graph import KnowledgeGraph
+from cadkg.query.placements import Placements, placements
 from cadkg.services.session import Session
-from cadkg.usecases.iema.derive.cabinet import CellModel, derive_cell
-from cadkg.usecases.iema.derive.extract import Placements, extract, placements
+from cadkg.store import cell_profile
 
 __all__ = ["Loaded", "load"]
 
@@ -21,7 +23,7 @@ class Loaded:
 
     kg: KnowledgeGraph
     placements: Placements
-    model: CellModel
+    model: Any
     session: Session
     profile: str
 
@@ -34,7 +36,8 @@ def load(source: str, approach_distance: float | None = None, *, writable: bool 
     Raises
     ------
     CadkgError
-        When the source cannot be read.
+        When the source cannot be read, or an ``approach_distance`` is given for a cell whose
+        derivation takes no settings.
     """
     path = Path(source)
     if source.lower().startswith(("http://", "https://")):
@@ -47,15 +50,15 @@ def load(source: str, approach_distance: float | None = None, *, writable: bool 
         kg = KnowledgeGraph.build(path)
     else:
         raise CadkgError(f"{source!r} is neither a store directory nor a manifest file")
-    if approach_distance is not None and approach_distance >= 0:
-        inputs = extract(kg)
-        inputs.approach_distance = approach_distance
-        model = derive_cell(inputs)
-        placed = Placements(inputs.frames, inputs.meshes)
+    profile = cell_profile(kg)
+    derivation = registry.derivation(profile)
+    if approach_distance is not None and approach_distance >= 0 and derivation is not None:
+        if derivation.adjust is None:
+            raise CadkgError(f"the cell model of a {profile or 'default'} cell takes no approach_distance")
+        model = derivation.derive(
+            derivation.adjust(derivation.extract(kg), {"approach_distance": approach_distance})
+        )
     else:
         # The store keeps the model; only the frames and meshes are read from the graph.
         model = kg.cell_model()
-        placed = placements(kg)
-    rows = kg.query("SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1").rows
-    profile = str(rows[0]["p"]) if rows else ""
-    return Loaded(kg, placed, model, Session(model, kg=kg), profile)
+    return Loaded(kg, placements(kg), model, Session(model, kg=kg), profile)

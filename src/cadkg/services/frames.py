@@ -40,12 +40,11 @@ __all__ = ["ARROW_LENGTH", "marker_specs", "static_frames"]
 ARROW_LENGTH = 0.02
 
 
-def static_frames(
-    placed: Any, model: Any, profile: str = "iema", session: Session | None = None
-) -> list[Frame]:
+def static_frames(placed: Any, model: Any, profile: str, session: Session | None = None) -> list[Frame]:
     """One transform per frame of the cell; a name given twice keeps its first placement.
 
-    ``session`` (with its graph) gives the use case's own frames (its ``frames`` hook).
+    ``profile`` is the cell's (``""``: the default profile's); ``session`` (with its graph)
+    gives the use case's own frames (its ``frames`` hook).
     """
     frames: dict[str, Frame] = {}
 
@@ -72,7 +71,7 @@ def marker_specs(
     placed: Any,
     model: Any,
     files_dir: Path,
-    profile: str = "iema",
+    profile: str,
     session: Session | None = None,
 ) -> list[MarkerSpec]:
     """Meshes of the scene items (and of the platform elements) and an arrow onto every screw."""

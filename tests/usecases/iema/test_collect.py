@@ -9,10 +9,11 @@ import pytest
 
 import cadkg
 from cadkg.ingest.manifest import load_manifest
-from cadkg.ingest.pipeline import read_manifest_graphs
+from cadkg.mapping.pipeline import read_manifest_graphs
+from cadkg.query.placements import Placements, placements
 from cadkg.usecases.iema.derive.cabinet import derive_cell
 from cadkg.usecases.iema.derive.collect import InputCollector
-from cadkg.usecases.iema.derive.extract import Placements, extract, placements
+from cadkg.usecases.iema.derive.extract import extract
 from tests.conftest import BAD, EXAMPLES, ROOT, synthetic_manifest
 
 IEMA_DIR = EXAMPLES / "iema-switchgear"

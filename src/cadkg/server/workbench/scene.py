@@ -19,15 +19,16 @@ import hashlib
 from pathlib import Path
 from typing import Any
 
+import cadkg.registry as registry
 from cadkg.confined import OutsideRootError, read_inside
 from cadkg.errors import CadkgError
+from cadkg.query.placements import Placements, placements
 from cadkg.server.workbench.scene_extras import profile_extras
 from cadkg.services.frames import marker_specs, static_frames
-from cadkg.usecases.iema.derive.extract import Placements, placements
+from cadkg.store import cell_profile
 
 __all__ = ["cell_scene", "mesh_bytes"]
 
-_PROFILE = "SELECT ?p WHERE { ?c a ck:Cell ; ck:profile ?p } LIMIT 1"
 _ITEMS = """
 SELECT DISTINCT ?item ?id ?minX ?minY ?minZ ?maxX ?maxY ?maxZ WHERE {
   ?item ck:cadId ?id .
@@ -150,15 +151,14 @@ def _coloured(graph: Any, routes: list[dict[str, Any]]) -> list[dict[str, Any]]:
 def cell_scene(graph: Any, session: Any) -> dict[str, Any]:
     """The frames, objects, meshes, components, routes and points of interest of the cell.
 
-    ``session`` is the services' :class:`~cadkg.usecases.iema.cursors.Session` of ``graph``.
+    ``session`` is the services' :class:`~cadkg.services.session.Session` of ``graph``.
 
     Raises
     ------
     CadkgError
         When the graph cannot be read.
     """
-    rows = graph.query(_PROFILE).rows
-    profile = str(rows[0]["p"]) if rows else ""
+    profile = cell_profile(graph)
     problems: list[str] = []
     frames, mesh_files = _frames_and_meshes(graph, session, profile, problems)
     frame_names = {f.child for f in frames}
@@ -239,7 +239,7 @@ def cell_scene(graph: Any, session: Any) -> dict[str, Any]:
         )
     extras = profile_extras(graph, session, profile, frame_names, problems)
     return {
-        "profile": profile or "iema",
+        "profile": profile or registry.DEFAULT_PROFILE,
         # By name: the same scene whatever order the store gave the frames in (the page
         # composes them by parent, in any order).
         "frames": [

@@ -22,6 +22,7 @@ from cadkg.usecases.elimco.route_design import (
     read_path_info,
     read_pin_info,
 )
+from cadkg.usecases.elimco.scene import bench_scene
 from cadkg.usecases.elimco.services import SERVICES, bench_frames
 
 __all__ = ["USE_CASE"]
@@ -65,4 +66,5 @@ USE_CASE = UseCase(
     changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/elimco",
     frames=bench_frames,
+    scene=bench_scene,
 )

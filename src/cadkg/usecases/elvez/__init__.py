@@ -22,6 +22,7 @@ from cadkg.usecases.elvez.files.harnesses import looks_like_harness_configuratio
 from cadkg.usecases.elvez.files.platforms import read_platform_ids, read_platform_mesh, read_platform_scene
 from cadkg.usecases.elvez.files.sequence import looks_like_sequence, read_sequence
 from cadkg.usecases.elvez.plan_tasks import DEFAULT_RULES, elvez_problem
+from cadkg.usecases.elvez.scene import platform_scene
 from cadkg.usecases.elvez.services import SERVICES, element_meshes, platform_frames
 
 __all__ = ["USE_CASE"]
@@ -84,6 +85,7 @@ USE_CASE = UseCase(
     ros_namespace="/elvez",
     frames=platform_frames,
     markers=element_meshes,
+    scene=platform_scene,
     checks=findings,
     planner=Planner(DEFAULT_RULES, elvez_problem),
 )

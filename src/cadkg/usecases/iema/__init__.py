@@ -10,6 +10,7 @@ component data and the cursors that hand the robot its next wire and rail.
 
 from __future__ import annotations
 
+import dataclasses
 from importlib import resources
 
 from cadkg.ingest.reader import Reader
@@ -23,6 +24,7 @@ from cadkg.usecases.iema.derive.collect import InputCollector
 from cadkg.usecases.iema.derive.emit import derived_graph, derived_ntriples
 from cadkg.usecases.iema.derive.extract import extract
 from cadkg.usecases.iema.derive.persist import dump_model, load_model
+from cadkg.usecases.iema.derive.settings import DERIVE_SETTINGS
 from cadkg.usecases.iema.derive.things import placed_pins, wire_ends
 from cadkg.usecases.iema.marker_table import looks_like_marker_table, read_marker_table
 from cadkg.usecases.iema.plan_tasks import DEFAULT_RULES, SETTINGS, iema_problem, order_check
@@ -40,7 +42,12 @@ CABINET = Derivation(
     ntriples=derived_ntriples,
     dump=dump_model,
     load=load_model,
+    settings=DERIVE_SETTINGS,
+    adjust=lambda inputs, settings: dataclasses.replace(inputs, **settings),
     things={"pin": DerivedKind(placed_pins, queries=3), "wire": DerivedKind(wire_ends)},
+    # Any cell's components sit at their scene items: a cell of a use case without a
+    # derivation of its own gets the cabinet geometry without the cabinet's wiring.
+    default=True,
 )
 
 USE_CASE = UseCase(

@@ -29,6 +29,7 @@ from cadkg.mapping.writer import graph_iri, node_iri
 from cadkg.usecases.iema.component_list import ComponentListEntry
 from cadkg.usecases.iema.component_model import ComponentModel
 from cadkg.usecases.iema.derive.extract import CellInputs, ModelInfo, PinInfo, WireInfo
+from cadkg.usecases.iema.derive.settings import DeriveSpec
 from cadkg.usecases.iema.marker_table import QrMarker
 from cadkg.usecases.iema.terminal_diagram import DiagramRow
 from cadkg.usecases.iema.terminal_schema import TerminalSlot
@@ -80,7 +81,8 @@ class InputCollector:
         self._wires: list[WireInfo] = []
         self._assignments: list[tuple[str, int | None, str, str]] = []
         self._ducts: set[str] = set()
-        self._settings = manifest.derive
+        # A manifest made in code, not read, has no settings: the defaults then.
+        self._settings: DeriveSpec = manifest.derive or DeriveSpec()
         self._root_frames = {source.rel: source.frame for source in manifest.sources}
 
     def source(self, rel: str) -> Callable[[object], None]:

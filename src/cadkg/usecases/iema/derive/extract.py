@@ -1,9 +1,6 @@
-"""What the derivation needs, read out of the source graphs one predicate at a time.
-
-Each predicate is one scan of the store's graph indexes; the joins happen in Python
-dicts. A store joining the same patterns itself looks a row up per pattern, and on
-disk that cost 10-20x the scans (22.6 s against 1.5 s on a 10k-wire cabinet). The
-derived graph is not read, so deriving twice gives the same answer.
+"""What the derivation needs, read out of the source graphs one predicate at a time
+(:class:`cadkg.query.tables.SourceTables`). The derived graph is not read, so deriving twice
+gives the same answer.
 """
 
 from __future__ import annotations
@@ -13,12 +10,10 @@ from dataclasses import dataclass, field
 from itertools import product
 from typing import TYPE_CHECKING, Any
 
-import pyoxigraph as ox
-
 from cadkg.geometry.poses import Pose, Vec3
 from cadkg.ingest.eplan.labels import duct_labels
-from cadkg.ontology.terms import CK_NS
-from cadkg.sparql_text import term_value
+from cadkg.query.placements import frames_of, meshes_of
+from cadkg.query.tables import SourceTables, source_tables
 from cadkg.usecases.iema.robot_scope import DEFAULT_ZONES
 
 if TYPE_CHECKING:
@@ -28,16 +23,11 @@ __all__ = [
     "CellInputs",
     "ModelInfo",
     "PinInfo",
-    "Placements",
     "WireInfo",
     "extract",
-    "placements",
 ]
 
 _ZONES = "SELECT DISTINCT ?z WHERE { ?c a ck:Cell ; ck:robotZone ?z }"
-_RDF_TYPE = "http://www.w3.org/1999/02/22-rdf-syntax-ns#type"
-_SCAN = "SELECT ?s ?o WHERE { GRAPH ?g { ?s ?p ?o } }"
-_POSE = ("tx", "ty", "tz", "qx", "qy", "qz", "qw")
 
 
 @dataclass
@@ -116,24 +106,6 @@ class CellInputs:
     robot_zones: tuple[str, ...] = DEFAULT_ZONES
 
 
-@dataclass
-class Placements:
-    """Where the source files put things: each frame's parent and pose, each item's mesh."""
-
-    frames: dict[str, tuple[str, Pose]]
-    meshes: dict[str, str]
-
-
-def placements(kg: KnowledgeGraph) -> Placements:
-    """The frames and meshes of :func:`extract` alone, read without the rest.
-
-    What ``/tf_static`` and the markers need besides the derived model, which a store keeps:
-    a quarter of the time of a whole extraction on an on-disk store.
-    """
-    tables = _source_tables(kg, _settings(kg).get("base", ""))
-    return Placements(_frames(tables), _meshes(tables))
-
-
 def _settings(kg: KnowledgeGraph) -> dict[str, Any]:
     cell = kg.query(
         """SELECT ?cell ?d ?p ?t ?profile WHERE { ?cell a ck:Cell .
@@ -143,10 +115,6 @@ def _settings(kg: KnowledgeGraph) -> dict[str, Any]:
     return {**cell[0], "base": cell[0]["cell"].removesuffix("cell/this")} if cell else {}
 
 
-def _source_tables(kg: KnowledgeGraph, base: str) -> _Tables:
-    return _Tables(kg, kg.source_graphs(base))
-
-
 def extract(kg: KnowledgeGraph) -> CellInputs:
     """Read the source graphs of a store into :class:`CellInputs`."""
     settings = _settings(kg)
@@ -154,7 +122,7 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
     # Pins and wires are the cabinet's wiring; a harness cell's cables end at connector
     # cavities, which the cabinet geometry must not take for component pins.
     wiring = (settings.get("profile") or "iema") == "iema"
-    tables = _source_tables(kg, base)
+    tables = source_tables(kg, base)
     return CellInputs(
         base=base,
         approach_distance=float(settings.get("d") or 0.15),
@@ -167,9 +135,9 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
             for ident in ids
             for key in tables.follow(item, "instanceOf", "commercialCode")
         },
-        frames=_frames(tables),
+        frames=frames_of(tables),
         bboxes=_bboxes(tables),
-        meshes=_meshes(tables),
+        meshes=meshes_of(tables),
         models=_models(tables),
         blocks=_blocks(tables),
         diagrams=_diagrams(tables),
@@ -190,74 +158,7 @@ def extract(kg: KnowledgeGraph) -> CellInputs:
     )
 
 
-class _Tables:
-    """The triples of some named graphs, read one predicate (or class) at a time, each once."""
-
-    def __init__(self, kg: KnowledgeGraph, graphs: list[str]) -> None:
-        self._kg = kg
-        self._graphs = [ox.NamedNode(graph) for graph in graphs]
-        self._triples: dict[str, list[tuple[str, Any, Any]]] = {}
-        self._values: dict[str, dict[Any, list[Any]]] = {}
-        self._poses: dict[Any, Pose] | None = None
-
-    def triples(self, predicate: str, of_class: str | None = None) -> list[tuple[str, Any, Any]]:
-        """(graph, subject, object) of each triple of ``ck:predicate`` (or typing ``ck:of_class``)."""
-        key = f"a {of_class}" if of_class else predicate
-        found = self._triples.get(key)
-        if found is None:
-            bindings: dict[str, ox.NamedNode] = {"p": ox.NamedNode(CK_NS + predicate)}
-            if of_class:
-                bindings = {"p": ox.NamedNode(_RDF_TYPE), "o": ox.NamedNode(CK_NS + of_class)}
-            found = self._triples[key] = []
-            # One query per graph: with the graph bound the store reads just that graph's
-            # slice of its index; with ?g free it reads every graph, the derived one too.
-            for graph in self._graphs:
-                rows = self._kg.raw_query(_SCAN, {"g": graph, **bindings})
-                found += [(graph.value, term_value(row[0]), term_value(row[1])) for row in rows]
-        return found
-
-    def instances(self, of_class: str) -> dict[Any, None]:
-        """The subjects typed ``ck:of_class``, in the order read."""
-        return dict.fromkeys(subject for _, subject, _ in self.triples("", of_class))
-
-    def values(self, predicate: str) -> dict[Any, list[Any]]:
-        """Subject -> its distinct objects of ``ck:predicate``, in the order read."""
-        table = self._values.get(predicate)
-        if table is None:
-            table = self._values[predicate] = {}
-            for _, subject, value in self.triples(predicate):
-                objects = table.setdefault(subject, [])
-                if value not in objects:
-                    objects.append(value)
-        return table
-
-    def follow(self, subject: Any, *path: str) -> list[Any]:
-        """The objects reached from ``subject`` along ``ck:`` predicates in turn (a property path)."""
-        nodes = [subject]
-        for predicate in path:
-            table = self.values(predicate)
-            nodes = [value for node in nodes for value in table.get(node, ())]
-        return nodes
-
-    def first(self, subject: Any, predicate: str) -> Any:
-        """One object of ``subject``'s ``ck:predicate``, or None."""
-        objects = self.values(predicate).get(subject)
-        return objects[0] if objects else None
-
-    def poses(self) -> dict[Any, Pose]:
-        """Every node with all seven pose values (translation and quaternion)."""
-        if self._poses is None:
-            columns = [self.values(name) for name in _POSE]
-            self._poses = {}
-            for node, tx in columns[0].items():
-                row = [tx[0]] + [column.get(node, (None,))[0] for column in columns[1:]]
-                if None not in row:
-                    x, y, z, qx, qy, qz, qw = (float(value) for value in row)
-                    self._poses[node] = Pose((x, y, z), (qx, qy, qz, qw))
-        return self._poses
-
-
-def _items(tables: _Tables) -> dict[str, list[str]]:
+def _items(tables: SourceTables) -> dict[str, list[str]]:
     items_of: dict[str, list[str]] = defaultdict(list)
     item_lines: dict[str, int] = {}
     labels, ids_of, lines = (tables.values(name) for name in ("label", "cadId", "sourceLine"))
@@ -273,28 +174,7 @@ def _items(tables: _Tables) -> dict[str, list[str]]:
     return dict(items_of)
 
 
-def _frames(tables: _Tables) -> dict[str, tuple[str, Pose]]:
-    labels, poses = tables.values("label"), tables.poses()
-    frames: dict[str, tuple[str, Pose]] = {}
-    for frame in tables.instances("Frame"):
-        for pose in tables.values("hasPose").get(frame, ()):
-            if pose in poses:
-                parents = tables.follow(pose, "parentFrame", "label")
-                for name, parent in product(labels.get(frame, ()), parents):
-                    frames[name] = (parent, poses[pose])
-    return frames
-
-
-def _meshes(tables: _Tables) -> dict[str, str]:
-    return {
-        ident: uri
-        for item, ids in tables.values("cadId").items()
-        for ident in ids
-        for uri in tables.follow(item, "hasMesh", "meshUri")
-    }
-
-
-def _bboxes(tables: _Tables) -> dict[str, tuple[Vec3, Vec3]]:
+def _bboxes(tables: SourceTables) -> dict[str, tuple[Vec3, Vec3]]:
     columns = [tables.values(name) for name in ("minX", "minY", "minZ", "maxX", "maxY", "maxZ")]
     boxes: dict[str, tuple[Vec3, Vec3]] = {}
     for item, ids in tables.values("cadId").items():
@@ -306,7 +186,7 @@ def _bboxes(tables: _Tables) -> dict[str, tuple[Vec3, Vec3]]:
     return boxes
 
 
-def _models(tables: _Tables) -> dict[str, ModelInfo]:
+def _models(tables: SourceTables) -> dict[str, ModelInfo]:
     models: dict[str, ModelInfo] = {}
     poses, codes = tables.poses(), tables.values("commercialCode")
     dims = [tables.values(name) for name in ("xDim", "yDim", "zDim")]
@@ -352,7 +232,7 @@ def _models(tables: _Tables) -> dict[str, ModelInfo]:
     return models
 
 
-def _blocks(tables: _Tables) -> dict[str, list[tuple[int, str, str | None]]]:
+def _blocks(tables: SourceTables) -> dict[str, list[tuple[int, str, str | None]]]:
     rows: set[tuple[str, int, str, str | None]] = set()
     labels, ids_of, positions = tables.values("label"), tables.values("cadId"), tables.values("blockPosition")
     for block in tables.instances("TerminalBlock"):
@@ -366,7 +246,7 @@ def _blocks(tables: _Tables) -> dict[str, list[tuple[int, str, str | None]]]:
     return dict(blocks)
 
 
-def _diagrams(tables: _Tables) -> dict[str, list[tuple[int, str, str | None]]]:
+def _diagrams(tables: SourceTables) -> dict[str, list[tuple[int, str, str | None]]]:
     # One file per strip: when several describe it, the one whose path sorts first.
     paths, labels = tables.values("sourcePath"), tables.values("label")
     found: dict[str, dict[str, list[tuple[int, str, str | None]]]] = {}
@@ -380,7 +260,7 @@ def _diagrams(tables: _Tables) -> dict[str, list[tuple[int, str, str | None]]]:
     return {label: sorted(by_path[min(by_path)]) for label, by_path in found.items()}
 
 
-def _pins(tables: _Tables, base: str) -> dict[str, PinInfo]:
+def _pins(tables: SourceTables, base: str) -> dict[str, PinInfo]:
     # Pins the derivation itself added (a model's pins no wire names) are its output, not input.
     derived = base + "derived/"
     names = tables.values("pinName")
@@ -396,7 +276,7 @@ def _pins(tables: _Tables, base: str) -> dict[str, PinInfo]:
     return pins
 
 
-def _wires(tables: _Tables) -> list[WireInfo]:
+def _wires(tables: SourceTables) -> list[WireInfo]:
     def in_graph(predicate: str) -> dict[tuple[str, Any], list[Any]]:
         table: dict[tuple[str, Any], list[Any]] = defaultdict(list)
         for graph, subject, value in tables.triples(predicate):
