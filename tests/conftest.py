@@ -16,6 +16,7 @@ EXAMPLES = ROOT / "examples"
 IEMA = EXAMPLES / "iema-switchgear" / "manifest.toml"
 IEMA_FIG3 = EXAMPLES / "iema-switchgear" / "manifest-fig3.toml"
 BAD = EXAMPLES / "bad-cell" / "manifest.toml"
+ELVEZ = EXAMPLES / "elvez-cell" / "manifest.toml"
 
 
 def run_capped(
@@ -80,6 +81,12 @@ def iema() -> cadkg.KnowledgeGraph:
 @pytest.fixture(scope="session")
 def fig3() -> cadkg.KnowledgeGraph:
     return cadkg.build(IEMA_FIG3)
+
+
+@pytest.fixture(scope="session")
+def elvez() -> cadkg.KnowledgeGraph:
+    """The ELVEZ example built in memory once; tests must not change it."""
+    return cadkg.build(ELVEZ)
 
 
 @pytest.fixture

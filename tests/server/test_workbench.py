@@ -35,11 +35,6 @@ BASE = "https://example.org/cell/iema-qe01/"
 
 
 @pytest.fixture(scope="module")
-def elvez() -> cadkg.KnowledgeGraph:
-    return cadkg.build(EXAMPLES / "elvez-cell" / "manifest.toml")
-
-
-@pytest.fixture(scope="module")
 def scene(url: str) -> dict:
     response = httpx.get(f"{url}/api/scene", timeout=60)
     assert response.status_code == 200, response.text

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import pyoxigraph as ox
 import pytest
 
@@ -16,10 +14,8 @@ ELVEZ = ROOT / "examples" / "elvez-cell" / "manifest.toml"
 
 
 @pytest.fixture(scope="module")
-def kg() -> Iterator[KnowledgeGraph]:
-    graph = KnowledgeGraph.build(ELVEZ)
-    yield graph
-    graph.close()
+def kg(elvez: KnowledgeGraph) -> KnowledgeGraph:
+    return elvez  # built once per session (tests/conftest.py)
 
 
 def test_the_queries_are_declared() -> None:

@@ -30,8 +30,8 @@ def _order(kg: KnowledgeGraph) -> list[Finding]:
 
 
 @pytest.fixture(scope="module")
-def example() -> KnowledgeGraph:
-    return KnowledgeGraph.build(EXAMPLE / "manifest.toml")
+def example(elvez: KnowledgeGraph) -> KnowledgeGraph:
+    return elvez  # built once per session (tests/conftest.py)
 
 
 def test_the_example_sequence_breaks_no_precedence_and_the_plan_groups_the_tools(

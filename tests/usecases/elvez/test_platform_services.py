@@ -4,7 +4,6 @@ hand computations of its README, and the cases where the reference node fails.""
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
 from typing import Any
 
 import pytest
@@ -23,10 +22,8 @@ S = math.sqrt(0.5)
 
 
 @pytest.fixture(scope="module")
-def session() -> Iterator[Session]:
-    kg = KnowledgeGraph.build(ELVEZ)
-    yield Session(kg.cell_model(), kg=kg)
-    kg.close()
+def session(elvez: KnowledgeGraph) -> Session:
+    return Session(elvez.cell_model(), kg=elvez)
 
 
 def ref(session: Session, service: str, **params: str) -> Any:

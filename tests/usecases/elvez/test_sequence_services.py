@@ -4,8 +4,6 @@ reference node fails (an EC, T or TJ step handed out, an index out of range)."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import pytest
 
 from cadkg.graph import KnowledgeGraph
@@ -19,10 +17,8 @@ CODES = ["EC", "PC", "RC", "RC", "T", "EC", "PC", "RC", "TJ"]
 
 
 @pytest.fixture(scope="module")
-def kg() -> Iterator[KnowledgeGraph]:
-    graph = KnowledgeGraph.build(ELVEZ)
-    yield graph
-    graph.close()
+def kg(elvez: KnowledgeGraph) -> KnowledgeGraph:
+    return elvez  # built once per session (tests/conftest.py)
 
 
 @pytest.fixture

@@ -6,7 +6,6 @@ Expected values are read from the example's files or computed by hand in its REA
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
 
 import pytest
 
@@ -30,10 +29,8 @@ S = math.sqrt(0.5)
 
 
 @pytest.fixture(scope="module")
-def kg() -> Iterator[KnowledgeGraph]:
-    graph = KnowledgeGraph.build(ELVEZ)
-    yield graph
-    graph.close()
+def kg(elvez: KnowledgeGraph) -> KnowledgeGraph:
+    return elvez  # built once per session (tests/conftest.py)
 
 
 @pytest.fixture(scope="module")
