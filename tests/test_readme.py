@@ -19,6 +19,9 @@ import pytest
 
 from tests.conftest import ROOT
 
+# Every command of the README and its guides, each in a fresh shell.
+pytestmark = pytest.mark.slow
+
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 # Where the README's reference material lives; every sh block of theirs runs as written too.
 GUIDES = ("docs/usage.md", "docs/use-cases.md")

@@ -6,7 +6,12 @@ import re
 import subprocess
 import sys
 
+import pytest
+
 from tests.conftest import ROOT
+
+# A benchmark's smoke run: the script itself, at a size, in a new interpreter.
+pytestmark = pytest.mark.slow
 
 
 def test_bench_build_quick_prints_its_tables() -> None:

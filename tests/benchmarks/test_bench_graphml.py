@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import networkx as nx
+import pytest
 
 import cadkg
 from cadkg.usecases.vw.graphml import harness_graph, write_harness_graphml
@@ -14,6 +15,9 @@ from tests.conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
 import synthetic_harness
+
+# A benchmark's smoke run: the script itself, at a size, in a new interpreter.
+pytestmark = pytest.mark.slow
 
 
 def test_synthetic_harness_builds_into_both_views(tmp_path: Path) -> None:

@@ -6,7 +6,12 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
+
 from tests.conftest import ROOT
+
+# A benchmark's smoke run: the script itself, at a size, in a new interpreter.
+pytestmark = pytest.mark.slow
 
 
 def test_bench_isolation_prints_a_row_per_query() -> None:

@@ -6,7 +6,12 @@ import re
 import subprocess
 import sys
 
+import pytest
+
 from tests.conftest import ROOT
+
+# A benchmark's smoke run: the script itself, at a size, in a new interpreter.
+pytestmark = pytest.mark.slow
 
 
 def test_quick_load_run_has_no_errors_and_serves_both_generations() -> None:

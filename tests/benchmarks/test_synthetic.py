@@ -4,6 +4,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 import cadkg
 import cadkg.usecases.iema.cursors as cursors
 from cadkg.graph import KnowledgeGraph
@@ -14,6 +16,9 @@ from tests.conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
 import synthetic
+
+# A benchmark's smoke run: the script itself, at a size, in a new interpreter.
+pytestmark = pytest.mark.slow
 
 
 def test_synthetic_cell_builds_and_validates_clean(tmp_path: Path) -> None:

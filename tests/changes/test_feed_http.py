@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import pytest
 
 from cadkg.graph import KnowledgeGraph
 from cadkg.server import Settings, create_app
@@ -48,6 +49,7 @@ def _next(heard: queue.Queue[Any]) -> Any:
     return heard.get(timeout=120)
 
 
+@pytest.mark.slow  # a served store rebuilt under a live SSE client
 def test_an_sse_client_hears_a_rebuild_and_an_assignment(tmp_path: Path) -> None:
     store = tmp_path / "store"
     KnowledgeGraph.build(MINI / "manifest.toml", store).close()

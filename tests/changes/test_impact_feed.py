@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import pytest
 
 import cadkg
 from cadkg.changes.feed import ChangeFeed
@@ -55,6 +56,7 @@ def test_operations_passed_then_removed_or_changed_are_dropped_or_to_redo(tmp_pa
     assert impact["plan"] is False and impact["cursors"] == ["elvez cursor of left: on ..."]
 
 
+@pytest.mark.slow  # a served store rebuilt under a live SSE client
 def test_the_sse_feed_says_a_landed_wire_must_be_redone_after_a_rebuild(tmp_path: Path) -> None:
     store = tmp_path / "store"
     with KnowledgeGraph.build(MINI / "manifest.toml", store) as kg:

@@ -6,9 +6,14 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import pytest
+
 import cadkg
 from tests.conftest import IEMA, ROOT, run_capped, synthetic_manifest
-from tests.test_cli import CADKG
+from tests.cli import CADKG
+
+# A 250k-wire cell is generated and read to pass the read's CPU-time limit.
+pytestmark = pytest.mark.slow
 
 # Its wire list and connection list (some 35 MiB) take seconds of CPU each to read.
 WIRES = 250_000

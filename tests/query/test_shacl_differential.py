@@ -26,6 +26,9 @@ from tests.conftest import ROOT
 from tests.ontology import test_ontology_files as shape_tests
 from tests.query.shacl_reference import pyshacl_results, result_keys
 
+# pySHACL, the reference, takes minutes on the examples and the seeded graphs.
+pytestmark = pytest.mark.slow
+
 EXAMPLES = sorted((ROOT / "examples").glob("*/manifest*.toml"))
 # Good cells to break: wires, poses and a plan; routes and waypoints; harness models and tools.
 SEEDED = ["iema-switchgear", "elimco-bench", "elvez-cell"]

@@ -27,6 +27,9 @@ from cadkg.generations import CURRENT, GENERATION, KILL_AT, PREVIOUS, read_point
 from cadkg.graph import KnowledgeGraph
 from tests.conftest import IEMA, ROOT
 
+# Builds and changes killed at every step and at random moments, each in a new process.
+pytestmark = pytest.mark.slow
+
 WIRE = "1500.51"
 BASE = "https://example.org/cell/iema-qe01/"
 STEPS = (

@@ -7,7 +7,12 @@ import re
 import subprocess
 import sys
 
+import pytest
+
 from tests.conftest import ROOT
+
+# The page benchmark drives Chromium.
+pytestmark = pytest.mark.live
 
 
 def test_bench_page_quick_prints_its_tables() -> None:
