@@ -10,6 +10,7 @@ entry-point line. Everything is loaded on first use, once.
 from __future__ import annotations
 
 import dataclasses
+import importlib
 from collections.abc import Iterable
 from importlib.metadata import EntryPoint, entry_points
 from importlib.resources.abc import Traversable
@@ -29,6 +30,7 @@ __all__ = [
     "add_use_case",
     "derivation",
     "kinds",
+    "load_mappings",
     "query_folders",
     "reader_for",
     "register",
@@ -148,6 +150,14 @@ def derivation() -> Derivation | None:
     return found[1] if found is not None else None
 
 
+def load_mappings() -> None:
+    """Import every use case's mapping module (see :attr:`cadkg.usecase.UseCase.mapping`),
+    so that each record a reader gives has its mapping registered."""
+    for case in use_cases():
+        if case.mapping:
+            importlib.import_module(case.mapping)
+
+
 def query_folders() -> list[Traversable | Path]:
     """The folders of the use cases' named queries."""
     return [c.queries for c in use_cases() if c.queries is not None]
@@ -190,7 +200,7 @@ def sniff_kind(path: str | Path, head: bytes | None = None, profile: str = "") -
     # A use case that reads a shared suffix without asking the content (ELVEZ's .wri and .x3d)
     # takes that suffix in its own cells, whatever a core reader's sniffer would say.
     case = table.use_cases.get(profile) if profile else None
-    own = [r for r in candidates if r.sniff is None and case is not None and r in case.readers]
+    own = [r for r in candidates if not r.sniffs() and case is not None and r in case.readers]
     if len(own) == 1:
         return own[0].kind
     if head is None:
@@ -206,7 +216,7 @@ def sniff_kind(path: str | Path, head: bytes | None = None, profile: str = "") -
     if len(sniffed) == 1:
         return sniffed[0].kind
     if not sniffed:
-        fallback = _fallback(table, [r for r in candidates if r.sniff is None], profile)
+        fallback = _fallback(table, [r for r in candidates if not r.sniffs()], profile)
         if fallback is not None:
             return fallback.kind
     names = ", ".join(r.kind for r in kinds())
