@@ -12,17 +12,18 @@ from __future__ import annotations
 import dataclasses
 import importlib
 from collections.abc import Iterable
-from importlib.metadata import EntryPoint, entry_points
 from importlib.resources.abc import Traversable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from cadkg.errors import IngestError, RegistryError
 from cadkg.ingest.formats import READERS
 from cadkg.ingest.reader import Reader
-from cadkg.ingest.sheet import sniff_head
-from cadkg.ingest.text import sniffable_head
 from cadkg.services.service import Effect, Service
 from cadkg.usecase import Derivation, UseCase
+
+if TYPE_CHECKING:
+    from importlib.metadata import EntryPoint
 
 __all__ = [
     "DEFAULT_PROFILE",
@@ -59,6 +60,9 @@ _TABLE: _Table | None = None
 def _table() -> _Table:
     global _TABLE
     if _TABLE is None:
+        # Reading the installed packages' metadata takes a few hundredths of a second: on first use.
+        from importlib.metadata import entry_points
+
         table = _Table()
         for reader in READERS:
             _add_reader(table, reader)
@@ -211,6 +215,10 @@ def sniff_kind(path: str | Path, head: bytes | None = None, profile: str = "") -
             raise IngestError(path, f"cannot read the file: {err.strerror}") from err
         except ValueError:  # a NUL byte in a path given by a service caller
             raise IngestError(repr(str(path)), "cannot read the file: a NUL byte in its name") from None
+    # The workbook and text sniffing (lxml, the XLS container) only when content must decide.
+    from cadkg.ingest.sheet import sniff_head
+    from cadkg.ingest.text import sniffable_head
+
     head = sniff_head(path, sniffable_head(head))
     sniffed = [r for r in candidates or readers if r.sniff is not None and r.sniff(head)]
     if len(sniffed) == 1:
