@@ -206,3 +206,30 @@ def test_only_the_ros_adapter_imports_rclpy() -> None:
         )
     }
     assert importers and all(name.startswith("cadkg.ros_adapter") for name in importers)
+
+
+def _imported_top_modules() -> set[str]:
+    found: set[str] = set()
+    for path in PACKAGE.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                found.update(alias.name.partition(".")[0] for alias in node.names)
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                found.add(node.module.partition(".")[0])
+    return found
+
+
+def test_every_runtime_dependency_is_imported_by_the_package() -> None:
+    import re
+    import tomllib
+    from importlib.metadata import packages_distributions
+
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    declared = {re.split(r"[<>=~!;\[ ]", dep, maxsplit=1)[0].lower() for dep in project["dependencies"]}
+    # The distribution each imported top-level module comes from (python-calamine: python_calamine).
+    imported = {
+        dist.lower()
+        for module in _imported_top_modules()
+        for dist in packages_distributions().get(module, ())
+    }
+    assert declared - imported == set()

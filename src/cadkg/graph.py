@@ -39,7 +39,6 @@ from cadkg.mapping.writer import node_iri
 from cadkg.model_file import MODEL_FILE, read_model, write_model
 from cadkg.ontology.terms import CK_NS
 from cadkg.query.named import run_named
-from cadkg.query.views import graph_view, write_graphml
 from cadkg.store import FILES, GraphStore, QueryResult, cell_profile
 from cadkg.usecase import Derivation
 
@@ -467,6 +466,8 @@ class KnowledgeGraph(GraphStore):
         path = Path(path)
         fmt = fmt or path.suffix.lstrip(".").lower()
         if fmt == "graphml":
+            from cadkg.query.views import write_graphml
+
             write_graphml(self, path)
             return path
         path.write_bytes(self.serialize(fmt))
@@ -474,6 +475,8 @@ class KnowledgeGraph(GraphStore):
 
     def graph_view(self, relations: Iterable[str] | None = None) -> nx.MultiDiGraph:
         """A networkx view of the selected relations (see :func:`cadkg.query.views.graph_view`)."""
+        from cadkg.query.views import graph_view
+
         return graph_view(self, relations)
 
     def named_query(self, name: str, **params: Any) -> QueryResult:

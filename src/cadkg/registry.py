@@ -10,18 +10,20 @@ entry-point line. Everything is loaded on first use, once.
 from __future__ import annotations
 
 import dataclasses
+import importlib
 from collections.abc import Iterable
-from importlib.metadata import EntryPoint, entry_points
 from importlib.resources.abc import Traversable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from cadkg.errors import IngestError, RegistryError
 from cadkg.ingest.formats import READERS
 from cadkg.ingest.reader import Reader
-from cadkg.ingest.sheet import sniff_head
-from cadkg.ingest.text import sniffable_head
 from cadkg.services.service import Effect, Service
 from cadkg.usecase import Derivation, Settings, UseCase
+
+if TYPE_CHECKING:
+    from importlib.metadata import EntryPoint
 
 __all__ = [
     "DEFAULT_PROFILE",
@@ -30,6 +32,7 @@ __all__ = [
     "derivation",
     "derive_settings",
     "kinds",
+    "load_mappings",
     "query_folders",
     "reader_for",
     "register",
@@ -60,6 +63,9 @@ _TABLE: _Table | None = None
 def _table() -> _Table:
     global _TABLE
     if _TABLE is None:
+        # Reading the installed packages' metadata takes a few hundredths of a second: on first use.
+        from importlib.metadata import entry_points
+
         table = _Table()
         for reader in READERS:
             _add_reader(table, reader)
@@ -164,6 +170,14 @@ def derive_settings(profile: str) -> Settings | None:
     return found.settings if found is not None else None
 
 
+def load_mappings() -> None:
+    """Import every use case's mapping module (see :attr:`cadkg.usecase.UseCase.mapping`),
+    so that each record a reader gives has its mapping registered."""
+    for case in use_cases():
+        if case.mapping:
+            importlib.import_module(case.mapping)
+
+
 def query_folders() -> list[Traversable | Path]:
     """The folders of the use cases' named queries."""
     return [c.queries for c in use_cases() if c.queries is not None]
@@ -206,7 +220,7 @@ def sniff_kind(path: str | Path, head: bytes | None = None, profile: str = "") -
     # A use case that reads a shared suffix without asking the content (ELVEZ's .wri and .x3d)
     # takes that suffix in its own cells, whatever a core reader's sniffer would say.
     case = table.use_cases.get(profile) if profile else None
-    own = [r for r in candidates if r.sniff is None and case is not None and r in case.readers]
+    own = [r for r in candidates if not r.sniffs() and case is not None and r in case.readers]
     if len(own) == 1:
         return own[0].kind
     if head is None:
@@ -217,12 +231,16 @@ def sniff_kind(path: str | Path, head: bytes | None = None, profile: str = "") -
             raise IngestError(path, f"cannot read the file: {err.strerror}") from err
         except ValueError:  # a NUL byte in a path given by a service caller
             raise IngestError(repr(str(path)), "cannot read the file: a NUL byte in its name") from None
+    # The workbook and text sniffing (lxml, the XLS container) only when content must decide.
+    from cadkg.ingest.sheet import sniff_head
+    from cadkg.ingest.text import sniffable_head
+
     head = sniff_head(path, sniffable_head(head))
     sniffed = [r for r in candidates or readers if r.sniff is not None and r.sniff(head)]
     if len(sniffed) == 1:
         return sniffed[0].kind
     if not sniffed:
-        fallback = _fallback(table, [r for r in candidates if r.sniff is None], profile)
+        fallback = _fallback(table, [r for r in candidates if not r.sniffs()], profile)
         if fallback is not None:
             return fallback.kind
     names = ", ".join(r.kind for r in kinds())

@@ -32,10 +32,9 @@ from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from html import unescape
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 from urllib.parse import parse_qsl, urlencode, urlsplit, urlunsplit
 
-import httpx
 import pyoxigraph as ox
 
 from cadkg.errors import QueryError, StoreError
@@ -43,6 +42,9 @@ from cadkg.graph import KnowledgeGraph
 from cadkg.ontology.terms import CK_NS, ONTOLOGY_IRI
 from cadkg.sparql_text import bind_values, query_form, values_clause
 from cadkg.store import PREFIXES
+
+if TYPE_CHECKING:  # the HTTP client is imported when a store is first reached over HTTP
+    import httpx
 
 __all__ = [
     "AUTH_DIGEST_ENV",
@@ -83,6 +85,8 @@ class Auth:
     digest: bool = False
 
     def httpx_auth(self) -> httpx.Auth:
+        import httpx
+
         if self.digest:
             return httpx.DigestAuth(self.user, self.password)
         return httpx.BasicAuth(self.user, self.password)
@@ -157,6 +161,8 @@ class HttpSparql:
     def __init__(self, auth: Auth | None = None, timeout: float = DEFAULT_TIMEOUT) -> None:
         self.auth = auth
         self.timeout = timeout
+        import httpx
+
         self._client = httpx.Client(
             auth=auth.httpx_auth() if auth else None,
             timeout=httpx.Timeout(timeout, connect=min(timeout, 10.0)),
@@ -174,6 +180,8 @@ class HttpSparql:
             When the store cannot be reached, does not answer in time, refuses the
             credentials, or answers any other error status.
         """
+        import httpx
+
         try:
             response = self._client.request(method, url, **kwargs)
         except httpx.TimeoutException:

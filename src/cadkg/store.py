@@ -37,6 +37,7 @@ from cadkg.sparql_text import bind_values, syntax_error_message, term_value
 
 if TYPE_CHECKING:
     import pandas as pd
+    import rdflib
 
 __all__ = [
     "EXPORT_FORMATS",
@@ -264,6 +265,26 @@ class GraphStore:
     # -- reading ---------------------------------------------------------------
     def __len__(self) -> int:
         return len(self._store)
+
+    def rdflib_dataset(self) -> rdflib.Dataset:
+        """The same store as an rdflib ``Dataset`` (through oxrdflib): rdflib's API over this
+        graph's quads, not a copy, so what one changes the other sees. The default graph is the
+        union of the named graphs, as in :meth:`query`.
+
+        Raises
+        ------
+        StoreError
+            When rdflib or oxrdflib is not installed (the ``rdflib`` extra).
+        """
+        try:
+            import rdflib
+            from oxrdflib import OxigraphStore
+        except ImportError as err:
+            raise StoreError(
+                f"rdflib_dataset() needs rdflib and oxrdflib ({err.name} is missing): "
+                "pip install 'cadkg[rdflib]'"
+            ) from None
+        return rdflib.Dataset(store=OxigraphStore(store=self._store), default_union=True)
 
     def named_graphs(self) -> list[str]:
         return sorted(g.value for g in self._store.named_graphs() if isinstance(g, ox.NamedNode))

@@ -8,8 +8,9 @@ one :class:`UseCase`, and names it in the ``cadkg.usecases`` entry-point group::
     mycell = "mycell:USE_CASE"
 
 :mod:`cadkg.registry` finds it there; the five use cases cadkg ships are declared the same
-way. Importing the use case's package registers the mappings of its records
-(``@map_record.register`` in its ``mapping`` module), so the declaration is all the core needs.
+way. Its ``mapping`` module registers the mappings of its records (``@map_record.register``);
+the declaration names it (``mapping=``) and the build imports it before mapping a record, so
+the declaration is all the core needs, and listing the use cases imports none of their readers.
 """
 
 from __future__ import annotations
@@ -163,3 +164,7 @@ class UseCase:
     changes: Traversable | Path | None = None
     # How the robot's task list is made (``cadkg plan``).
     planner: Planner | None = None
+    # The module registering the mappings of its records (``"mycell.mapping"``), imported
+    # before a build maps a record rather than with the declaration: it imports the record
+    # classes, and so their readers. A use case may import it itself instead.
+    mapping: str = ""

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 import cadkg
-from tests.conftest import IEMA, ROOT, run_capped, synthetic_manifest
 from tests.cli import CADKG
+from tests.conftest import IEMA, ROOT, run_capped, synthetic_manifest
 
 # A 250k-wire cell is generated and read to pass the read's CPU-time limit.
 pytestmark = pytest.mark.slow

@@ -7,18 +7,19 @@ import io
 import json
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
-from rich.table import Table
 
-from cadkg.changes import ChangeSet, Tolerances, changes_turtle, diff_graphs, statement_changes
-from cadkg.changes.impact import Impact, plan_impact
-from cadkg.changes.revisions import open_previous
 from cadkg.cli.common import err, guarded, open_local, out, store_or_manifest, write_bytes
 from cadkg.cli.cursor_file import read_cursors
-from cadkg.plan.graph import cell_base, read_plan
 from cadkg.services.session import Session, Work
+
+if TYPE_CHECKING:
+    from rich.table import Table
+
+    from cadkg.changes import ChangeSet
+    from cadkg.changes.impact import Impact
 
 __all__ = ["diff"]
 
@@ -53,6 +54,10 @@ def diff(old: str, new: str | None, fmt: str, move_tolerance: float, turn_tolera
     """What changed from OLD to NEW (each a store directory or a manifest), or in STORE since its
     previous build. Things are matched by what identifies them for an engineer: a wire by its
     number and ends, a component by its label and part number, never by IRI or XML id."""
+    # The revision diff is imported by this command only, not by every command of the CLI.
+    from cadkg.changes import Tolerances, changes_turtle, diff_graphs, statement_changes
+    from cadkg.changes.revisions import open_previous
+
     if new is None:
         before, old_name, new_name = open_previous(old)
         after = open_local(old)
@@ -101,6 +106,9 @@ def impact_of(
 ) -> Impact | None:
     """The impact on the old revision's plan and on the cursors kept beside ``store`` (the old
     revision's directory; ``generations`` the old and the live generation's names)."""
+    from cadkg.changes.impact import plan_impact
+    from cadkg.plan.graph import cell_base, read_plan
+
     plan, new_plan = read_plan(before, cell_base(before)), read_plan(after, cell_base(after))
     made_on, cursors = read_cursors(store) if store is not None else (None, {})
     done: dict[str, list[Work]] = {}
@@ -120,6 +128,8 @@ def impact_of(
 
 def impact_table(impact: Impact) -> Table:
     """A table of the tasks the changes touch: new, to redo, changed, dropped."""
+    from rich.table import Table
+
     table = Table("task", "kind", "id", "step", "why")
     for name in ("new", "redo", "changed", "dropped"):
         for item in getattr(impact, name):
@@ -152,6 +162,8 @@ def _text(value: Any) -> str:
 
 def changes_table(changes: ChangeSet) -> Table:
     """A table of the changes: one row per thing, its changed attributes as ``old → new``."""
+    from rich.table import Table
+
     table = Table("change", "kind", "id", "what")
     for change in changes:
         what = "; ".join(f"{name}: {_text(a)} → {_text(b)}" for name, (a, b) in change.attributes.items())

@@ -17,12 +17,9 @@ from pathlib import Path
 from cadkg.errors import IngestError, IngestWarning
 from cadkg.ingest.manifest import Manifest, SourceSpec
 from cadkg.limited import read_limited
-from cadkg.mapping import eplan as _eplan  # noqa: F401  (registers the EPLAN exports' mappings)
-from cadkg.mapping import harness as _harness  # noqa: F401  (registers the harness records' mappings)
-from cadkg.mapping.cell import map_manifest
 from cadkg.mapping.dispatch import mapper
 from cadkg.mapping.writer import TripleWriter, graph_iri, map_provenance, sha256_of
-from cadkg.registry import reader_for, sniff_kind
+from cadkg.registry import load_mappings, reader_for, sniff_kind
 
 __all__ = ["GraphData", "SourceReport", "read_manifest_graphs", "read_source"]
 
@@ -76,6 +73,7 @@ def read_source(
         :mod:`cadkg.limited`).
     """
     started = time.perf_counter()
+    _register_core_mappings()
     kind = kind or sniff_kind(path, profile=profile)
     try:
         reader = reader_for(kind)
@@ -119,8 +117,19 @@ def read_source(
     return GraphData(graph=graph, ntriples=ntriples, report=report, files=writer.all_files())
 
 
+def _register_core_mappings() -> None:
+    # Each mapping module imports the record classes it registers for, and so their readers:
+    # imported when a file is first mapped rather than with cadkg. A use case's mappings are
+    # registered from the module each names (cadkg.usecase.UseCase.mapping).
+    from cadkg.mapping import cell, eplan, harness  # noqa: F401
+
+    load_mappings()
+
+
 def manifest_graph(manifest: Manifest) -> GraphData:
     """The graph the manifest itself states: the cell and its static frames."""
+    from cadkg.mapping.cell import map_manifest
+
     started = time.perf_counter()
     rel = manifest.path.name
     graph = graph_iri(manifest.cell.base_iri, rel)

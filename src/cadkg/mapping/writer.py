@@ -16,10 +16,13 @@ from datetime import UTC, datetime
 from decimal import Decimal
 from functools import cache, lru_cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 from urllib.parse import quote
 
-from cadkg.ingest.scene.records import TriangleMesh, stl_files
 from cadkg.ontology.terms import CK, RDF_TYPE
+
+if TYPE_CHECKING:
+    from cadkg.ingest.scene.records import TriangleMesh
 
 __all__ = [
     "INTEGER",
@@ -209,6 +212,10 @@ class TripleWriter:
 
     def all_files(self) -> dict[str, bytes]:
         """The files that come with this graph, the meshes as binary STL."""
+        if not self.meshes:  # most graphs: no need to import numpy and the mesh code
+            return dict(self.files)
+        from cadkg.ingest.scene.records import stl_files
+
         return self.files | dict(zip(self.meshes, stl_files(list(self.meshes.values())), strict=True))
 
 

@@ -6,14 +6,16 @@ named query ``plan-steps``.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pyoxigraph as ox
 
 from cadkg.mapping.writer import TripleWriter
 from cadkg.ontology.terms import CK_NS
-from cadkg.plan.order import Plan
 from cadkg.plan.tasks import ROBOT
+
+if TYPE_CHECKING:  # the ordering (numpy) is not needed to read a stored plan back
+    from cadkg.plan.order import Plan
 
 __all__ = [
     "PlannedStep",

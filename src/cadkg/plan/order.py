@@ -12,7 +12,6 @@ from __future__ import annotations
 import heapq
 from dataclasses import dataclass, field, replace
 
-import networkx as nx
 import numpy as np
 
 from cadkg.plan.greedy import PERSON, greedy_order
@@ -59,6 +58,8 @@ class Plan:
 def _break_cycles(problem: Problem) -> tuple[list[Precedence], list[Precedence], dict[str, Decision]]:
     """Give one task of every cycle to a person (one not assigned by hand when there is one);
     its edges inside the cycle are dropped. Returns kept edges, dropped edges, decisions."""
+    import networkx as nx  # a fifth of a second to import: only when a plan is made
+
     decisions = dict(problem.decisions)
     position = {t.key: t.position for t in problem.tasks}
     edges = list(problem.precedence)

@@ -1,8 +1,17 @@
 """Queries over the cell graph: named SPARQL, graph views, exports and validation."""
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
 from cadkg.query.named import NamedQuery, Param, named_queries, run_named
 from cadkg.query.validate import Finding, validate
-from cadkg.query.views import DEFAULT_RELATIONS, graph_view, write_graphml
+
+if TYPE_CHECKING:
+    from cadkg.query.views import DEFAULT_RELATIONS, graph_view, write_graphml
+
+# The views import networkx: loaded when one is asked for, not with every query.
+_VIEWS = ("DEFAULT_RELATIONS", "graph_view", "write_graphml")
 
 __all__ = [
     "DEFAULT_RELATIONS",
@@ -15,3 +24,11 @@ __all__ = [
     "validate",
     "write_graphml",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _VIEWS:
+        from cadkg.query import views
+
+        return getattr(views, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

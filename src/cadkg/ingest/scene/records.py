@@ -15,8 +15,6 @@ from dataclasses import dataclass
 from functools import cache
 
 import numpy as np
-import trimesh
-import trimesh.creation
 from numpy.typing import NDArray
 
 __all__ = [
@@ -87,6 +85,8 @@ def stl_files(meshes: Sequence[TriangleMesh]) -> list[bytes]:
     """
     if not meshes:
         return []
+    import trimesh  # a third of a second to import: only where meshes are written
+
     offsets = np.cumsum([0] + [len(m.vertices) for m in meshes[:-1]])
     vertices = np.concatenate([m.vertices for m in meshes]).reshape(-1, 3)
     faces = np.concatenate([m.faces + offset for m, offset in zip(meshes, offsets, strict=True)])
@@ -260,6 +260,8 @@ _Z_TO_Y = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 
 @cache
 def _unit(kind: str) -> Part:
+    import trimesh.creation  # a third of a second to import: only where a primitive is met
+
     if kind == "box":
         mesh = trimesh.creation.box(extents=(1.0, 1.0, 1.0))
         return _frozen(mesh.vertices, mesh.faces)

@@ -10,19 +10,8 @@ from __future__ import annotations
 
 from importlib import resources
 
-from cadkg.ingest.reader import Reader
+from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import UseCase
-from cadkg.usecases.elimco import mapping as _mapping  # noqa: F401  (registers the record mappings)
-from cadkg.usecases.elimco.cable_list import looks_like_cable_list, read_elimco_cable_list
-from cadkg.usecases.elimco.route_design import (
-    looks_like_cable_info,
-    looks_like_path_info,
-    looks_like_pin_info,
-    read_cable_info,
-    read_path_info,
-    read_pin_info,
-)
-from cadkg.usecases.elimco.scene import bench_scene
 from cadkg.usecases.elimco.services import SERVICES, bench_frames
 
 __all__ = ["USE_CASE"]
@@ -35,30 +24,30 @@ USE_CASE = UseCase(
         Reader(
             "elimco-cable-list",
             (".csv", ".tsv", ".xlsx", ".ods"),
-            read_elimco_cable_list,
+            "cadkg.usecases.elimco.cable_list:read_elimco_cable_list",
             "ELIMCO cable list (Figure 11): PN, REP, ZONA_A, BORNIA_A, HILO, CABLE, LONGITUD, ZONA_B ...",
-            looks_like_cable_list,
+            "cadkg.usecases.elimco.cable_list:looks_like_cable_list",
         ),
         Reader(
             "pin-info",
             (".xml",),
-            read_pin_info,
+            "cadkg.usecases.elimco.route_design:read_pin_info",
             "Route design pin_info.xml (<pin_info>): bench pins, drawing position, role, double pins",
-            looks_like_pin_info,
+            "cadkg.usecases.elimco.route_design:looks_like_pin_info",
         ),
         Reader(
             "cable-info",
             (".xml",),
-            read_cable_info,
+            "cadkg.usecases.elimco.route_design:read_cable_info",
             "Route design cable_info.xml (<cable_info>): cables, initial and final connector, length",
-            looks_like_cable_info,
+            "cadkg.usecases.elimco.route_design:looks_like_cable_info",
         ),
         Reader(
             "path-info",
             (".xml",),
-            read_path_info,
+            "cadkg.usecases.elimco.route_design:read_path_info",
             "Route design path_info.xml (<path_info>): route of each cable over the bench pins",
-            looks_like_path_info,
+            "cadkg.usecases.elimco.route_design:looks_like_path_info",
         ),
     ),
     services=SERVICES,
@@ -66,5 +55,6 @@ USE_CASE = UseCase(
     changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/elimco",
     frames=bench_frames,
-    scene=bench_scene,
+    scene=lazy("cadkg.usecases.elimco.scene:bench_scene"),
+    mapping="cadkg.usecases.elimco.mapping",
 )

@@ -12,18 +12,13 @@ from __future__ import annotations
 
 from importlib import resources
 
-from cadkg.ingest.reader import Reader
+from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import Planner, UseCase
-from cadkg.usecases.elvez import mapping as _mapping  # noqa: F401  (registers the record mappings)
-from cadkg.usecases.elvez.checks import findings
-from cadkg.usecases.elvez.files.components import looks_like_components, read_components
-from cadkg.usecases.elvez.files.definitions import looks_like_element_definitions, read_element_definitions
-from cadkg.usecases.elvez.files.harnesses import looks_like_harness_configuration, read_harness_configuration
-from cadkg.usecases.elvez.files.platforms import read_platform_ids, read_platform_mesh, read_platform_scene
-from cadkg.usecases.elvez.files.sequence import looks_like_sequence, read_sequence
-from cadkg.usecases.elvez.plan_tasks import DEFAULT_RULES, elvez_problem
-from cadkg.usecases.elvez.scene import platform_scene
 from cadkg.usecases.elvez.services import SERVICES, element_meshes, platform_frames
+
+# The readers, the mappings, the checks and the planner are named, not imported: their modules
+# (numpy, the scene reader, the planner) load when a cell first needs them.
+DEFAULT_RULES = resources.files(__name__).joinpath("plan-rules.toml")
 
 __all__ = ["USE_CASE"]
 
@@ -35,48 +30,48 @@ USE_CASE = UseCase(
         Reader(
             "elvez-scene",
             (".x3d",),
-            read_platform_scene,
+            "cadkg.usecases.elvez.files.platforms:read_platform_scene",
             "ELVEZ platform scene (Blender X3D, mm; in an elvez cell): element frames, broken shapes skipped",
         ),
         Reader(
             "elvez-ids",
             (".wri",),
-            read_platform_ids,
+            "cadkg.usecases.elvez.files.platforms:read_platform_ids",
             "ELVEZ platform WRI table (in an elvez cell): CAD ID, label (T/J/B/C/A + name), commercial code",
         ),
         Reader(
             "elvez-mesh",
             (".stl",),
-            read_platform_mesh,
+            "cadkg.usecases.elvez.files.platforms:read_platform_mesh",
             "ELVEZ element mesh (STL in mm, binary or ASCII) of the platform its folder names",
         ),
         Reader(
             "elvez-definitions",
             (".xml",),
-            read_element_definitions,
+            "cadkg.usecases.elvez.files.definitions:read_element_definitions",
             "ELVEZ element definitions (Jigs_definition_v2.xml): jigs, combs, boxes, ATC stations",
-            looks_like_element_definitions,
+            "cadkg.usecases.elvez.files.definitions:looks_like_element_definitions",
         ),
         Reader(
             "elvez-harnesses",
             (".xml",),
-            read_harness_configuration,
+            "cadkg.usecases.elvez.files.harnesses:read_harness_configuration",
             "ELVEZ wiring harnesses (WH_configuration.xml): first connector, tray, end connectors, cables",
-            looks_like_harness_configuration,
+            "cadkg.usecases.elvez.files.harnesses:looks_like_harness_configuration",
         ),
         Reader(
             "elvez-components",
             (".csv",),
-            read_components,
+            "cadkg.usecases.elvez.files.components:read_components",
             "ELVEZ components (Components_definition.csv): connectors, cables, devices; colour, sizes in mm",
-            looks_like_components,
+            "cadkg.usecases.elvez.files.components:looks_like_components",
         ),
         Reader(
             "elvez-sequence",
             (".csv",),
-            read_sequence,
+            "cadkg.usecases.elvez.files.sequence:read_sequence",
             "ELVEZ assembly sequence (Assembly_sequence.csv): Order;Type of operation;Label;Spot",
-            looks_like_sequence,
+            "cadkg.usecases.elvez.files.sequence:looks_like_sequence",
         ),
     ),
     services=SERVICES,
@@ -85,7 +80,8 @@ USE_CASE = UseCase(
     ros_namespace="/elvez",
     frames=platform_frames,
     markers=element_meshes,
-    scene=platform_scene,
-    checks=findings,
-    planner=Planner(DEFAULT_RULES, elvez_problem),
+    scene=lazy("cadkg.usecases.elvez.scene:platform_scene"),
+    checks=lazy("cadkg.usecases.elvez.checks:findings"),
+    planner=Planner(DEFAULT_RULES, lazy("cadkg.usecases.elvez.plan_tasks:elvez_problem")),
+    mapping="cadkg.usecases.elvez.mapping",
 )

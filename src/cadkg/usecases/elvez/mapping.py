@@ -35,6 +35,7 @@ from cadkg.usecases.elvez.files.definitions import ElementDefinition, Key, Place
 from cadkg.usecases.elvez.files.harnesses import HarnessCable, WiringHarness
 from cadkg.usecases.elvez.files.platforms import ElementMesh, PlatformId, PlatformItem
 from cadkg.usecases.elvez.files.sequence import SequenceStep
+from cadkg.usecases.elvez.platform import element_frame
 
 __all__ = ["OPERATION_CLASSES", "element_frame", "element_mesh_file", "pin_name"]
 
@@ -48,11 +49,6 @@ OPERATION_CLASSES = {
     "TJ": "TapeOperation",
 }
 """The ontology class of each operation code."""
-
-
-def element_frame(cad_id: str, platform: str) -> str:
-    """The frame of a platform element, as the reference node names it: ``ID0002platform``."""
-    return f"{cad_id}{platform}"
 
 
 def element_mesh_file(platform: str, name: str) -> str:

@@ -18,8 +18,7 @@ from cadkg.usecases.elvez.files.components import HarnessComponent
 from cadkg.usecases.elvez.files.definitions import AtcTool, ElementDefinition, Guide, Key, PlacedBox
 from cadkg.usecases.elvez.files.harnesses import EndConnector, HarnessCable, WiringHarness
 from cadkg.usecases.elvez.files.sequence import SequenceStep, SpotRef
-from cadkg.usecases.elvez.mapping import element_frame
-from cadkg.usecases.elvez.platform import FrameTree
+from cadkg.usecases.elvez.platform import FrameTree, element_frame
 
 if TYPE_CHECKING:
     from cadkg.graph import KnowledgeGraph

@@ -14,7 +14,6 @@ its branch. A spot or label no file defines sends the operation to a person.
 from __future__ import annotations
 
 from collections import defaultdict
-from importlib import resources
 from typing import Any
 
 from cadkg.errors import CadkgError
@@ -26,6 +25,7 @@ from cadkg.plan.order import ASSIGNED
 from cadkg.plan.rules import Rules, load_rules
 from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
 from cadkg.query.validate import Finding
+from cadkg.usecases.elvez import DEFAULT_RULES
 from cadkg.usecases.elvez.files.harnesses import WiringHarness
 from cadkg.usecases.elvez.files.sequence import SequenceStep, SpotRef
 from cadkg.usecases.elvez.model import ElvezModel, build_model, unresolved
@@ -43,7 +43,6 @@ __all__ = [
 
 _ROUTE, _TAPES, _EXTRACT, _PLACE = "RC", ("T", "TJ"), "EC", "PC"
 _CHECK = "elvez-order"
-DEFAULT_RULES = resources.files("cadkg.usecases.elvez").joinpath("plan-rules.toml")
 
 
 def operation_key(step: SequenceStep) -> str:

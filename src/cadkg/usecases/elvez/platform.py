@@ -16,10 +16,15 @@ from cadkg.errors import NotFound, QueryError
 from cadkg.geometry.poses import IDENTITY, Pose
 from cadkg.usecases.elvez.files.definitions import Key, PlacedBox
 
-__all__ = ["FrameTree", "box_centre", "key_centre", "tape_spot_centre", "xyz_angles"]
+__all__ = ["FrameTree", "box_centre", "element_frame", "key_centre", "tape_spot_centre", "xyz_angles"]
 
 # The reference's taping-spot formula uses 1.57 for a quarter turn; kept so answers match.
 _QUARTER_TURN = 1.57
+
+
+def element_frame(cad_id: str, platform: str) -> str:
+    """The frame of a platform element, as the reference node names it: ``ID0002platform``."""
+    return f"{cad_id}{platform}"
 
 
 class FrameTree:

@@ -11,8 +11,6 @@ from importlib import resources
 
 from cadkg.ingest.reader import Reader
 from cadkg.usecase import UseCase
-from cadkg.usecases.enki import mapping as _mapping  # noqa: F401  (registers the record mappings)
-from cadkg.usecases.enki.hose import looks_like_hose_table, read_hoses
 from cadkg.usecases.enki.services import SERVICES
 
 __all__ = ["USE_CASE"]
@@ -25,12 +23,13 @@ USE_CASE = UseCase(
         Reader(
             "hose",
             (".csv",),
-            read_hoses,
+            "cadkg.usecases.enki.hose:read_hoses",
             "Hose products: product, diameter_mm, optional length_m, material, bend_radius_mm",
-            looks_like_hose_table,
+            "cadkg.usecases.enki.hose:looks_like_hose_table",
         ),
     ),
     services=SERVICES,
     ros_namespace="/enki",
     changes=resources.files(__name__).joinpath("changes"),
+    mapping="cadkg.usecases.enki.mapping",
 )

@@ -13,38 +13,34 @@ from __future__ import annotations
 import dataclasses
 from importlib import resources
 
-from cadkg.ingest.reader import Reader
+from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import Derivation, DerivedKind, Planner, UseCase
-from cadkg.usecases.iema import mapping as _mapping  # noqa: F401  (registers the record mappings)
-from cadkg.usecases.iema.checks import cabinet_checks
-from cadkg.usecases.iema.component_list import looks_like_component_list, read_component_list
-from cadkg.usecases.iema.component_model import looks_like_component_models, read_component_models
-from cadkg.usecases.iema.derive.cabinet import derive_cell
-from cadkg.usecases.iema.derive.collect import InputCollector
-from cadkg.usecases.iema.derive.emit import derived_graph, derived_ntriples
-from cadkg.usecases.iema.derive.extract import extract
-from cadkg.usecases.iema.derive.persist import dump_model, load_model
 from cadkg.usecases.iema.derive.settings import DERIVE_SETTINGS
-from cadkg.usecases.iema.derive.things import placed_pins, wire_ends
-from cadkg.usecases.iema.marker_table import looks_like_marker_table, read_marker_table
-from cadkg.usecases.iema.plan_tasks import DEFAULT_RULES, SETTINGS, iema_problem, order_check
+from cadkg.usecases.iema.plan_scope import DEFAULT_RULES, SETTINGS
 from cadkg.usecases.iema.services import SERVICES, cabinet_frames
-from cadkg.usecases.iema.terminal_diagram import looks_like_terminal_diagram, read_terminal_diagram
-from cadkg.usecases.iema.terminal_schema import looks_like_terminal_schema, read_terminal_schema
+
+# The derivation, the planner, the checks and the readers are named, not imported: their
+# modules (numpy, the scene's meshes, the planner) load when a cell first needs them,
+# not whenever the registry lists the use cases.
+_cabinet_checks = lazy("cadkg.usecases.iema.checks:cabinet_checks")
+_order_check = lazy("cadkg.usecases.iema.plan_tasks:order_check")
 
 __all__ = ["CABINET", "USE_CASE"]
 
 CABINET = Derivation(
-    collector=InputCollector,
-    extract=extract,
-    derive=derive_cell,
-    graph=derived_graph,
-    ntriples=derived_ntriples,
-    dump=dump_model,
-    load=load_model,
+    collector=lazy("cadkg.usecases.iema.derive.collect:InputCollector"),
+    extract=lazy("cadkg.usecases.iema.derive.extract:extract"),
+    derive=lazy("cadkg.usecases.iema.derive.cabinet:derive_cell"),
+    graph=lazy("cadkg.usecases.iema.derive.emit:derived_graph"),
+    ntriples=lazy("cadkg.usecases.iema.derive.emit:derived_ntriples"),
+    dump=lazy("cadkg.usecases.iema.derive.persist:dump_model"),
+    load=lazy("cadkg.usecases.iema.derive.persist:load_model"),
+    things={
+        "pin": DerivedKind(lazy("cadkg.usecases.iema.derive.things:placed_pins"), queries=3),
+        "wire": DerivedKind(lazy("cadkg.usecases.iema.derive.things:wire_ends")),
+    },
     settings=DERIVE_SETTINGS,
     adjust=lambda inputs, settings: dataclasses.replace(inputs, **settings),
-    things={"pin": DerivedKind(placed_pins, queries=3), "wire": DerivedKind(wire_ends)},
     # Any cell's components sit at their scene items: a cell of a use case without a
     # derivation of its own gets the cabinet geometry without the cabinet's wiring.
     default=True,
@@ -58,37 +54,37 @@ USE_CASE = UseCase(
         Reader(
             "component-model",
             (".xml",),
-            read_component_models,
+            "cadkg.usecases.iema.component_model:read_component_models",
             "Component models XML (<data><code>): size, screw and hole of each pin, children",
-            looks_like_component_models,
+            "cadkg.usecases.iema.component_model:looks_like_component_models",
         ),
         Reader(
             "component-list",
             (".csv", ".tsv"),
-            read_component_list,
+            "cadkg.usecases.iema.component_list:read_component_list",
             "Component list: Component ID, Description, Part Number, Quantity, XML Data",
-            looks_like_component_list,
+            "cadkg.usecases.iema.component_list:looks_like_component_list",
         ),
         Reader(
             "terminal-schema",
             (".csv", ".xlsx", ".ods"),
-            read_terminal_schema,
+            "cadkg.usecases.iema.terminal_schema:read_terminal_schema",
             "Terminal block schema: terminal items in order along each block, and their levels",
-            looks_like_terminal_schema,
+            "cadkg.usecases.iema.terminal_schema:looks_like_terminal_schema",
         ),
         Reader(
             "terminal-diagram",
             (".xlsx", ".xlsm", ".xls", ".ods"),
-            read_terminal_diagram,
+            "cadkg.usecases.iema.terminal_diagram:read_terminal_diagram",
             "EPLAN terminal diagram (Schema Morsetti): the rows along each terminal strip, their wire ends",
-            looks_like_terminal_diagram,
+            "cadkg.usecases.iema.terminal_diagram:looks_like_terminal_diagram",
         ),
         Reader(
             "marker-table",
             (".ods", ".xlsx", ".xlsm", ".xls"),
-            read_marker_table,
+            "cadkg.usecases.iema.marker_table:read_marker_table",
             "QR-code marker table: product, commercial code, label, CAD item, X/Y/Z (m) of each marker",
-            looks_like_marker_table,
+            "cadkg.usecases.iema.marker_table:looks_like_marker_table",
         ),
     ),
     services=SERVICES,
@@ -97,6 +93,7 @@ USE_CASE = UseCase(
     ros_namespace="/gearbox_handler",
     derivation=CABINET,
     frames=cabinet_frames,
-    checks=lambda kg: [*cabinet_checks(kg), *order_check(kg)],
-    planner=Planner(DEFAULT_RULES, iema_problem, SETTINGS),
+    checks=lambda kg: [*_cabinet_checks(kg), *_order_check(kg)],
+    planner=Planner(DEFAULT_RULES, lazy("cadkg.usecases.iema.plan_tasks:iema_problem"), SETTINGS),
+    mapping="cadkg.usecases.iema.mapping",
 )

@@ -10,6 +10,7 @@ replace the cell's, and ``label_not_in_cad = "robot"`` lets the label half throu
 from __future__ import annotations
 
 from dataclasses import dataclass
+from importlib import resources
 from typing import Any
 
 from cadkg.plan.rules import Rules
@@ -17,7 +18,23 @@ from cadkg.plan.tasks import HUMAN, ROBOT, Decision
 from cadkg.usecases.iema.derive.cabinet import CellModel, WireStep
 from cadkg.usecases.iema.robot_scope import DEFAULT_ZONES, LABEL_RULE, scope_reason, scope_rule
 
-__all__ = ["Scope", "scope_decision", "scope_of"]
+__all__ = ["DEFAULT_RULES", "SETTINGS", "Scope", "scope_decision", "scope_of"]
+
+DEFAULT_RULES = resources.files("cadkg.usecases.iema").joinpath("plan-rules.toml")
+# Every [robot] setting read here and in plan_tasks (docs/plan.md lists them).
+SETTINGS = frozenset(
+    {
+        "zones",
+        "label_not_in_cad",
+        "missing_pin_data",
+        "cross_section_min_mm2",
+        "cross_section_max_mm2",
+        "default_tool",
+        "clearance_m",
+        "corridor_depth_m",
+        "exit_length_m",
+    }
+)
 
 
 @dataclass(frozen=True, slots=True)

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
-from importlib import resources
 from typing import Any
 from urllib.parse import unquote
 
@@ -27,25 +26,9 @@ from cadkg.plan.rules import Rules, load_rules
 from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
 from cadkg.query.validate import Finding
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
-from cadkg.usecases.iema.plan_scope import Scope, scope_decision, scope_of
+from cadkg.usecases.iema.plan_scope import DEFAULT_RULES, SETTINGS, Scope, scope_decision, scope_of
 
 __all__ = ["DEFAULT_RULES", "SETTINGS", "iema_problem", "order_check"]
-
-DEFAULT_RULES = resources.files("cadkg.usecases.iema").joinpath("plan-rules.toml")
-# Every [robot] setting read here and in plan_scope (docs/plan.md lists them).
-SETTINGS = frozenset(
-    {
-        "zones",
-        "label_not_in_cad",
-        "missing_pin_data",
-        "cross_section_min_mm2",
-        "cross_section_max_mm2",
-        "default_tool",
-        "clearance_m",
-        "corridor_depth_m",
-        "exit_length_m",
-    }
-)
 
 _ENDS = ("origin", "destination")
 

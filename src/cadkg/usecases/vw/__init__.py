@@ -13,18 +13,21 @@ from collections.abc import Sequence
 from importlib import resources
 from typing import Any
 
-from cadkg.ingest.reader import Reader
+from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import ExportOptions, ExportView, UseCase
-from cadkg.usecases.vw.graphml import write_harness_graphml
-from cadkg.usecases.vw.harness_text import looks_like_harness_text, read_harness_text
 from cadkg.usecases.vw.services import SERVICES
 
 __all__ = ["USE_CASE"]
 
 
 def _view(name: str) -> ExportView:
+    # The GraphML writer's views import networkx: when a view is exported, not with the registry.
+    write_harness_graphml = lazy("cadkg.usecases.vw.graphml:write_harness_graphml")
+
     def write(kg: Any, output: str, harness: str | None, options: ExportOptions) -> Sequence[str]:
-        return write_harness_graphml(kg, output, name, harness, options.modules, yed=options.yed).warnings
+        written = write_harness_graphml(kg, output, name, harness, options.modules, yed=options.yed)
+        warnings: Sequence[str] = written.warnings
+        return warnings
 
     return write
 
@@ -37,9 +40,9 @@ USE_CASE = UseCase(
         Reader(
             "harness-text",
             (".harness",),
-            read_harness_text,
+            "cadkg.usecases.vw.harness_text:read_harness_text",
             "Harness text description: connectors, nodes, segments, wires with cavities",
-            looks_like_harness_text,
+            "cadkg.usecases.vw.harness_text:looks_like_harness_text",
         ),
     ),
     services=SERVICES,

@@ -17,8 +17,6 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-import networkx as nx
-
 from cadkg.errors import QueryError
 from cadkg.usecases.vw.harness_data import (
     TopologyData,
@@ -30,6 +28,8 @@ from cadkg.usecases.vw.harness_data import (
 )
 
 if TYPE_CHECKING:
+    import networkx as nx
+
     from cadkg.graph import KnowledgeGraph
 
 __all__ = [
@@ -361,6 +361,8 @@ def _ordered(path: list[str], topology: TopologyData, start: str) -> list[str]:
 
 def networkx_graph(view: View) -> nx.MultiGraph:
     """The view as a networkx multigraph (edges keyed by segment or wire id)."""
+    import networkx as nx  # a fifth of a second to import: only when a view is exported
+
     graph = nx.MultiGraph(**view.graph)
     graph.add_nodes_from(view.nodes)
     graph.add_edges_from(view.edges)
