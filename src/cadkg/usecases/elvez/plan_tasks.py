@@ -111,7 +111,14 @@ def _not_in_cell(model: ElvezModel, rules: Rules, step: SequenceStep) -> Decisio
         return Decision(
             Performer.HUMAN, "tool-not-in-cell", f"{code} needs the {tool}, which no ATC station holds"
         )
-    return Decision(Performer.ROBOT, "robot", f"{code} with the {tool}: every rule lets the robot")
+    return None
+
+
+def _every_rule(rules: Rules, step: SequenceStep) -> Decision:
+    code = step.code.upper()
+    return Decision(
+        Performer.ROBOT, "robot", f"{code} with the {rules.tool_for(code)}: every rule lets the robot"
+    )
 
 
 def _decide(
@@ -120,7 +127,12 @@ def _decide(
     """Who performs the operation and why (the core's decision under the robot's rules), and
     the tool it needs."""
     tool = rules.tool_for(step.code.upper())
-    abilities = (partial(_unresolved, model), partial(_no_tool, rules), partial(_not_in_cell, model, rules))
+    abilities = (
+        partial(_unresolved, model),
+        partial(_no_tool, rules),
+        partial(_not_in_cell, model, rules),
+        partial(_every_rule, rules),
+    )
     decision = decide(step, assignments, (("operation", str(step.order)),), abilities=abilities)
     return decision, (tool,) if tool is not None and decision.performer is Performer.ROBOT else ()
 
