@@ -38,6 +38,7 @@ from cadkg.mapping.pipeline import GraphData, SourceReport, read_source
 from cadkg.mapping.writer import node_iri
 from cadkg.model_file import MODEL_FILE, read_model, write_model
 from cadkg.ontology.terms import CK_NS
+from cadkg.plan.decision import Performer
 from cadkg.query.named import run_named
 from cadkg.store import FILES, GraphStore, QueryResult, cell_profile
 from cadkg.usecase import Derivation
@@ -45,9 +46,8 @@ from cadkg.usecase import Derivation
 if TYPE_CHECKING:
     import networkx as nx
 
-__all__ = ["ASSIGNABLE", "PERFORMERS", "KnowledgeGraph", "build", "open_store"]
+__all__ = ["ASSIGNABLE", "KnowledgeGraph", "build", "open_store"]
 
-PERFORMERS = ("robot", "human")
 ASSIGNABLE = ("wire", "component", "operation")
 
 
@@ -394,10 +394,10 @@ class KnowledgeGraph(GraphStore):
         """
         if self.read_only:
             raise StoreError("the store is open read-only")
-        if kind not in ASSIGNABLE or performer not in PERFORMERS:
+        if kind not in ASSIGNABLE or performer not in tuple(Performer):
             raise StoreError(
                 f"cannot assign {kind!r} to {performer!r}: kind is one of {', '.join(ASSIGNABLE)}, "
-                f"performer one of {', '.join(PERFORMERS)}"
+                f"performer one of {', '.join(Performer)}"
             )
         with self._writing():  # after a build in progress, on what it made
             return self._assign(kind, ident, performer)

@@ -3,10 +3,11 @@ broken by giving one task to a person; the same problem gives the same plan."""
 
 from __future__ import annotations
 
-from cadkg.plan.order import ASSIGNED, CYCLE, make_plan
-from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
+from cadkg.plan.decision import ASSIGNED, Decision, Performer
+from cadkg.plan.order import CYCLE, make_plan
+from cadkg.plan.tasks import Precedence, Problem, Task
 
-ROBOT_OK = Decision(ROBOT, "default", "the robot's by default")
+ROBOT_OK = Decision(Performer.ROBOT, "default", "the robot's by default")
 
 
 def _task(key: str, position: int, tool: str = "a", x: float = 0.0) -> Task:
@@ -53,7 +54,7 @@ def test_nearest_next_task_is_taken() -> None:
 def test_a_cycle_gives_one_task_to_a_person_and_says_why() -> None:
     tasks = [_task("A", 0), _task("B", 1), _task("C", 2)]
     plan = make_plan(_problem(tasks, [("A", "B"), ("B", "A"), ("B", "C")]))
-    people = [s for s in plan.steps if s.decision.performer == HUMAN]
+    people = [s for s in plan.steps if s.decision.performer == Performer.HUMAN]
     assert len(people) == 1 and people[0].decision.rule == CYCLE
     assert "precedence cycle" in people[0].decision.reason
     assert len(plan.dropped) >= 1 and plan.measure.violations == 0
@@ -62,10 +63,10 @@ def test_a_cycle_gives_one_task_to_a_person_and_says_why() -> None:
 def test_an_assigned_task_is_not_the_one_given_away() -> None:
     tasks = [_task("A", 0), _task("B", 1)]
     problem = _problem(tasks, [("A", "B"), ("B", "A")])
-    problem.decisions["B"] = Decision(ROBOT, ASSIGNED, "assigned to the robot with cadkg assign")
+    problem.decisions["B"] = Decision(Performer.ROBOT, ASSIGNED, "assigned to the robot with cadkg assign")
     plan = make_plan(problem)
-    assert plan.step_of("A").decision.performer == HUMAN  # type: ignore[union-attr]
-    assert plan.step_of("B").decision.performer == ROBOT  # type: ignore[union-attr]
+    assert plan.step_of("A").decision.performer == Performer.HUMAN  # type: ignore[union-attr]
+    assert plan.step_of("B").decision.performer == Performer.ROBOT  # type: ignore[union-attr]
 
 
 def test_the_same_problem_gives_the_same_plan() -> None:

@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import pytest
 
+from cadkg.plan.decision import Decision, Performer
 from cadkg.plan.order import make_plan
-from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
+from cadkg.plan.tasks import Precedence, Problem, Task
 
 pytest.importorskip("ortools")
 
@@ -17,11 +18,11 @@ def _problem(person: bool = False) -> Problem:
     xs = {"A": 0.0, "B": 0.1, "C": -0.15, "D": 0.3}
     points = {k: (x, 0.0, 0.0) for k, x in xs.items()}
     tasks = [Task(k, k, "wire", n, ("t",), p, p) for n, (k, p) in enumerate(points.items())]
-    decisions = {k: Decision(ROBOT, "default", "the robot's") for k in xs}
+    decisions = {k: Decision(Performer.ROBOT, "default", "the robot's") for k in xs}
     edges = [Precedence("D", "C", "D blocks C")]
     if person:
         tasks.append(Task("P", "P", "wire", 4))
-        decisions["P"] = Decision(HUMAN, "zone", "a person's")
+        decisions["P"] = Decision(Performer.HUMAN, "zone", "a person's")
         edges += [Precedence("B", "P", "B before P"), Precedence("P", "A", "P before A")]
     return Problem(tasks, decisions, edges)
 

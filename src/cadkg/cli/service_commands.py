@@ -12,6 +12,7 @@ from rich.table import Table
 from cadkg.cli.common import err, guarded, open_target, out, parse_params
 from cadkg.cli.cursor_file import resume_cursors, write_cursors
 from cadkg.graph import KnowledgeGraph
+from cadkg.plan.decision import Performer
 
 __all__ = ["assign", "call_service", "list_services"]
 
@@ -74,7 +75,7 @@ def list_services() -> None:
 @click.argument("store_dir", metavar="STORE", type=click.Path(exists=True, file_okay=False))
 @click.argument("kind", type=click.Choice(["wire", "component", "operation"]))
 @click.argument("ident", metavar="ID")
-@click.argument("performer", type=click.Choice(["robot", "human"]))
+@click.argument("performer", type=click.Choice([p.value for p in Performer]))
 @guarded
 def assign(store_dir: str, kind: str, ident: str, performer: str) -> None:
     """Assign a wire (number), component (label) or operation (list position) to robot or human.

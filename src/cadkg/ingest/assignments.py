@@ -19,11 +19,12 @@ from pathlib import Path
 from cadkg.errors import IngestError
 from cadkg.ingest.eplan.labels import normalize_label
 from cadkg.ingest.text import iter_rows, read_text
+from cadkg.plan.decision import Performer
 
-__all__ = ["KINDS", "PERFORMERS", "Assignment", "looks_like_assignments", "read_assignments"]
+__all__ = ["KINDS", "Assignment", "looks_like_assignments", "read_assignments"]
 
 KINDS = ("wire", "component", "operation")
-PERFORMERS = ("robot", "human")
+_PERFORMERS = tuple(p.value for p in Performer)
 _EXPECTED = "a CSV with the header kind,id,performer"
 
 
@@ -61,9 +62,9 @@ def read_assignments(path: str | Path) -> list[Assignment]:
         kind, ident, performer = (row.cell(0).lower(), row.cell(1), row.cell(2).lower())
         if kind not in KINDS:
             raise IngestError(path, "unknown kind", line=row.line, found=kind, expected=" | ".join(KINDS))
-        if performer not in PERFORMERS:
+        if performer not in _PERFORMERS:
             raise IngestError(
-                path, "unknown performer", line=row.line, found=performer, expected=" | ".join(PERFORMERS)
+                path, "unknown performer", line=row.line, found=performer, expected=" | ".join(_PERFORMERS)
             )
         if not ident:
             raise IngestError(path, "empty id", line=row.line, expected=f"the {kind} to assign")

@@ -12,7 +12,7 @@ import pyoxigraph as ox
 
 from cadkg.mapping.writer import TripleWriter
 from cadkg.ontology.terms import CK_NS
-from cadkg.plan.tasks import ROBOT
+from cadkg.plan.decision import Performer
 
 if TYPE_CHECKING:  # the ordering (numpy) is not needed to read a stored plan back
     from cadkg.plan.order import Plan
@@ -78,7 +78,7 @@ def plan_ntriples(plan: Plan, base: str, rules: str) -> bytes:
         w.add(node, _t("decisionRule"), text(step.decision.rule))
         w.add(node, _t("decisionReason"), text(step.decision.reason))
         w.add(node, _t("placementReason"), text(step.why_here))
-        if task.tools and step.decision.performer == ROBOT:
+        if task.tools and step.decision.performer == Performer.ROBOT:
             w.add(node, _t("toolNames"), text(";".join(task.tools)))
         if task.iri:
             w.add(node, _t("doesWork"), f"<{task.iri}>")

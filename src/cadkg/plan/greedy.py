@@ -16,7 +16,8 @@ from collections import defaultdict
 import numpy as np
 
 from cadkg.geometry.poses import Vec3
-from cadkg.plan.tasks import ROBOT, Decision, Task
+from cadkg.plan.decision import Decision, Performer
+from cadkg.plan.tasks import Task
 
 __all__ = ["PERSON", "greedy_order"]
 
@@ -110,7 +111,7 @@ def greedy_order(
     ``after`` lists each task's successors, ``waiting`` its unfinished predecessors, ``then``
     the task that must come right after it."""
     count = len(tasks)
-    robot = [decisions[t.key].performer == ROBOT for t in tasks]
+    robot = [decisions[t.key].performer == Performer.ROBOT for t in tasks]
     first_tool = [t.tools[0] if t.tools and robot[i] else "" for i, t in enumerate(tasks)]
     names = sorted({n for n in first_tool if n})
     number = {name: k for k, name in enumerate(names)}

@@ -7,7 +7,8 @@ import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
-from cadkg.plan.tasks import ROBOT, Decision, Precedence, Task
+from cadkg.plan.decision import Decision, Performer
+from cadkg.plan.tasks import Precedence, Task
 
 __all__ = ["Measure", "lower_bound", "measure"]
 
@@ -26,7 +27,7 @@ def measure(order: Sequence[Task], decisions: Mapping[str, Decision], edges: Ite
     """The measures of ``order`` (every task; people's tasks cost the robot nothing)."""
     changes, travel, tool, here = 0, 0.0, "", None
     for task in order:
-        if decisions[task.key].performer != ROBOT:
+        if decisions[task.key].performer != Performer.ROBOT:
             continue
         for used in task.tools:
             if tool and used != tool:
@@ -49,7 +50,7 @@ def measure(order: Sequence[Task], decisions: Mapping[str, Decision], edges: Ite
 def lower_bound(tasks: Iterable[Task], decisions: Mapping[str, Decision]) -> int:
     """The fewest tool changes any order can have: the tool classes the robot's tasks use less
     one, or the changes inside tasks (a wire whose two ends need two tools), whichever is more."""
-    robots = [t for t in tasks if decisions[t.key].performer == ROBOT]
+    robots = [t for t in tasks if decisions[t.key].performer == Performer.ROBOT]
     tools = {tool for t in robots for tool in t.tools}
     inside = sum(1 for t in robots for a, b in zip(t.tools, t.tools[1:], strict=False) if a != b)
     return max(0, len(tools) - 1, inside)

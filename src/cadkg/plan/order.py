@@ -14,15 +14,15 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from cadkg.plan.decision import ASSIGNED, Decision, Performer
 from cadkg.plan.greedy import PERSON, greedy_order
 from cadkg.plan.measure import Measure, lower_bound, measure
 from cadkg.plan.solver import solve_order
-from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
+from cadkg.plan.tasks import Precedence, Problem, Task
 
-__all__ = ["ASSIGNED", "CYCLE", "Plan", "Step", "make_plan"]
+__all__ = ["CYCLE", "Plan", "Step", "make_plan"]
 
 CYCLE = "precedence-cycle"
-ASSIGNED = "assigned"
 """The rule of a decision made with ``cadkg assign`` (or an assignments file): it wins over
 every other rule, and a cycle is broken elsewhere when it can be."""
 
@@ -83,7 +83,7 @@ def _break_cycles(problem: Problem) -> tuple[list[Precedence], list[Precedence],
             chosen = max(
                 knot,
                 key=lambda key, inside=inside: (  # type: ignore[misc]
-                    decisions[key].performer == HUMAN,
+                    decisions[key].performer == Performer.HUMAN,
                     decisions[key].rule != ASSIGNED,
                     inside.degree(key),
                     position[key],
@@ -92,11 +92,11 @@ def _break_cycles(problem: Problem) -> tuple[list[Precedence], list[Precedence],
             cycle = [a for a, _ in nx.find_cycle(inside, source=chosen)]
             path = " → ".join([*cycle, cycle[0]])
             old = decisions[chosen]
-            if old.performer == ROBOT and old.rule != ASSIGNED:
+            if old.performer == Performer.ROBOT and old.rule != ASSIGNED:
                 decisions[chosen] = Decision(
-                    HUMAN, CYCLE, f"precedence cycle {path}: no order lets the robot do them all"
+                    Performer.HUMAN, CYCLE, f"precedence cycle {path}: no order lets the robot do them all"
                 )
-            elif old.performer == ROBOT:
+            elif old.performer == Performer.ROBOT:
                 decisions[chosen] = replace(
                     old, reason=f"{old.reason}; in precedence cycle {path}, whose edges on it are dropped"
                 )
@@ -168,7 +168,7 @@ def _solved(
         f"{measured.tool_changes} instead of {best_measure.tool_changes}, travel {measured.travel:.2f} m "
         f"instead of {best_measure.travel:.2f} m)"
     )
-    placed = [(i, why if decisions[tasks[i].key].performer == ROBOT else PERSON) for i in solved]
+    placed = [(i, why if decisions[tasks[i].key].performer == Performer.ROBOT else PERSON) for i in solved]
     return measured, placed
 
 

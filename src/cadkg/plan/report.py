@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from cadkg.plan.decision import Performer
 from cadkg.plan.graph import PlannedStep, StoredPlan
 
 __all__ = ["CSV_COLUMNS", "as_json", "explain", "find", "rows", "summary"]
@@ -29,7 +30,7 @@ def _number(plan: StoredPlan, name: str) -> float:
 
 def summary(plan: StoredPlan) -> str:
     """``12 tasks: 6 robot, 6 person; tool changes 4 (files' order 4, lower bound 3) ...``."""
-    robot = sum(1 for s in plan.steps if s.performer == "robot")
+    robot = sum(1 for s in plan.steps if s.performer == Performer.ROBOT)
     kept = sum(1 for e in plan.precedence if not e[3])
     dropped = len(plan.precedence) - kept
     changes, files_changes = _number(plan, "toolChanges"), _number(plan, "filesToolChanges")
@@ -52,7 +53,7 @@ def as_json(plan: StoredPlan) -> dict[str, Any]:
     return {
         "summary": {
             "tasks": len(plan.steps),
-            "robot": sum(1 for s in plan.steps if s.performer == "robot"),
+            "robot": sum(1 for s in plan.steps if s.performer == Performer.ROBOT),
             **{
                 k: (int(v) if k in names else float(v) if k.endswith("M") else str(v))
                 for k, v in plan.summary.items()

@@ -17,7 +17,8 @@ import math
 from collections import deque
 from collections.abc import Sequence
 
-from cadkg.plan.tasks import ROBOT, Decision, Task
+from cadkg.plan.decision import Decision, Performer
+from cadkg.plan.tasks import Task
 
 __all__ = ["MAX_TASKS", "solve_order"]
 
@@ -42,12 +43,14 @@ def solve_order(
     """
     from ortools.sat.python import cp_model
 
-    robot = [i for i in start if decisions[tasks[i].key].performer == ROBOT]
+    robot = [i for i in start if decisions[tasks[i].key].performer == Performer.ROBOT]
     n = len(robot)
     if n < 2 or n > MAX_TASKS or any(not tasks[i].tools for i in robot):
         return None
     located = {tasks[i].start is not None and tasks[i].end is not None for i in robot}
-    if len(located) > 1 or any(decisions[tasks[j].key].performer != ROBOT for j, _ in then.values()):
+    if len(located) > 1 or any(
+        decisions[tasks[j].key].performer != Performer.ROBOT for j, _ in then.values()
+    ):
         return None
     slot = {i: k for k, i in enumerate(robot)}
     must = _robot_precedence(robot, slot, after)
@@ -128,7 +131,7 @@ def _with_people(
     for followers in after:
         for j in followers:
             waiting[j] += 1
-    people = sorted(i for i in range(len(tasks)) if decisions[tasks[i].key].performer != ROBOT)
+    people = sorted(i for i in range(len(tasks)) if decisions[tasks[i].key].performer != Performer.ROBOT)
     order: list[int] = []
     placed: set[int] = set()
 

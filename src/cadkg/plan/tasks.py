@@ -11,11 +11,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from cadkg.geometry.poses import Vec3
+from cadkg.plan.decision import Decision
 
-__all__ = ["HUMAN", "ROBOT", "Decision", "Precedence", "Problem", "Task"]
-
-ROBOT = "robot"
-HUMAN = "human"
+__all__ = ["Precedence", "Problem", "Task"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -36,15 +34,6 @@ class Task:
     end: Vec3 | None = None
     iri: str = ""
     where: str = ""
-
-
-@dataclass(frozen=True, slots=True)
-class Decision:
-    """Who does a task (``robot`` or ``human``), the rule that said so and the values it saw."""
-
-    performer: str
-    rule: str
-    reason: str
 
 
 @dataclass(frozen=True, slots=True)

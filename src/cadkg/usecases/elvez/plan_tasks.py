@@ -14,6 +14,7 @@ its branch. A spot or label no file defines sends the operation to a person.
 from __future__ import annotations
 
 from collections import defaultdict
+from functools import partial
 from typing import Any
 
 from cadkg.errors import CadkgError
@@ -21,9 +22,9 @@ from cadkg.geometry.poses import Vec3
 from cadkg.mapping.writer import node_iri
 from cadkg.plan.cell import cell_base
 from cadkg.plan.check import order_findings as check_order
-from cadkg.plan.order import ASSIGNED
+from cadkg.plan.decision import Assignments, Decision, Performer, decide
 from cadkg.plan.rules import Rules, load_rules
-from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
+from cadkg.plan.tasks import Precedence, Problem, Task
 from cadkg.query.validate import Finding
 from cadkg.usecases.elvez import DEFAULT_RULES
 from cadkg.usecases.elvez.files.harnesses import WiringHarness
@@ -81,32 +82,58 @@ def _harness(model: ElvezModel, step: SequenceStep) -> tuple[WiringHarness | Non
     return harness, branches
 
 
-def _assignments(kg: Any) -> dict[str, str]:
+def _assignments(kg: Any, base: str, model: ElvezModel) -> Assignments:
+    """The operations' assignments by their order in the sequence."""
     rows = kg.query("SELECT ?target ?who WHERE { ?a ck:assignmentOf ?target ; ck:assignedTo ?who }")
-    return {row["target"]: row["who"].rsplit("#", 1)[-1] for row in rows}
+    performers = {row["target"]: row["who"].rsplit("#", 1)[-1] for row in rows}
+    operations = (("operation", str(step.order)) for step in model.sequence)
+    return Assignments.of_targets(performers, operations, partial(node_iri, base))
+
+
+def _unresolved(model: ElvezModel, step: SequenceStep) -> Decision | None:
+    notes = unresolved(model, step)
+    return Decision(Performer.HUMAN, "unresolved", "; ".join(notes)) if notes else None
+
+
+def _no_tool(rules: Rules, step: SequenceStep) -> Decision | None:
+    if rules.tool_for(step.code.upper()) is not None:
+        return None
+    served = ", ".join(f"{t.name}: {' '.join(t.serves)}" for t in rules.tools) or "none"
+    return Decision(Performer.HUMAN, "operation", f"no tool serves {step.code.upper()} (tools {served})")
+
+
+def _not_in_cell(model: ElvezModel, rules: Rules, step: SequenceStep) -> Decision | None:
+    code = step.code.upper()
+    tool = rules.tool_for(code)
+    stations = {d.tool.kind for e in model.tools() if (d := model.definition(e)) and d.tool is not None}
+    if stations and tool not in stations:
+        return Decision(
+            Performer.HUMAN, "tool-not-in-cell", f"{code} needs the {tool}, which no ATC station holds"
+        )
+    return None
+
+
+def _every_rule(rules: Rules, step: SequenceStep) -> Decision:
+    code = step.code.upper()
+    return Decision(
+        Performer.ROBOT, "robot", f"{code} with the {rules.tool_for(code)}: every rule lets the robot"
+    )
 
 
 def _decide(
-    model: ElvezModel, step: SequenceStep, rules: Rules, by_hand: str | None
+    model: ElvezModel, step: SequenceStep, rules: Rules, assignments: Assignments
 ) -> tuple[Decision, tuple[str, ...]]:
-    code = step.code.upper()
-    tool = rules.tool_for(code)
-    tools = (tool,) if tool is not None else ()
-    if by_hand is not None:
-        who = "a person" if by_hand == HUMAN else "the robot"
-        return Decision(
-            by_hand, ASSIGNED, f"operation {step.order} assigned to {who} by hand; wins over the rules"
-        ), tools if by_hand == ROBOT else ()
-    notes = unresolved(model, step)
-    if notes:
-        return Decision(HUMAN, "unresolved", "; ".join(notes)), ()
-    if tool is None:
-        served = ", ".join(f"{t.name}: {' '.join(t.serves)}" for t in rules.tools) or "none"
-        return Decision(HUMAN, "operation", f"no tool serves {code} (tools {served})"), ()
-    stations = {d.tool.kind for e in model.tools() if (d := model.definition(e)) and d.tool is not None}
-    if stations and tool not in stations:
-        return Decision(HUMAN, "tool-not-in-cell", f"{code} needs the {tool}, which no ATC station holds"), ()
-    return Decision(ROBOT, "robot", f"{code} with the {tool}: every rule lets the robot"), tools
+    """Who performs the operation and why (the core's decision under the robot's rules), and
+    the tool it needs."""
+    tool = rules.tool_for(step.code.upper())
+    abilities = (
+        partial(_unresolved, model),
+        partial(_no_tool, rules),
+        partial(_not_in_cell, model, rules),
+        partial(_every_rule, rules),
+    )
+    decision = decide(step, assignments, (("operation", str(step.order)),), abilities=abilities)
+    return decision, (tool,) if tool is not None and decision.performer is Performer.ROBOT else ()
 
 
 def elvez_problem(kg: Any, rules: Rules) -> Problem:
@@ -121,11 +148,10 @@ def problem_of(kg: Any, model: ElvezModel, rules: Rules) -> Problem:
         for row in kg.query("SELECT ?op ?line WHERE { ?op ck:operationCode ?c ; ck:sourceLine ?line }")
     }
     base = cell_base(kg)
-    assigned = _assignments(kg)
+    assigned = _assignments(kg, base, model)
     tasks, decisions = [], {}
     for n, (step, where) in enumerate(zip(model.sequence, model.step_where, strict=True)):
-        target = node_iri(base, "operation", str(step.order))
-        decision, tools = _decide(model, step, rules, assigned.get(target))
+        decision, tools = _decide(model, step, rules, assigned)
         points = [_spot_point(model, s) for s in step.spots]
         known = [p for p in points if p is not None]
         start, end = (known[0], known[-1]) if known else (None, None)

@@ -19,10 +19,11 @@ from dataclasses import dataclass, replace
 from decimal import Decimal, InvalidOperation
 
 from cadkg.geometry.poses import Pose, Vec3
-from cadkg.mapping.writer import node_iri
+from cadkg.plan.decision import Performer
 from cadkg.plan.graph import robot_positions
 from cadkg.services.session import Session, Work, cursor_done, cursor_rebase, follow
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
+from cadkg.usecases.iema.robot_scope import assignments_of
 
 __all__ = [
     "ConnectionEnd",
@@ -118,14 +119,13 @@ class _Work:
         if planned is not None and all(0 <= p < len(model.steps) for p in planned):
             self.steps = [model.steps[p] for p in planned]
         else:
-            self.steps = [s for s in model.steps if s.performer == "robot"]
+            self.steps = [s for s in model.steps if s.performer is Performer.ROBOT]
         # Per ``source`` argument of reset_to_connection_list: the first robot step of each
         # wire number and of each list position, built on first use.
         self.lookup: dict[str, tuple[dict[Decimal, int], dict[int, int]]] = {}
+        assigned = assignments_of(model.performers, model.base, (), model.components)
         self.human_components = {
-            label
-            for label in model.components
-            if model.performers.get(node_iri(model.base, "component", label)) == "human"
+            label for label in model.components if assigned.get("component", label) is Performer.HUMAN
         }
 
 

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 from importlib import resources
 from typing import Any
 
+from cadkg.plan.decision import Decision, Performer
 from cadkg.plan.rules import Rules
-from cadkg.plan.tasks import HUMAN, ROBOT, Decision
 from cadkg.usecases.iema.derive.cabinet import CellModel, WireStep
 from cadkg.usecases.iema.robot_scope import DEFAULT_ZONES, LABEL_RULE, scope_reason, scope_rule
 
@@ -50,7 +50,7 @@ class Scope:
 
 def scope_of(kg: Any, model: CellModel, rules: Rules) -> Scope:
     """The cabinet rule of the cell in ``kg`` under ``rules``."""
-    labels_judged = rules.choice("label_not_in_cad", HUMAN, (ROBOT, HUMAN)) == HUMAN
+    labels_judged = rules.choice("label_not_in_cad", Performer.HUMAN, tuple(Performer)) == Performer.HUMAN
     if "zones" in rules.robot:
         known = frozenset(label for label, geometry in model.components.items() if geometry.items)
         return Scope(rules.names("zones"), f"the zones of {rules.source}", labels_judged, known)
@@ -71,5 +71,5 @@ def scope_decision(scope: Scope, step: WireStep, zone: str | None) -> Decision |
     if reason is None or (rule == LABEL_RULE and not scope.labels_judged):
         return None
     if rule == LABEL_RULE:
-        return Decision(HUMAN, rule, f"{reason}; the list gives the wire no zone")
-    return Decision(HUMAN, rule, f"origin {reason} ({scope.source})")
+        return Decision(Performer.HUMAN, rule, f"{reason}; the list gives the wire no zone")
+    return Decision(Performer.HUMAN, rule, f"origin {reason} ({scope.source})")

@@ -11,22 +11,23 @@ from the same geometry: the level whose corridor the other's wire crosses goes f
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
-from urllib.parse import unquote
 
 import numpy as np
 
 from cadkg.geometry.poses import Vec3
 from cadkg.geometry.segments import close_pairs
-from cadkg.mapping.writer import node_iri
 from cadkg.plan.check import order_findings
-from cadkg.plan.order import ASSIGNED
+from cadkg.plan.decision import Assignments, Decision, Performer, Rule, decide
 from cadkg.plan.rules import Rules, load_rules
-from cadkg.plan.tasks import HUMAN, ROBOT, Decision, Precedence, Problem, Task
+from cadkg.plan.tasks import Precedence, Problem, Task
 from cadkg.query.validate import Finding
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
 from cadkg.usecases.iema.plan_scope import DEFAULT_RULES, SETTINGS, Scope, scope_decision, scope_of
+from cadkg.usecases.iema.robot_scope import WireFacts, assignments_of, names_of, parts_of
 
 __all__ = ["DEFAULT_RULES", "SETTINGS", "iema_problem", "order_check"]
 
@@ -63,50 +64,19 @@ def _point(pin: CadPin) -> Vec3 | None:
     return pose.position if pose is not None else None
 
 
-def _assigned_by_kind(model: CellModel) -> dict[str, set[str]]:
-    """The wire numbers, list positions and labels an assignment names, by kind."""
-    found: dict[str, set[str]] = {"wire": set(), "operation": set(), "component": set()}
-    for target in model.performers:
-        for kind, names in found.items():
-            prefix = f"{model.base}{kind}/"
-            if target.startswith(prefix):
-                names.add(unquote(target[len(prefix) :]))
-    return found
+@dataclass(frozen=True, slots=True)
+class _Wire:
+    """A wire as the plan's rules see it: its step, the list's facts, and the tools its ends'
+    terminations take (the origin's, then the destination's) with the ends no tool serves."""
+
+    step: WireStep
+    facts: _Facts
+    judged: WireFacts
+    tools: tuple[str, ...]
+    missing_tool: tuple[str, ...]
 
 
-def _assigned(model: CellModel, step: WireStep, by_kind: dict[str, set[str]], components: bool) -> str | None:
-    """What an explicit assignment of the wire or its list position decided the wire by
-    (``wire 1500.51``), or with ``components`` one of either end's component, if one did."""
-    if not components:
-        if step.iri in model.performers or step.wire in by_kind["wire"]:
-            return f"wire {step.wire}"
-        if str(step.position) in by_kind["operation"]:
-            return f"operation {step.position}"
-        return None
-    for pin in (step.origin, step.destination):
-        if pin.label in by_kind["component"]:
-            return f"component {pin.label}"
-    return None
-
-
-def _performer(model: CellModel, step: WireStep) -> str:
-    """Who an assignment gives the wire to: the derivation's answer, unless the cabinet rule
-    gave it to a person there and a rules file's zones let it in here (then its components')."""
-    if step.performer == HUMAN and step.reason:
-        ends = (node_iri(model.base, "component", pin.label) for pin in (step.origin, step.destination))
-        return HUMAN if any(model.performers.get(e) == HUMAN for e in ends) else ROBOT
-    return step.performer
-
-
-def _decide(
-    model: CellModel, step: WireStep, facts: _Facts, rules: Rules, context: tuple[Scope, dict[str, set[str]]]
-) -> tuple[Decision, tuple[str, ...]]:
-    """Who makes the wire and why, and the tools it needs (origin's, then destination's).
-
-    In the order of :mod:`cadkg.usecases.iema.robot_scope`: an assignment of the wire or its
-    list position, the cabinet rule, an assignment of an end's component; then the robot's own
-    rules (cross-section, tools, pin data)."""
-    scope, by_kind = context
+def _wire(step: WireStep, facts: _Facts, rules: Rules) -> _Wire:
     tools, missing_tool = [], []
     default_tool = rules.robot.get("default_tool")
     for end, termination in zip(_ENDS, step.terminations, strict=True):
@@ -115,44 +85,80 @@ def _decide(
             missing_tool.append(f"{end} termination {termination or '(none given)'}")
         else:
             tools.append(str(tool))
-    by_hand = _assigned(model, step, by_kind, components=False)
-    scoped = scope_decision(scope, step, facts.zones[0]) if by_hand is None else None
-    if scoped is not None:
-        return scoped, ()
-    by_hand = by_hand or _assigned(model, step, by_kind, components=True)
-    if by_hand is not None:
-        performer = _performer(model, step)
-        who = "a person" if performer == HUMAN else "the robot"
-        return Decision(performer, ASSIGNED, f"{by_hand} assigned to {who} by hand; wins over the rules"), (
-            tuple(tools) if performer == ROBOT else ()
-        )
+    judged = WireFacts(step.wire, step.position, facts.zones[0], (step.origin.label, step.destination.label))
+    return _Wire(step, facts, judged, tuple(tools), tuple(missing_tool))
+
+
+def _scoped(scope: Scope, wire: _Wire) -> Decision | None:
+    return scope_decision(scope, wire.step, wire.facts.zones[0])
+
+
+def _cross_section(rules: Rules, wire: _Wire) -> Decision | None:
     low, high = rules.number("cross_section_min_mm2", 0.0), rules.number("cross_section_max_mm2", 1e9)
-    if facts.section is not None and not low <= facts.section <= high:
-        return Decision(
-            HUMAN,
-            "cross-section",
-            f"cross-section {facts.section:g} mm² is outside the robot's {low:g} to {high:g} mm² "
-            f"({rules.source})",
-        ), ()
-    if missing_tool:
-        served = ", ".join(f"{t.name}: {' '.join(t.serves)}" for t in rules.tools) or "none"
-        return Decision(
-            HUMAN, "termination", f"no tool serves the {' and the '.join(missing_tool)} (tools {served})"
-        ), ()
-    if step.missing:
-        if rules.choice("missing_pin_data", ROBOT, (ROBOT, HUMAN)) == HUMAN:
-            return Decision(HUMAN, "missing-pin-data", f"no pin data for {', '.join(step.missing)}"), ()
-        return Decision(
-            ROBOT,
-            "missing-pin-data",
-            f"no pin data for {', '.join(step.missing)}: the robot's, flagged for detection "
-            "(missing_pin_data)",
-        ), tuple(tools)
-    section = f"{facts.section:g} mm², " if facts.section is not None else ""
-    zones = "/".join(z or "-" for z in facts.zones)
+    section = wire.facts.section
+    if section is None or low <= section <= high:
+        return None
     return Decision(
-        ROBOT, "robot", f"zones {zones}, {section}tools {' then '.join(tools)}: every rule lets the robot"
-    ), tuple(tools)
+        Performer.HUMAN,
+        "cross-section",
+        f"cross-section {section:g} mm² is outside the robot's {low:g} to {high:g} mm² ({rules.source})",
+    )
+
+
+def _termination(rules: Rules, wire: _Wire) -> Decision | None:
+    if not wire.missing_tool:
+        return None
+    served = ", ".join(f"{t.name}: {' '.join(t.serves)}" for t in rules.tools) or "none"
+    return Decision(
+        Performer.HUMAN,
+        "termination",
+        f"no tool serves the {' and the '.join(wire.missing_tool)} (tools {served})",
+    )
+
+
+def _pin_data(rules: Rules, wire: _Wire) -> Decision | None:
+    missing = wire.step.missing
+    if not missing:
+        return None
+    if rules.choice("missing_pin_data", Performer.ROBOT, tuple(Performer)) == Performer.HUMAN:
+        return Decision(Performer.HUMAN, "missing-pin-data", f"no pin data for {', '.join(missing)}")
+    return Decision(
+        Performer.ROBOT,
+        "missing-pin-data",
+        f"no pin data for {', '.join(missing)}: the robot's, flagged for detection (missing_pin_data)",
+    )
+
+
+def _every_rule(wire: _Wire) -> Decision:
+    section = f"{wire.facts.section:g} mm², " if wire.facts.section is not None else ""
+    zones = "/".join(z or "-" for z in wire.facts.zones)
+    return Decision(
+        Performer.ROBOT,
+        "robot",
+        f"zones {zones}, {section}tools {' then '.join(wire.tools)}: every rule lets the robot",
+    )
+
+
+def _abilities(rules: Rules) -> tuple[Rule[_Wire], ...]:
+    """The robot's own rules, in the order they are asked after the cabinet rule."""
+    return (
+        partial(_cross_section, rules),
+        partial(_termination, rules),
+        partial(_pin_data, rules),
+        _every_rule,
+    )
+
+
+def _decide(
+    wire: _Wire, assignments: Assignments, scope: Rule[_Wire], abilities: Sequence[Rule[_Wire]]
+) -> tuple[Decision, tuple[str, ...]]:
+    """Who makes the wire and why (the core's decision under the plan's cabinet rule and the
+    robot's rules), and the tools the robot needs for it."""
+    judged = wire.judged
+    decision = decide(
+        wire, assignments, names_of(judged), scope=scope, parts=parts_of(judged), abilities=abilities
+    )
+    return decision, wire.tools if decision.performer is Performer.ROBOT else ()
 
 
 def iema_problem(kg: Any, rules: Rules) -> Problem:
@@ -160,12 +166,15 @@ def iema_problem(kg: Any, rules: Rules) -> Problem:
     model: CellModel = kg.cell_model()
     facts = _facts(kg)
     numbers = Counter(step.wire for step in model.steps)
-    context = (scope_of(kg, model, rules), _assigned_by_kind(model))
+    assignments = assignments_of(
+        model.performers, model.base, ((s.wire, s.position) for s in model.steps), model.components
+    )
+    scope, abilities = partial(_scoped, scope_of(kg, model, rules)), _abilities(rules)
     tasks, decisions = [], {}
     for n, step in enumerate(model.steps):
         key = step.wire if numbers[step.wire] == 1 else f"{step.wire}@{step.position}"
         fact = facts.get(step.iri, _Facts())
-        decision, tools = _decide(model, step, fact, rules, context)
+        decision, tools = _decide(_wire(step, fact, rules), assignments, scope, abilities)
         where = f"{step.source}:{fact.line}" if fact.line is not None else step.source
         tasks.append(
             Task(

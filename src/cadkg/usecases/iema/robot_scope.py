@@ -6,24 +6,30 @@ the cabinet's own zones (``Q``, ``QE``); cadkg keeps every row and gives the oth
 with the rule and the value that decided it, so the planner, ``full_cad_service``, SPARQL
 (``ck:assignmentReason`` in the derived graph) and ``cadkg validate`` all say the same thing.
 
-The order of the decision: an assignment of the wire or of its operation (overlay file or
-``cadkg assign``) wins; then the cabinet rule (:func:`scope_reason`); then an assignment of
-either end's component to a person; else the robot.
+The decision itself is the core's (:func:`cadkg.plan.decision.decide`): this module supplies
+its IEMA half, the cabinet rule (:class:`CabinetRule`) and the names a wire and its ends'
+components are assigned by.
 """
 
 from __future__ import annotations
 
 from collections.abc import Collection, Container, Iterable
 from dataclasses import dataclass
+from functools import partial
 
 from cadkg.mapping.writer import node_iri
+from cadkg.plan.decision import ASSIGNED, Assignments, Decision, Performer, decide
 
 __all__ = [
     "DEFAULT_ZONES",
     "LABEL_RULE",
     "ZONE_RULE",
-    "Decision",
-    "decide",
+    "CabinetRule",
+    "WireFacts",
+    "assignments_of",
+    "cell_decision",
+    "names_of",
+    "parts_of",
     "performers_of",
     "scope_reason",
     "scope_rule",
@@ -37,11 +43,14 @@ LABEL_RULE = "label-not-in-cad"
 
 
 @dataclass(frozen=True, slots=True)
-class Decision:
-    """Who makes a wire, and the rule that decided it ('' when an assignment or nothing did)."""
+class WireFacts:
+    """What the cabinet rule judges a wire by: its number and list position (what it is
+    assigned by), the zone of its origin as the list writes it, its ends' component labels."""
 
-    performer: str
-    reason: str = ""
+    number: str
+    position: int
+    zone: str | None
+    labels: tuple[str, str]
 
 
 def scope_reason(
@@ -68,6 +77,29 @@ def scope_rule(zone: str | None) -> str:
     return ZONE_RULE if zone else LABEL_RULE
 
 
+@dataclass(frozen=True, slots=True)
+class CabinetRule:
+    """The cabinet rule as the core decision's scope rule: a wire outside ``zones`` (or, when
+    the list gives no zone, with an end's label not among ``known``) is a person's."""
+
+    zones: Collection[str]
+    known: Container[str]
+
+    def __call__(self, wire: WireFacts) -> Decision | None:
+        reason = scope_reason(wire.zone, wire.labels, self.zones, self.known)
+        return None if reason is None else Decision(Performer.HUMAN, scope_rule(wire.zone), reason)
+
+
+def names_of(wire: WireFacts) -> tuple[tuple[str, str], ...]:
+    """What an assignment of the wire itself names: its number, then its list position."""
+    return (("wire", wire.number), ("operation", str(wire.position)))
+
+
+def parts_of(wire: WireFacts) -> tuple[tuple[str, str], ...]:
+    """What an assignment of a thing the wire joins names: its ends' components."""
+    return tuple(("component", label) for label in wire.labels)
+
+
 def performers_of(assignments: Iterable[tuple[str, str, str]], base: str) -> dict[str, str]:
     """Target IRI → performer from (graph, target, performer): the source files first, then the
     edits graph (``cadkg assign``), so later edits win."""
@@ -76,28 +108,22 @@ def performers_of(assignments: Iterable[tuple[str, str, str]], base: str) -> dic
     return {target: who for _, target, who in ordered}
 
 
-def decide(
-    performers: dict[str, str],
-    base: str,
-    wire: tuple[str, str, int],
-    ends: tuple[str, str],
-    zone: str | None,
-    zones: Collection[str],
-    known: Container[str],
-) -> Decision:
-    """Who makes the wire ``(iri, number, list position)`` between the components ``ends``."""
-    iri, number, position = wire
-    assigned = (
-        performers.get(iri)
-        or performers.get(node_iri(base, "wire", number))
-        or performers.get(node_iri(base, "operation", str(position)))
-    )
-    if assigned:
-        return Decision(assigned)
-    reason = scope_reason(zone, ends, zones, known)
-    if reason is not None:
-        return Decision("human", reason)
-    for label in ends:
-        if performers.get(node_iri(base, "component", label)) == "human":
-            return Decision("human")
-    return Decision("robot")
+def assignments_of(
+    performers: dict[str, str], base: str, wires: Iterable[tuple[str, int]], labels: Iterable[str]
+) -> Assignments:
+    """The assignments of a cabinet's wires (number, list position) and components by kind and
+    id: each thing's IRI minted as the mapping mints it, looked up among ``performers``."""
+    things: dict[tuple[str, str], None] = {}
+    for number, position in wires:
+        things[("wire", number)] = None
+        things[("operation", str(position))] = None
+    things.update(dict.fromkeys(("component", label) for label in labels))
+    return Assignments.of_targets(performers, things, partial(node_iri, base))
+
+
+def cell_decision(wire: WireFacts, assignments: Assignments, cabinet: CabinetRule) -> tuple[Performer, str]:
+    """The cell's own decision on a wire, without the robot's abilities (those are a rules
+    file's, the plan's): who, and the cabinet rule's reason ('' when no rule decided: an
+    assignment's reason is the planner's to word)."""
+    decision = decide(wire, assignments, names_of(wire), scope=cabinet, parts=parts_of(wire))
+    return decision.performer, "" if decision.rule == ASSIGNED else decision.reason

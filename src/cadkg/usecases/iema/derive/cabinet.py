@@ -15,9 +15,10 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
+import cadkg.usecases.iema.robot_scope as scope
 from cadkg.geometry.poses import IDENTITY, Pose, Vec3, bounds, box_corners, closest_point_on_segment
+from cadkg.plan.decision import Assignments, Performer
 from cadkg.usecases.iema.derive.extract import CellInputs, ModelInfo, PinInfo, WireInfo
-from cadkg.usecases.iema.robot_scope import decide, performers_of
 from cadkg.usecases.iema.terminal_diagram import items_along
 
 __all__ = ["CadPin", "CellModel", "Cluster", "ComponentGeometry", "Rail", "WireStep", "derive_cell"]
@@ -88,7 +89,7 @@ class WireStep:
     destination: CadPin
     ducts: tuple[str, ...]
     keypoints: tuple[Pose, ...]
-    performer: str
+    performer: Performer
     terminations: tuple[str | None, str | None] = (None, None)
     # The duct path as the list writes it; why a rule gave the wire to a person (robot_scope).
     path: str = ""
@@ -404,13 +405,17 @@ def derive_cell(cell: CellInputs) -> CellModel:
         for label, g in components.items()
         if g.pins and not re.match(cell.rail_pattern, label)
     }
-    performers = performers_of(cell.assignments, cell.base)
+    performers = scope.performers_of(cell.assignments, cell.base)
+    assigned = scope.assignments_of(
+        performers, cell.base, ((w.number, w.position) for w in cell.wires), components
+    )
+    cabinet = scope.CabinetRule(cell.robot_zones, cell.items_of)
     axes = {
         label: axis
         for label in cell.duct_labels
         if label in components and (axis := _duct_axis(deriver, components[label])) is not None
     }
-    steps = [_step(cell, components, axes, performers, wire) for wire in cell.wires]
+    steps = [_step(cell, components, axes, (assigned, cabinet), wire) for wire in cell.wires]
     return CellModel(frame, cell.approach_distance, components, rails, steps, clusters, performers, cell.base)
 
 
@@ -467,7 +472,7 @@ def _step(
     cell: CellInputs,
     components: dict[str, ComponentGeometry],
     axes: dict[str, tuple[Vec3, Vec3]],
-    performers: dict[str, str],
+    decision_by: tuple[Assignments, scope.CabinetRule],
     wire: WireInfo,
 ) -> WireStep:
     ends = []
@@ -475,15 +480,8 @@ def _step(
         info = cell.pins[iri]
         ends.append(components[info.label].pins[pin_key(info)])
     origin, destination = ends
-    decision = decide(
-        performers,
-        cell.base,
-        (wire.iri, wire.number, wire.position),
-        (origin.label, destination.label),
-        wire.zone,
-        cell.robot_zones,
-        cell.items_of,
-    )
+    facts = scope.WireFacts(wire.number, wire.position, wire.zone, (origin.label, destination.label))
+    performer, reason = scope.cell_decision(facts, *decision_by)
     return WireStep(
         position=wire.position,
         source=wire.source,
@@ -493,8 +491,8 @@ def _step(
         destination=destination,
         ducts=wire.ducts,
         keypoints=_keypoints(origin, destination, [axes[d] for d in wire.ducts if d in axes]),
-        performer=decision.performer,
+        performer=performer,
         terminations=wire.terminations,
         path=wire.path,
-        reason=decision.reason,
+        reason=reason,
     )

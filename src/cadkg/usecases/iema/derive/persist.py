@@ -21,6 +21,7 @@ from importlib.metadata import version
 from typing import Any
 
 from cadkg.geometry.poses import Pose, Vec3
+from cadkg.plan.decision import Performer
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, Rail, WireStep
 
 # A kept model is read back only by the cadkg version that wrote it.
@@ -220,7 +221,7 @@ class _Reader:
                     destination=end(destination),
                     ducts=_strings(ducts),
                     keypoints=tuple(self.required(p) for p in _typed(keypoints, list)),
-                    performer=_typed(performer, str),
+                    performer=Performer(_typed(performer, str)),
                     terminations=(_text(first), _text(second)),
                     path=_typed(path, str),
                     reason=_typed(why, str),
