@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import contextlib
+import resource
 import socket
 import threading
 import time
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import uvicorn
@@ -75,9 +77,12 @@ def cadkg_serve(*args: str, wait: float = 120) -> Iterator[str]:
 
 
 @contextlib.contextmanager
-def cadkg_serve_process(*args: str, wait: float = 120) -> Iterator[tuple[str, Any]]:
+def cadkg_serve_process(
+    *args: str, wait: float = 120, descriptors: int | None = None, log: Path | None = None
+) -> Iterator[tuple[str, Any]]:
     """As :func:`cadkg_serve`, yielding the process too; it runs in its own process group (its
-    query workers with it), killed as a whole at the end."""
+    query workers with it), killed as a whole at the end. ``descriptors``: the process's limit of
+    open files (soft and hard); ``log``: a file its standard error goes to."""
     import os
     import signal
     import subprocess
@@ -89,15 +94,29 @@ def cadkg_serve_process(*args: str, wait: float = 120) -> Iterator[tuple[str, An
 
     port = free_port()
     command = [sys.executable, "-m", "cadkg.cli", "serve", *args, "--port", str(port)]
-    process = subprocess.Popen(
-        command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
-    )
+
+    def limit() -> None:
+        if descriptors is not None:
+            resource.setrlimit(resource.RLIMIT_NOFILE, (descriptors, descriptors))
+
+    with contextlib.ExitStack() as files:
+        stderr = subprocess.PIPE if log is None else files.enter_context(log.open("w"))
+        process = subprocess.Popen(
+            command,
+            cwd=ROOT,
+            stdout=subprocess.PIPE,
+            stderr=stderr,
+            text=True,
+            start_new_session=True,
+            preexec_fn=limit if descriptors is not None else None,
+        )
     base = f"http://127.0.0.1:{port}"
     try:
         deadline = time.monotonic() + wait
         while True:
             if process.poll() is not None:
                 _, err = process.communicate()
+                err = err if log is None else log.read_text()
                 raise RuntimeError(f"cadkg serve exited with {process.returncode}: {err}")
             try:
                 info = httpx.get(f"{base}/api/info", timeout=5)

@@ -54,6 +54,20 @@ __all__ = ["ros", "serve"]
 )
 @max_query_memory
 @click.option(
+    "--header-timeout",
+    type=click.FloatRange(min=0.1),
+    default=10.0,
+    show_default=True,
+    help="Seconds a connection has to send a request head (and a body between two chunks).",
+)
+@click.option(
+    "--max-connections",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="Connections open at once; past them a 503 (0: from the descriptor limit, less 256).",
+)
+@click.option(
     "--cache-mb", type=click.IntRange(min=0), default=64, show_default=True, help="Answer cache (0: none)."
 )
 @click.option(
@@ -96,6 +110,8 @@ def serve(
     max_body: int,
     workers: int,
     max_query_memory: int,
+    header_timeout: float,
+    max_connections: int,
     cache_mb: int,
     watch: float,
     allow_service: tuple[str, ...],
@@ -128,7 +144,13 @@ def serve(
         return open_target(target)
 
     limits = Limits(
-        timeout=timeout, max_rows=max_rows, max_body=max_body, workers=workers, query_memory=max_query_memory
+        timeout=timeout,
+        max_rows=max_rows,
+        max_body=max_body,
+        workers=workers,
+        query_memory=max_query_memory,
+        header_timeout=header_timeout,
+        max_connections=max_connections,
     )
     settings = Settings(
         limits=limits,

@@ -22,6 +22,7 @@ from typing import Any
 from starlette.applications import Starlette
 from starlette.middleware import Middleware
 from starlette.middleware.gzip import GZipMiddleware
+from starlette.requests import ClientDisconnect
 from starlette.responses import Response
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
@@ -34,6 +35,7 @@ import cadkg.server.workbench.routes as workbench
 from cadkg.errors import StoreError
 from cadkg.server.api import CLIENT_HEADER
 from cadkg.server.caching import HttpCaching
+from cadkg.server.connections import ACCEPT_BURST, bounded_protocol, connection_bound
 from cadkg.server.context import Endpoint, Settings
 from cadkg.server.evaluation import pool_maker
 from cadkg.server.feed import ServerFeed
@@ -128,7 +130,10 @@ class _Guard:
                 message["headers"] = list(message.get("headers", [])) + extra
             await send(message)
 
-        await self.app(scope, receive, send_with_headers)
+        # A client gone mid-body (or closed for stalling, cadkg.server.connections) has nobody
+        # to answer and is no error of the endpoint's.
+        with contextlib.suppress(ClientDisconnect):
+            await self.app(scope, receive, send_with_headers)
 
     @staticmethod
     def _cors_headers(origin: str) -> list[tuple[bytes, bytes]]:
@@ -262,7 +267,8 @@ def serve(
     Raises
     ------
     StoreError
-        When ``host`` is not a loopback address and ``allow_non_loopback`` is not given.
+        When ``host`` is not a loopback address and ``allow_non_loopback`` is not given, or
+        when ``settings.limits.max_connections`` leaves too few descriptors for the rest.
     """
     import uvicorn
 
@@ -272,6 +278,9 @@ def serve(
             f"refusing to listen on {host}: the endpoint has no user accounts and is meant for this "
             "machine; give --allow-non-loopback to serve other machines (see docs/server.md)"
         )
+    # Sized (and the descriptor limit raised) before anything opens the store or forks a worker.
+    limits = settings.limits
+    bound = connection_bound(limits.max_connections)
     app = create_app(load, settings, loopback_hosts_only=loopback)
     mode = "read-write (token)" if settings.allow_update else "read-only"
     # What the operator opened beyond the defaults, said where they will look first.
@@ -286,4 +295,19 @@ def serve(
     missing = page.bundle_missing()
     if missing:
         print(f"cadkg serve: {missing}", file=sys.stderr, flush=True)
-    uvicorn.run(app, host=host, port=port, log_level="warning", access_log=False, timeout_keep_alive=30)
+    print(
+        f"cadkg serve: {bound.describe()}; a request head within {limits.header_timeout:g} s",
+        file=sys.stderr,
+        flush=True,
+    )
+    uvicorn.run(
+        app,
+        host=host,
+        port=port,
+        log_level="warning",
+        access_log=False,
+        timeout_keep_alive=30,
+        http=bounded_protocol(limits.header_timeout, bound),
+        backlog=ACCEPT_BURST,
+        loop="asyncio",  # whose accepting ACCEPT_BURST bounds (not uvloop's, were it installed)
+    )

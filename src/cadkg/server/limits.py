@@ -33,19 +33,25 @@ T = TypeVar("T")
 
 @dataclass(frozen=True)
 class Limits:
-    """The endpoint's limits: seconds per request, rows (or triples) per answer, bytes per body."""
+    """The endpoint's limits: seconds per request, rows (or triples) per answer, bytes per body,
+    seconds per request head, connections open at once."""
 
     timeout: float = 30.0
     max_rows: int = 10_000
     max_body: int = 1 << 20
     workers: int = 4
     query_memory: int = DEFAULT_QUERY_MEMORY  # MiB a query's worker may grow by (0: no limit)
+    # Seconds a connection has to send a whole request head, and a body between two chunks.
+    header_timeout: float = 10.0
+    max_connections: int = 0  # connections open at once (0: from the descriptor limit)
 
     def __post_init__(self) -> None:
         if not self.timeout > 0 or self.max_rows < 1 or self.max_body < 1 or self.workers < 1:
             raise ValueError(f"limits must be positive: {self}")
         if self.query_memory < 0:
             raise ValueError(f"query_memory is MiB, 0 for no limit: {self}")
+        if not self.header_timeout > 0 or self.max_connections < 0:
+            raise ValueError(f"header_timeout must be positive, max_connections 0 or more: {self}")
 
 
 class BodyTooLargeError(CadkgError):
