@@ -117,6 +117,9 @@ STAGES: list[tuple[str, tuple[str, ...]]] = [
             "cadkg.geometry",
             "cadkg.confined",
             "cadkg.limited",
+            # Who does a task: a pure function over data that the assignments' reader, the
+            # graph's assign, the cursors, the planner and validation all take.
+            "cadkg.plan.decision",
             "cadkg.sparql_text",
             "cadkg.outbound",
             "cadkg.loading",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import enum
 import math
 from collections.abc import Iterator
 from types import SimpleNamespace
@@ -61,6 +62,8 @@ def same(value: Any, data: Any) -> bool:
         )
     if isinstance(value, tuple) and len(value) == 3 and all(isinstance(v, float) for v in value):
         return isinstance(data, dict) and (data["x"], data["y"], data["z"]) == value
+    if isinstance(value, enum.Enum):  # a performer: a plain string in the message
+        value = value.value
     if isinstance(value, tuple | list):
         return len(value) == len(data) and all(same(v, d) for v, d in zip(value, data, strict=True))
     return bool(value == data and type(data) is type(value))
