@@ -59,7 +59,7 @@ def child(manifest: str, baseline: bool, reference: bool) -> dict[str, Any]:
     import cadkg
     from cadkg.query.shacl_shapes import cadkg_shapes
     from cadkg.query.shacl_sparql import check_shapes
-    from cadkg.query.validate import _PINS_WITHOUT_DATA, _UNKNOWN_LABELS, _WIRE_ENDS, validate
+    from cadkg.query.validate import _PINS_WITHOUT_DATA, _UNKNOWN_LABELS, _WIRE_ENDS, _shacl, validate
     from cadkg.store import PREFIXES
 
     start = time.perf_counter()
@@ -67,8 +67,11 @@ def child(manifest: str, baseline: bool, reference: bool) -> dict[str, Any]:
     built = time.perf_counter()
     semantic = validate(kg, shacl=False)
     checked = time.perf_counter()
-    findings = validate(kg)
+    # The shapes timed by themselves, as validate runs them: a difference of two whole runs
+    # went below zero on a loaded machine.
+    shapes = _shacl(kg)
     validated = time.perf_counter()
+    findings = sorted({*semantic, *shapes})
     queries = (_UNKNOWN_LABELS, _WIRE_ENDS, _PINS_WITHOUT_DATA)
     started = time.perf_counter()
     rows = [len(kg.query(query)) for query in queries]
@@ -97,7 +100,7 @@ def child(manifest: str, baseline: bool, reference: bool) -> dict[str, Any]:
         "triples": len(kg),
         "build": built - start,
         "semantic": checked - built,
-        "shacl": (validated - checked) - (checked - built),
+        "shacl": validated - checked,
         "findings": len(findings),
         "semantic_findings": len(semantic),
         "rows": rows,
