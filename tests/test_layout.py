@@ -141,7 +141,18 @@ STAGES: list[tuple[str, tuple[str, ...]]] = [
     ),
     # A use case adds to every stage up to its services; the package's public API re-exports
     # the store and validation.
-    ("queries", ("cadkg.query", "cadkg.services", "cadkg.plan", "cadkg.changes", "cadkg.usecases", "cadkg")),
+    (
+        "queries",
+        (
+            "cadkg.query",
+            "cadkg.services",
+            "cadkg.served",
+            "cadkg.plan",
+            "cadkg.changes",
+            "cadkg.usecases",
+            "cadkg",
+        ),
+    ),
     ("transports", ("cadkg.cli", "cadkg.server", "cadkg.ros_adapter")),
 ]
 # The plug-in table names what each stage plugs in (readers, derivations, services) and every

@@ -170,6 +170,11 @@ class ReadLimitError(IngestError, LimitError):
         self.limit = limit
 
 
+class StateError(CadkgError):
+    """A request the served cell cannot take as it is: a reload of a graph handed in, which it
+    has no way to open again."""
+
+
 class NotFound(CadkgError):  # noqa: N818 - the name the design documents
     """A label, wire or other named thing is not in the graph."""
 

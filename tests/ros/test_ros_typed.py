@@ -12,6 +12,7 @@ from typing import Any
 import pytest
 
 import cadkg
+from cadkg.plan.cell import store_plan
 from cadkg.ros_adapter import convert
 from cadkg.services.session import Session
 from cadkg.services.table import SERVICES, call, services_for
@@ -51,6 +52,11 @@ CALLS: dict[str, tuple[str, list[dict[str, str]]]] = {
     "get_path_positions": ("elimco-bench", [{"cable": "A4351-2401"}, {"cable": "nope"}]),
     "load_files": ("elimco-bench", [{"paths": "does-not-exist.xml"}]),
     "hose_info": ("enki-hose", [{"product": "HX-25"}, {"product": "HX-99"}]),
+    # The operations every cell offers (the IEMA session holds a plan made in memory).
+    "label_frames": ("iema-switchgear", [{"label": "F1500.1"}, {}, {"label": "NO-SUCH"}]),
+    "plan": ("iema-switchgear", [{}]),
+    "assign": ("iema-switchgear", [{"kind": "wire", "id": "1500.51", "performer": "human"}]),
+    "reload": ("iema-switchgear", [{}]),
 }
 KINDS = {"bool": bool, "str": str, "int": int, "float": float}
 
@@ -66,11 +72,15 @@ def sessions() -> dict[str, Session]:
     for example in {example for example, _ in CALLS.values()}:
         kg = cadkg.build(ROOT / "examples" / example / "manifest.toml")
         built[example] = Session(kg.cell_model(), kg=kg)
+    store_plan(built["iema-switchgear"].kg, None, 0.0)
+    # A reload's answer as a served cell gives it (the live ROS tests reload a real store).
+    built["iema-switchgear"].reopen = lambda: ("gen-1", "gen-2")
     return built
 
 
 def test_every_other_profile_service_is_called_here() -> None:
     others = {s.name for s in SERVICES.values() if s.profile != "iema"}
+    assert {"assign", "plan", "label_frames", "reload"} <= others
     assert set(CALLS) == others
     assert not set(CALLS) & {s.name for s in services_for("iema")}
 

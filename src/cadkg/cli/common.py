@@ -39,6 +39,7 @@ __all__ = [
     "sparql_json",
     "store_auth",
     "store_or_manifest",
+    "warn",
     "write_bytes",
     "write_output",
 ]
@@ -110,16 +111,20 @@ def store_auth(auth: str | None = None, auth_digest: str | None = None) -> Any:
     return parse_auth(auth) if auth else None
 
 
-def open_target(target: str, *, timeout: float | None = None) -> KnowledgeGraph:
-    """A store directory is opened read-only; a manifest is built in memory; an http(s) URL is a
-    remote SPARQL endpoint (docs/remote.md), asked with ``timeout`` when given."""
-    from cadkg.remote import RemoteGraph, is_url
+def open_target(target: str, *, timeout: float | None = None, writable: bool = False) -> KnowledgeGraph:
+    """A store directory (read-only unless ``writable``), a manifest built in memory with its
+    warnings on stderr, or an http(s) URL: a remote SPARQL endpoint (docs/remote.md) asked with
+    the command's credentials and ``timeout`` when given (see :func:`cadkg.served.target.open_target`)."""
+    from cadkg.remote import is_url
+    from cadkg.served.target import open_target as open_cell
 
-    if is_url(target):
-        if timeout is not None:
-            return RemoteGraph(target, auth=store_auth(), timeout=timeout)
-        return RemoteGraph(target, auth=store_auth())
-    return open_local(target)
+    auth = store_auth() if is_url(target) else None
+    return open_cell(target, writable=writable, auth=auth, timeout=timeout, warn=warn)
+
+
+def warn(warning: str) -> None:
+    """A reader's warning, one line on stderr."""
+    err.print(f"cadkg: warning: {warning}", markup=False)
 
 
 def store_or_manifest(
@@ -131,18 +136,14 @@ def store_or_manifest(
 
 
 def open_local(target: str, *, writable: bool = False) -> KnowledgeGraph:
-    """A store directory opened (read-only unless ``writable``), or a manifest built in memory
-    with its warnings on stderr."""
-    path = Path(target)
-    if path.is_dir():
-        return KnowledgeGraph.open(path, read_only=not writable)
-    if path.is_file():
-        kg = KnowledgeGraph.build(path)
-        for report in kg.reports:
-            for warning in report.warnings:
-                err.print(f"cadkg: warning: {warning}", markup=False)
-        return kg
-    raise click.BadParameter(f"{target!r} is neither a store directory nor a manifest file")
+    """A store directory or a manifest (see :func:`open_target`); a URL is refused, since the
+    command works on local files."""
+    from cadkg.remote import is_url
+    from cadkg.served.target import TargetError
+
+    if is_url(target):
+        raise TargetError(f"{target!r} is neither a store directory nor a manifest file")
+    return open_target(target, writable=writable)
 
 
 def parse_params(pairs: Sequence[str]) -> dict[str, str]:

@@ -9,8 +9,7 @@ from typing import Any
 
 import click
 
-from cadkg.cli.common import err, guarded, max_query_memory, open_target, store_auth
-from cadkg.graph import KnowledgeGraph
+from cadkg.cli.common import err, guarded, max_query_memory, store_auth, warn
 
 __all__ = ["ros", "serve"]
 
@@ -125,7 +124,8 @@ def serve(
     of another origin unless --cors. A rebuilt store directory is picked up without losing
     requests. See docs/server.md, Security.
     """
-    from cadkg.remote import RemoteGraph, is_url
+    from cadkg.remote import is_url
+    from cadkg.served.target import open_target
     from cadkg.server import Limits, Settings
     from cadkg.server import serve as run_server
 
@@ -137,11 +137,7 @@ def serve(
     credentials = store_auth() if is_url(target) else None
 
     def load() -> Any:
-        if is_url(target):
-            return RemoteGraph(target, auth=credentials)
-        if allow_update and Path(target).is_dir():
-            return KnowledgeGraph.open(target, read_only=False)
-        return open_target(target)
+        return open_target(target, writable=allow_update, auth=credentials, warn=warn)
 
     limits = Limits(
         timeout=timeout,

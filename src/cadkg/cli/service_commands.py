@@ -36,9 +36,12 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
     from cadkg.services.service import Effect, to_jsonable
     from cadkg.services.session import Session
     from cadkg.services.table import SERVICES, call
+    from cadkg.store import cell_profile
 
-    kg = open_target(target)
-    session = Session(kg.cell_model(), kg=kg)
+    declared = SERVICES.get(service)
+    # A service that writes (assign) changes a store in a new generation, as cadkg assign does.
+    kg = open_target(target, writable=declared is not None and declared.effect is Effect.WRITES)
+    session = Session(kg.cell_model(), kg=kg, profile=cell_profile(kg))
     store = Path(target) if Path(target).is_dir() else None
     generation = kg.generation
     if store is not None:
@@ -80,8 +83,12 @@ def list_services() -> None:
 def assign(store_dir: str, kind: str, ident: str, performer: str) -> None:
     """Assign a wire (number), component (label) or operation (list position) to robot or human.
 
-    The choice is kept in its own named graph, so rebuilding the store keeps it.
+    The choice is kept in its own named graph, so rebuilding the store keeps it. The same as
+    ``cadkg call STORE assign kind=... id=... performer=...``.
     """
+    from cadkg.services.session import Session
+    from cadkg.services.table import call
+
     with KnowledgeGraph.open(store_dir, read_only=False) as kg:
-        target = kg.assign(kind, ident, performer)
-    err.print(f"{kind} {ident} → {performer} ({target})")
+        done = call(Session(None, kg=kg), "assign", {"kind": kind, "id": ident, "performer": performer})
+    err.print(f"{kind} {ident} → {performer} ({done.target})")

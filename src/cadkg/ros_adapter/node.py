@@ -30,18 +30,17 @@ import cadkg.registry as registry
 import cadkg.services.table as services
 from cadkg.errors import CadkgError
 from cadkg.limited import DEFAULT_QUERY_MEMORY
-from cadkg.plan.graph import cell_base, read_plan
-from cadkg.plan.report import as_json, summary
-from cadkg.query.frames import label_frames
 from cadkg.query.workers import WorkerPool
 from cadkg.ros_adapter import convert
-from cadkg.ros_adapter.changes import RosChangeFeed
-from cadkg.ros_adapter.loaded import Loaded, load
+from cadkg.ros_adapter.changes import ros_feed
 from cadkg.ros_adapter.sparql import SPARQL_TEXT_TASK, sparql_text
-from cadkg.services.frames import marker_specs, static_frames
-from cadkg.services.session import Session
+from cadkg.served.holder import GraphHolder, Served
+from cadkg.served.target import model_with, open_target
+from cadkg.services.frames import Shown, shown
+from cadkg.services.service import Effect
+from cadkg.store import cell_profile
 
-__all__ = ["CadkgNode", "Loaded", "default_namespace", "load", "main", "sparql_text", "srv_type"]
+__all__ = ["CadkgNode", "default_namespace", "main", "sparql_text", "srv_type"]
 
 DEFAULT_NAMESPACE = "/cadkg"
 # Seconds between two publications of the markers (see CadkgNode).
@@ -109,12 +108,17 @@ class CadkgNode:
         self.approach_distance = distance if distance >= 0 and math.isfinite(distance) else None
         self.allow_assign = bool(node.get_parameter("allow_assign").value)
         self.query_memory = max(int(node.get_parameter("max_query_memory").value), 0)
-        self._lock = threading.Lock()
-        # The sparql service's worker, with the cell model of the graph it has a snapshot of.
-        self._workers: WorkerPool | None = None
-        self._workers_of: object = None
-        self.loaded = load(self.source, self.approach_distance, writable=self.allow_assign)
-        self.profile = str(node.get_parameter("profile").value) or self.loaded.profile
+        self._publishing = threading.Lock()  # one publication of the frames at a time
+
+        def load() -> Any:
+            return open_target(self.source, writable=self.allow_assign)
+
+        first = load()
+        self.profile = str(node.get_parameter("profile").value) or cell_profile(first)
+        model = None if self.approach_distance is None else model_with({"approach_distance": distance})
+        # The one served-cell holder of every transport: a call takes the current graph and its
+        # session; a reload or a change carries the cursors over to the graph served next.
+        self.holder = GraphHolder(first, load, model=model, profile=self.profile)
         # Relative names: the node's namespace (``--ros-args -r __ns:=/cell2``, a launch file's
         # ``namespace``) moves every service. An absolute ``namespace`` parameter pins them.
         pinned = str(node.get_parameter("namespace").value)
@@ -123,6 +127,8 @@ class CadkgNode:
         else:
             self.namespace = (pinned or default_namespace(self.profile)).strip("/")
         group = ReentrantCallbackGroup()
+        # Every operation of the table (assign, plan, label_frames, reload and the use case's
+        # services), then SPARQL, which each transport speaks its own way.
         self._services = [
             node.create_service(
                 srv_type(s.name),
@@ -130,25 +136,19 @@ class CadkgNode:
                 self._callback(s.name),
                 callback_group=group,
             )
-            for s in services.services_for(self.profile)
+            for s in services.served_for(self.profile)
         ]
-        for name, handler in (
-            ("sparql", self._sparql),
-            ("reload", self._reload),
-            ("assign", self._assign),
-            ("label_frames", self._label_frames),
-            ("plan", self._plan),
-        ):
-            self._services.append(
-                node.create_service(srv_type(name), self.name_of(name), handler, callback_group=group)
+        self._services.append(
+            node.create_service(
+                srv_type("sparql"), self.name_of("sparql"), self._sparql, callback_group=group
             )
+        )
         self._tf = node.create_publisher(TFMessage, "/tf_static", _latched())
         self._markers = node.create_publisher(MarkerArray, "~/markers", _latched())
-        self._frame_ids: list[str] = []
         self._marker_message: MarkerArray | None = None
         self.publish()
-        self.changes = RosChangeFeed(node)
-        self.changes.changed(self.loaded.kg, self._revision())
+        self.changes = ros_feed(node, self.holder, self._revision)
+        self.changes.changed(self.holder.current)  # what the first change is compared with
         # RViz's Marker display subscribes volatile by default: it sees what is published after
         # it joined, so the markers go out again every marker_period seconds (0: only once).
         period = float(node.get_parameter("marker_period").value)
@@ -181,13 +181,7 @@ class CadkgNode:
                 if refusal:
                     raise CadkgError(refusal)
                 params = convert.request_params(service.params, request)
-                with self._lock:
-                    done = self.loaded.session.done() if service.effect.changes_graph else None
-                    result = services.call(
-                        self.loaded.session, name, params, client=convert.client_of(request)
-                    )
-                if service.effect.changes_graph and getattr(result, "success", False):
-                    self.changes.changed(self.loaded.kg, self._revision(), done)
+                result = self._call(name, params, convert.client_of(request))
                 data = (
                     convert.response(result)
                     if type(result).__name__ in convert.FIELDS
@@ -202,148 +196,80 @@ class CadkgNode:
 
         return handle
 
+    def _call(self, name: str, params: dict[str, Any], client: str) -> Any:
+        """Run a service of the table on the graph served now, one call at a time on it."""
+        effect = services.SERVICES[name].effect
+        served = self.holder.acquire()
+        try:
+            with served.lock:
+                session = served.session()
+                if effect is not Effect.RELOADS:
+                    result = services.call(session, name, params, client=client)
+                    if effect.changes_graph and getattr(result, "success", False):
+                        served.edited()
+                    return result
+            # Outside the lock: the old graph goes on answering while the new one opens.
+            return services.call(session, name, params, client=client)
+        finally:
+            served.release()
+
     def _sparql(self, request: Any, response: Any) -> Any:
         try:
             bindings = json.loads(request.bindings_json) if request.bindings_json.strip() else {}
             if not isinstance(bindings, dict):
                 raise CadkgError("bindings_json: expected a JSON object of variable -> value")
             args = (request.query, bindings, request.format)
-            with self._lock:
-                kg, workers = self.loaded.kg, self._query_workers()
-            if workers is None:  # a remote store evaluates the query itself
-                response.result = sparql_text(kg, *args)
-            else:
-                response.result = workers.call(SPARQL_TEXT_TASK, args, seconds=math.inf)
+            served = self.holder.acquire()
+            try:
+                workers = served.workers(self._make_workers)
+                if workers is None:  # a remote store evaluates the query itself
+                    response.result = sparql_text(served.graph, *args)
+                else:
+                    response.result = workers.call(SPARQL_TEXT_TASK, args, seconds=math.inf)
+            finally:
+                served.release()
             response.success, response.message = True, "ok"
         except (CadkgError, ValueError) as err:
             response.success, response.message = False, str(err)
         return response
 
-    def _query_workers(self) -> WorkerPool | None:
-        """The worker answering ``sparql`` (no network, bounded memory: see
-        :mod:`cadkg.limited`), made again once the graph has changed (an assignment,
-        loaded files, a reload: the cell model is derived afresh after every change). Call under
-        the lock."""
-        kg = self.loaded.kg
-        if kg.remote:
+    def _make_workers(self, graph: Any) -> WorkerPool | None:
+        """The worker answering ``sparql`` (no network, bounded memory: see :mod:`cadkg.limited`)
+        over the graph as it is now; the holder makes it again after every change."""
+        if graph.remote:
             return None
-        model = kg.cell_model()
-        if self._workers is None or self._workers_of is not model:
-            if self._workers is not None:
-                self._workers.close()  # its running query ends first
-            self._workers = WorkerPool(kg, preload=("cadkg.ros_adapter.sparql",), memory=self.query_memory)
-            self._workers_of = model
-        return self._workers
-
-    def _reload(self, request: Any, response: Any) -> Any:
-        try:
-            fresh = load(
-                self.source, self.approach_distance
-            )  # built outside the lock: services keep answering
-        except CadkgError as err:
-            response.success, response.message = False, f"reload failed, still serving the old cell: {err}"
-            return response
-        with self._lock:
-            old, self.loaded = self.loaded, fresh
-            done = old.session.done()
-            # Every cursor stays on its wire or operation, found again by what identifies it.
-            notes = fresh.session.carry_over(old.session)
-            old.kg.close()
-        self.changes.changed(fresh.kg, self._revision(), done, notes)
-        self.publish()
-        response.success = True
-        response.message = f"reloaded {self.source}" + "".join(f"; {note}" for note in notes)
-        return response
+        return WorkerPool(graph, preload=("cadkg.ros_adapter.sparql",), memory=self.query_memory)
 
     def refusal(self, name: str) -> str:
         """Why a service is refused here ("" when it is served): a change to the graph, as its
         declared effect says (``assign`` is one), needs ``allow_assign``; a cursor is the
         calling client's own, as every answer is."""
         service = services.SERVICES.get(name)
-        changes_graph = service.effect.changes_graph if service is not None else name == "assign"
-        if changes_graph and not self.allow_assign:
+        if service is not None and service.effect.changes_graph and not self.allow_assign:
             return f"{name} changes the graph; this node does not: start it with allow_assign:=true"
         return ""
 
-    def _assign(self, request: Any, response: Any) -> Any:
-        refusal = self.refusal("assign")
-        if refusal:
-            response.success, response.message = False, refusal
-            return response
-        try:
-            with self._lock:
-                loaded = self.loaded
-                response.target = loaded.kg.assign(request.kind, request.id, request.performer)
-                # The cursors go on where they were, over the work now left to the robot.
-                model = loaded.kg.cell_model()
-                session = Session(model, kg=loaded.kg)
-                done = loaded.session.done()
-                notes = session.carry_over(loaded.session)
-                loaded.model, loaded.session = model, session
-            self.changes.changed(loaded.kg, self._revision(), done, notes)
-        except CadkgError as err:
-            response.success, response.message = False, str(err)
-            return response
-        if loaded.kg.directory is not None:
-            # Kept in a new generation of the store: the markers name its mesh files from now on.
-            self.publish()
-        kept = " (kept in the store)" if loaded.kg.directory is not None else " (in memory: not kept)"
-        response.success = True
-        response.message = f"{request.kind} {request.id} → {request.performer}{kept}"
-        return response
-
-    def _plan(self, request: Any, response: Any) -> Any:
-        with self._lock:
-            kg = self.loaded.kg
-            stored = read_plan(kg, cell_base(kg))
-        if stored is None:
-            response.success, response.message = (
-                False,
-                "the store holds no plan: make one with cadkg plan STORE",
-            )
-            return response
-        data = as_json(stored)
-        keep = ("step", "task", "kind", "performer", "tool", "reason", "placement")
-        return convert.fill(
-            response,
-            {
-                "success": True,
-                "message": summary(stored),
-                "steps": [{k: step[k] for k in keep} for step in data["steps"]],
-                "precedence": data["precedence"],
-            },
-            _resolve,
-        )
-
-    def _label_frames(self, request: Any, response: Any) -> Any:
-        try:
-            with self._lock:
-                pairs = label_frames(self.loaded.kg, self._frame_ids, request.label)
-        except CadkgError as err:
-            response.success, response.message = False, str(err)
-            return response
-        response.labels = [label for label, _ in pairs]
-        response.frame_ids = [frame for _, frame in pairs]
-        response.success = bool(pairs) or not request.label
-        response.message = f"{len(pairs)} frame(s)" if response.success else f"no frames of {request.label!r}"
-        return response
-
     # -- TF and markers -------------------------------------------------------------------
+    def _shown(self) -> Shown:
+        served = self.holder.acquire()
+        try:
+            with served.lock:
+                return shown(served.session())
+        finally:
+            served.release()
+
     def publish(self) -> None:
         """Publish every frame on /tf_static and the markers, latched."""
-        with self._lock:
-            loaded = self.loaded
-            try:
-                frames = static_frames(loaded.placements, loaded.model, self.profile, loaded.session)
-                specs = marker_specs(
-                    loaded.placements, loaded.model, loaded.kg.files_dir, self.profile, loaded.session
-                )
-            except CadkgError as err:
-                # The profile's services report the same error to every caller; the cell's
-                # own frames still go out.
-                self.node.get_logger().error(f"{self.profile} frames not published: {err}")
-                frames = static_frames(loaded.placements, loaded.model, self.profile)
-                specs = marker_specs(loaded.placements, loaded.model, loaded.kg.files_dir, self.profile)
+        with self._publishing:
+            self._publish()
+
+    def _publish(self) -> None:
+        view = self._shown()
+        if view.error:
+            # The profile's services report the same error to every caller; the cell's own
+            # frames still go out.
+            self.node.get_logger().error(f"{self.profile} frames not published: {view.error}")
+        frames, specs = view.frames, view.markers
         stamp = self.node.get_clock().now().to_msg()
         transforms = []
         for frame in frames:
@@ -380,7 +306,6 @@ class CadkgNode:
                 marker.color.r, marker.color.g, marker.color.b, marker.color.a = 0.9, 0.2, 0.1, 1.0
             marker.text = spec.text
             markers.append(marker)
-        self._frame_ids = [frame.child for frame in frames]
         self._marker_message = MarkerArray(markers=markers)
         self._markers.publish(self._marker_message)
 
@@ -388,16 +313,14 @@ class CadkgNode:
         if self._marker_message is not None:
             self._markers.publish(self._marker_message)
 
-    def _revision(self) -> str:
-        """What the graph served now is called in a change set: its generation, or its source."""
-        return str(getattr(self.loaded.kg, "generation", None) or self.source)
+    def _revision(self, served: Served) -> str:
+        """What a served graph is called in a change set: its generation, or its source."""
+        return str(getattr(served.graph, "generation", None) or self.source)
 
     def destroy(self) -> None:
         self.changes.shutdown()
         self.node.destroy_node()
-        if self._workers is not None:
-            self._workers.close()
-        self.loaded.kg.close()
+        self.holder.close()
 
 
 def _arguments(argv: Sequence[str]) -> tuple[argparse.Namespace, list[str]]:

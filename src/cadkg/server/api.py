@@ -11,11 +11,15 @@
 - ``GET /api/graph?component=LABEL`` or ``?node=IRI``: nodes and edges around a component
   (its pins, the wires to other components) or around any node, for the page's graph view.
 - ``GET /api/info``: generation, size, named graphs, limits, query workers.
-- ``POST /reload``: open the store again (with the token).
+- ``POST /reload``: open the store again (with the token): the ``reload`` service.
+
+``assign``, ``plan``, ``label_frames`` and ``reload`` are services of the one table
+(:mod:`cadkg.services.operations`), served here as every use case's.
 """
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import json
 from collections.abc import Callable
@@ -28,10 +32,10 @@ from starlette.responses import Response
 
 from cadkg.errors import CadkgError, NotFound, QueryError
 from cadkg.query.named import coerce_params, named_queries
+from cadkg.served.holder import Served
 from cadkg.server.context import Answer, Endpoint, ProtocolError, json_response, status_of
 from cadkg.server.evaluation import QuerySpec, embedded, query_job
 from cadkg.server.files_root import confine, files_root
-from cadkg.server.holder import Served
 from cadkg.server.limits import Deadline
 from cadkg.server.protocol import _FORM, fail, read_body
 from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, NotAcceptableError, negotiate
@@ -164,14 +168,24 @@ def _check_change(endpoint: Endpoint, request: Request, name: str, effect: Effec
     authorization = request.headers.get("authorization")
     if effect.changes_graph:
         endpoint.check_token(authorization)
+    elif effect is Effect.RELOADS:
+        endpoint.check_holder(authorization, "a reload")
     else:
         endpoint.check_holder(authorization, f"{name} (it moves a cursor)")
 
 
 async def service(request: Request) -> Response:
     """``/api/<service>``: one service call, as JSON."""
+    return await call_service(request, request.path_params["service"])
+
+
+async def call_service(
+    request: Request, name: str, shape: Callable[[dict[str, Any]], Any] | None = None
+) -> Response:
+    """Call the service ``name`` of the table (a use case's, or one every cell offers: assign,
+    plan, label_frames, reload) with the request's parameters, and answer its result as JSON,
+    through ``shape`` when given (a route that keeps an older answer's form)."""
     endpoint: Endpoint = request.app.state.endpoint
-    name = request.path_params["service"]
     deadline = Deadline(endpoint.limits.timeout)
     try:
         if name not in SERVICES:
@@ -188,6 +202,25 @@ async def service(request: Request) -> Response:
         client = params.pop("client", "") or request.headers.get(CLIENT_HEADER, "")
         if effect is Effect.CURSOR and not client:
             raise ProtocolError(400, f"{name}: name the cursor's owner with client=NAME or {CLIENT_HEADER}")
+        # Over HTTP a client's cursor is its own, never another transport's (a robot's "default").
+        owner = f"http:{client}"
+
+        def shaped(result: Any) -> Answer:
+            data = to_jsonable(result)
+            return Answer(
+                json.dumps(shape(data) if shape else data, default=str).encode(), "application/json"
+            )
+
+        if effect is Effect.RELOADS:
+            # Not a job on the served graph: the graph it replaces goes on answering meanwhile.
+            served = endpoint.holder.acquire()
+            try:
+                with served.lock:
+                    session = served.session()
+                result = await asyncio.to_thread(call, session, name, params, client=owner)
+            finally:
+                served.release()
+            return endpoint.respond(shaped(result), endpoint.holder.current.generation)
         # What a service that loads files reads over HTTP is copied from inside the files root
         # first, and handed on as the list of those copies.
         files = {k for k, t in SERVICES[name].params.items() if t is Paths and k in params}
@@ -204,52 +237,14 @@ async def service(request: Request) -> Response:
                         folder, copies = stack.enter_context(confine(names, endpoint.settings.files_root))
                         given[key] = Paths(str(c) for c in copies)
                         scratch.append(f"{folder}/")
-                    # Over HTTP a client's cursor is its own, never another transport's (a
-                    # robot's "default").
-                    result = call(served.session(), name, given, client=f"http:{client}")
-                    data = to_jsonable(result)
+                    result = call(served.session(), name, given, client=owner)
                     if effect.changes_graph:
                         served.edited()
-                text = json.dumps(data, default=str)
+                answer = shaped(result)
+                text = answer.body.decode()
                 for prefix in scratch:  # messages name the files as the caller did
                     text = text.replace(json.dumps(prefix)[1:-1], "")
-                return Answer(text.encode(), "application/json")
-
-            return job
-
-        answer, generation = await endpoint.run(make_job, None, deadline, local=True)
-        return endpoint.respond(answer, generation)
-    except CadkgError as err:
-        return _error(err)
-
-
-async def assign(request: Request) -> Response:
-    """``POST /api/assign`` (the token): who does a wire (``kind=wire``, ``id`` its number), a
-    component (its label) or an operation (its list position): ``performer=robot|human``. Kept in
-    the store's assignment graph as ``cadkg assign`` keeps it; the cursor services skip a
-    person's work from their next call on, each client's cursor staying where it was."""
-    endpoint: Endpoint = request.app.state.endpoint
-    deadline = Deadline(endpoint.limits.timeout)
-    try:
-        _check_change(endpoint, request, "assign", Effect.WRITES)
-        params = await _params(request, endpoint.limits.max_body)
-        missing = [key for key in ("kind", "id", "performer") if not params.get(key)]
-        if missing:
-            raise QueryError(f"assign: missing parameter {', '.join(missing)}; give kind, id and performer")
-
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
-            def job(_: Deadline) -> Answer:
-                with served.lock:
-                    cursors = served.session().dump()
-                    target = served.graph.assign(params["kind"], params["id"], params["performer"])
-                    served.edited()
-                    served.session().load(cursors)
-                data = {
-                    "success": True,
-                    "message": f"{params['kind']} {params['id']} → {params['performer']}",
-                    "target": target,
-                }
-                return Answer(json.dumps(data).encode(), "application/json")
+                return Answer(text.encode(), answer.media_type)
 
             return job
 
@@ -459,16 +454,7 @@ async def info(request: Request) -> Response:
 
 
 async def reload(request: Request) -> Response:
-    """``POST /reload``: open the store again and serve the new graph; requests in flight finish
-    on the old one."""
-    endpoint: Endpoint = request.app.state.endpoint
-    try:
-        endpoint.check_holder(request.headers.get("authorization"), "a reload")
-        swapped = await endpoint.reload()
-        assert swapped is not None  # only a watch reload may find nothing to do
-        previous, generation = swapped
-        return json_response({"previous": previous, "generation": generation})
-    except CadkgError as err:
-        return _error(err)
-    except RuntimeError as err:
-        return json_response({"error": str(err)}, 409)
+    """``POST /reload``: the ``reload`` service; requests in flight finish on the old graph."""
+    return await call_service(
+        request, "reload", lambda data: {"previous": data["previous"], "generation": data["generation"]}
+    )

@@ -33,14 +33,14 @@ import cadkg.server.plan_api as plan_api
 import cadkg.server.workbench.page as page
 import cadkg.server.workbench.routes as workbench
 from cadkg.errors import StoreError
+from cadkg.served.holder import GraphHolder
 from cadkg.server.api import CLIENT_HEADER
 from cadkg.server.caching import HttpCaching
 from cadkg.server.connections import ACCEPT_BURST, bounded_protocol, connection_bound
 from cadkg.server.context import Endpoint, Settings
 from cadkg.server.evaluation import pool_maker
-from cadkg.server.feed import ServerFeed
 from cadkg.server.feed import changes as changes_feed
-from cadkg.server.holder import GraphHolder
+from cadkg.server.feed import server_feed
 from cadkg.server.protocol import graph_store, sparql
 
 __all__ = ["STATIC", "create_app", "is_loopback", "serve"]
@@ -197,11 +197,12 @@ def create_app(
     else:
         holder = GraphHolder(graph_or_loader)
     endpoint = Endpoint(holder, settings)
-    feed = ServerFeed(holder)
+    feed = server_feed(holder)
 
     @contextlib.asynccontextmanager
     async def lifespan(app: Starlette) -> AsyncIterator[None]:
         watcher = None
+        endpoint.loop = asyncio.get_running_loop()
         if settings.watch_seconds > 0 and getattr(holder.current.graph, "directory", None) is not None:
             watcher = asyncio.create_task(_watch(endpoint, settings.watch_seconds))
         # The first query should not wait for the snapshot and the first worker process.
@@ -237,7 +238,6 @@ def create_app(
             Route("/api/cell", workbench.cell, methods=["GET"]),
             Route("/api/scene", workbench.scene, methods=["GET"]),
             Route("/api/mesh/{path:path}", workbench.mesh, methods=["GET"]),
-            Route("/api/assign", api.assign, methods=["GET", "POST"]),
             Route("/api/changes", changes_feed, methods=["GET"]),
             Route("/api/plan", plan_api.plan, methods=methods),
             Route("/api/{service}", api.service, methods=methods),

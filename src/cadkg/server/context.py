@@ -14,9 +14,9 @@ from typing import Any
 
 from starlette.responses import Response
 
-from cadkg.errors import CadkgError, NotFound, QueryError, StoreError
+from cadkg.errors import CadkgError, NotFound, QueryError, StateError, StoreError
 from cadkg.limited import leave_network_or_warn
-from cadkg.server.holder import GraphHolder, Served
+from cadkg.served.holder import GraphHolder, Served
 from cadkg.server.limits import BodyTooLargeError, Deadline, Evaluator, Limits, TimeLimitError
 from cadkg.server.results import NotAcceptableError
 
@@ -195,6 +195,8 @@ def status_of(err: Exception) -> tuple[int, dict[str, str]]:
         return 406, {}
     if isinstance(err, NotFound):
         return 404, {}
+    if isinstance(err, StateError):
+        return 409, {}
     if isinstance(err, StoreError):
         return 502, {}
     if isinstance(err, QueryError | ValueError):
@@ -223,6 +225,19 @@ class Endpoint:
             OrderedDict()
         )
         self._reloading = asyncio.Lock()
+        # The loop the endpoint runs on (set as it starts): the reload service, called in a
+        # thread, reloads through it.
+        self.loop: asyncio.AbstractEventLoop | None = None
+        holder.reopen = self._reopen
+
+    def _reopen(self) -> tuple[str, str]:
+        """The reload service's reopen: :meth:`reload` on the endpoint's loop (it warms the cache
+        on the new graph first), waited for from the thread the service runs in."""
+        if self.loop is None:
+            raise StateError("the endpoint is not running")
+        swapped = asyncio.run_coroutine_threadsafe(self.reload(), self.loop).result()
+        assert swapped is not None  # only a watch reload may find nothing to do
+        return swapped
 
     @property
     def limits(self) -> Limits:
@@ -307,7 +322,7 @@ class Endpoint:
         ------
         CadkgError
             When the graph cannot be opened; the old one is still served.
-        RuntimeError
+        StateError
             When the endpoint was given a graph, not a way to open one.
         """
         async with self._reloading:

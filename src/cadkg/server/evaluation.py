@@ -18,9 +18,9 @@ from typing import Any
 import pyoxigraph as ox
 
 from cadkg.query.workers import WorkerPool
+from cadkg.served.holder import Served
 from cadkg.server.columns import with_star_order
 from cadkg.server.context import TRUNCATED_HEADER, Answer, ProtocolError, Settings
-from cadkg.server.holder import Served
 from cadkg.server.limits import Deadline
 from cadkg.server.results import (
     Format,

@@ -13,7 +13,6 @@ import asyncio
 import json
 import sys
 from collections.abc import AsyncIterator
-from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 from starlette.requests import Request
@@ -21,44 +20,22 @@ from starlette.responses import Response, StreamingResponse
 
 from cadkg.changes.changeset import ChangeSet
 from cadkg.changes.feed import ChangeFeed
-from cadkg.errors import CadkgError
-from cadkg.server.holder import GraphHolder, Served
-from cadkg.services.session import Work
+from cadkg.served.feed import CellFeed
+from cadkg.served.holder import GraphHolder
 
-__all__ = ["ServerFeed", "changes"]
+__all__ = ["changes", "server_feed"]
 
 # A comment line this often keeps proxies and clients from closing an idle stream.
 KEEPALIVE_SECONDS = 15.0
 
 
-class ServerFeed:
-    """The feed of one endpoint: fed by the holder after each change, one change at a time."""
+def server_feed(holder: GraphHolder) -> CellFeed:
+    """The endpoint's feed: a graph is named by its generation and the edits made since."""
 
-    def __init__(self, holder: GraphHolder) -> None:
-        self.feed = ChangeFeed()
-        self._holder = holder
-        self._work = ThreadPoolExecutor(max_workers=1, thread_name_prefix="cadkg-changes")
-        holder.on_change = self.changed
+    def warn(message: str) -> None:
+        print(f"cadkg serve: {message}", file=sys.stderr, flush=True)
 
-    def changed(self, served: Served) -> None:
-        """``served`` now holds the served graph as it is after a change (or at start)."""
-        served.retain()
-        # Now, before the cursors go on over the new graph.
-        done = served.passed_work()
-        self._work.submit(self._observe, served, done)
-
-    def _observe(self, served: Served, done: dict[str, list[Work]]) -> None:
-        # Not under the served graph's lock, which would hold the robot's service calls for as
-        # long as the queries take; an edit landing meanwhile is in the next change set.
-        try:
-            self.feed.observe(served.graph, f"{served.generation}+{served.edits}", done)
-        except CadkgError as err:
-            print(f"cadkg serve: change feed: {err}", file=sys.stderr, flush=True)
-        finally:
-            served.release()
-
-    def shutdown(self) -> None:
-        self._work.shutdown(wait=True, cancel_futures=True)
+    return CellFeed(holder, lambda served: f"{served.generation}+{served.edits}", warn)
 
 
 def _event(changes: ChangeSet, number: int) -> bytes:

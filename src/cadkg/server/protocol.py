@@ -22,6 +22,7 @@ from starlette.responses import Response
 
 from cadkg.errors import CadkgError, QueryError, StoreError
 from cadkg.outbound import check_outbound
+from cadkg.served.holder import Served
 from cadkg.server.context import (
     Answer,
     Endpoint,
@@ -31,7 +32,6 @@ from cadkg.server.context import (
     syntax_message,
 )
 from cadkg.server.evaluation import QuerySpec, embedded, query_job
-from cadkg.server.holder import Served
 from cadkg.server.limits import BodyTooLargeError, Deadline
 from cadkg.server.results import GRAPH_FORMATS, RESULT_FORMATS, Format, NotAcceptableError, negotiate
 from cadkg.store import PREFIXES

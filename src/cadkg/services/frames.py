@@ -26,15 +26,16 @@ for elvez one ``MESH_RESOURCE`` per platform element, in its own frame.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import cadkg.registry as registry
-from cadkg.errors import QueryError
+from cadkg.errors import CadkgError, QueryError
 from cadkg.services.display import Frame, MarkerSpec
 from cadkg.services.session import Session
 
-__all__ = ["ARROW_LENGTH", "marker_specs", "static_frames"]
+__all__ = ["ARROW_LENGTH", "Shown", "marker_specs", "shown", "static_frames"]
 
 
 ARROW_LENGTH = 0.02
@@ -94,3 +95,34 @@ def marker_specs(
             )
             index += 1
     return specs
+
+
+@dataclass(frozen=True)
+class Shown:
+    """What a served cell shows: its frames, its markers, and why the use case's own are
+    missing (``""`` when they are not)."""
+
+    frames: list[Frame]
+    markers: list[MarkerSpec]
+    error: str = ""
+
+
+def shown(session: Session) -> Shown:
+    """The frames and markers of the session's cell, made once per session (so again after
+    every change). When the use case's own frames cannot be made, the cell's frames still
+    are, and ``error`` says why; its services report the same error to every caller."""
+
+    def make() -> Shown:
+        from cadkg.query.placements import placements
+
+        placed = placements(session.kg)
+        files = session.kg.files_dir
+        try:
+            frames = static_frames(placed, session.model, session.profile, session)
+            return Shown(frames, marker_specs(placed, session.model, files, session.profile, session))
+        except CadkgError as err:
+            frames = static_frames(placed, session.model, session.profile)
+            markers = marker_specs(placed, session.model, files, session.profile)
+            return Shown(frames, markers, str(err))
+
+    return session.memo("shown", make)

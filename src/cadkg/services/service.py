@@ -40,7 +40,9 @@ class Effect(enum.Enum):
     HTTP takes a changing service only by POST with the token (a graph change also needs
     ``--allow-update``); the ROS node serves a graph change only when started with
     ``allow_assign``; ``cadkg call`` keeps cursors only for a cursor service. A reading service
-    runs where it cannot reach a cursor (:meth:`cadkg.services.session.Session.reading`).
+    runs where it cannot reach a cursor (:meth:`cadkg.services.session.Session.reading`). A
+    reload needs the token over HTTP, and runs outside the served graph's lock, so the services
+    go on answering from the old graph while the new one opens.
     """
 
     READS = "reads"
@@ -51,6 +53,8 @@ class Effect(enum.Enum):
     """Reads files named by the caller into the served graph."""
     WRITES = "writes"
     """Changes the served graph or the store."""
+    RELOADS = "reloads"
+    """Serves the store's current generation: what the store holds, not what the caller gives."""
 
     @property
     def changes(self) -> bool:

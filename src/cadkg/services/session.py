@@ -88,11 +88,19 @@ def follow(
 
 
 class Session:
-    """``model`` is the cell's derived model (see :func:`cadkg.registry.derivation`); ``kg`` the graph."""
+    """``model`` is the cell's derived model (see :func:`cadkg.registry.derivation`); ``kg`` the
+    graph; ``profile`` the use case whose frames the cell shows (:func:`cadkg.store.cell_profile`
+    of the graph, as a transport opens it; ``""``: the default profile).
 
-    def __init__(self, model: Any, kg: Any = None) -> None:
+    A served cell sets :attr:`reopen`: what the ``reload`` service calls to serve the store's
+    current generation (previous and new generation). A one-shot caller leaves it ``None``.
+    """
+
+    def __init__(self, model: Any, kg: Any = None, profile: str = "") -> None:
         self.model = model
         self.kg = kg
+        self.profile = profile
+        self.reopen: Callable[[], tuple[str, str]] | None = None
         self._memo: dict[str, Any] = {}
         self._cursors: dict[str, dict[str, Any]] = {}
         # Cursors read by load() and not asked for yet: their type is known only on first use.

@@ -1,5 +1,6 @@
-"""Every use case's services by name, and :func:`call`, which runs one: what the CLI, the
-HTTP endpoint and the ROS adapter call.
+"""Every service by name (the operations every cell offers, :mod:`cadkg.services.operations`,
+and every use case's), and :func:`call`, which runs one: what the CLI, the HTTP endpoint and
+the ROS adapter call.
 
 ``call(session, "cad_service", {"label": "F1500.1"})`` runs one service; parameters that
 arrive as text are converted to the service's types here, so every transport gets the same
@@ -12,24 +13,41 @@ from collections.abc import Iterator, Mapping
 from typing import Any
 
 import cadkg.registry as registry
-from cadkg.errors import QueryError
+from cadkg.errors import QueryError, RegistryError
 from cadkg.services.service import CONVERT, Service
 from cadkg.services.session import Session
 
-__all__ = ["SERVICES", "call", "services_for"]
+__all__ = ["SERVICES", "call", "served_for", "services_for"]
+
+
+def _table() -> dict[str, Service]:
+    """The operations and the registry's services (registering loads every use case).
+
+    Raises
+    ------
+    RegistryError
+        When a use case names a service as one of the operations every cell offers.
+    """
+    from cadkg.services.operations import OPERATIONS
+
+    declared = registry.services()
+    taken = sorted(set(OPERATIONS) & set(declared))
+    if taken:
+        raise RegistryError(f"services {', '.join(taken)} are operations every cell offers")
+    return {**OPERATIONS, **declared}
 
 
 class _Services(Mapping[str, Service]):
-    """The registry's services, read when first looked at (registering loads every use case)."""
+    """Every service by name, read when first looked at."""
 
     def __getitem__(self, name: str) -> Service:
-        return registry.services()[name]
+        return _table()[name]
 
     def __iter__(self) -> Iterator[str]:
-        return iter(registry.services())
+        return iter(_table())
 
     def __len__(self) -> int:
-        return len(registry.services())
+        return len(_table())
 
 
 SERVICES: Mapping[str, Service] = _Services()
@@ -41,6 +59,14 @@ def services_for(profile: str) -> list[Service]:
     return [s for s in registry.services().values() if s.profile == wanted]
 
 
+def served_for(profile: str) -> list[Service]:
+    """What a transport serves a cell of ``profile``: the operations every cell offers, then
+    the use case's own services."""
+    from cadkg.services.operations import OPERATIONS
+
+    return [*OPERATIONS.values(), *services_for(profile)]
+
+
 def call(session: Session, name: str, params: Mapping[str, str | Any], client: str = "default") -> Any:
     """Run service ``name``; text parameters are converted to the service's types.
 
@@ -49,7 +75,7 @@ def call(session: Session, name: str, params: Mapping[str, str | Any], client: s
     QueryError
         On an unknown service, a missing, unknown or malformed parameter.
     """
-    known = registry.services()
+    known = _table()
     service = known.get(name)
     if service is None:
         raise QueryError(f"unknown service {name!r}; known: {', '.join(sorted(known))}")

@@ -23,8 +23,8 @@ from starlette.responses import Response
 from cadkg import registry
 from cadkg.errors import CadkgError, NotFound
 from cadkg.query.named import NamedQuery, coerce_params, named_queries
+from cadkg.served.holder import Served
 from cadkg.server.context import Answer, Endpoint, json_response, status_of
-from cadkg.server.holder import Served
 from cadkg.server.limits import Deadline
 from cadkg.server.workbench.scene import cell_scene, mesh_bytes
 from cadkg.server.workbench.terms import completion_terms

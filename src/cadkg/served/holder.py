@@ -13,8 +13,9 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
-from cadkg.errors import CadkgError
+from cadkg.errors import CadkgError, StateError
 from cadkg.services.session import Session, Work
+from cadkg.store import cell_profile
 
 __all__ = ["GraphHolder", "Served"]
 
@@ -23,11 +24,27 @@ _NONE: Any = object()  # a graph that has no workers (a remote store)
 
 
 class Served:
-    """One opened graph with its service session, its generation and a count of its users."""
+    """One opened graph with its service session, its generation and a count of its users.
 
-    def __init__(self, graph: Any, owned: bool = True) -> None:
+    ``model(graph)`` derives the cell model the services answer from (default: the one the
+    store keeps, :meth:`cadkg.graph.KnowledgeGraph.cell_model`); ``profile`` names the use case
+    the cell is served as (default: the graph's own).
+    """
+
+    def __init__(
+        self,
+        graph: Any,
+        owned: bool = True,
+        *,
+        model: Callable[[Any], Any] | None = None,
+        profile: str | None = None,
+    ) -> None:
         self.graph = graph
         self.owned = owned  # a graph handed in by the caller is the caller's to close
+        self._model = model
+        self._profile = profile
+        # What the reload service calls (set by the holder): serve the store's current generation.
+        self.reopen: Callable[[], tuple[str, str]] | None = None
         self.serial = next(_serial)
         # The generation this graph was opened at (a store directory's CURRENT may move on).
         self.generation: str = getattr(graph, "generation", None) or f"memory-{self.serial}"
@@ -54,7 +71,10 @@ class Served:
     def session(self) -> Session:
         """The services' session (cell model and cursors), built on first use. Call under :attr:`lock`."""
         if self._session is None:
-            session = Session(self.graph.cell_model(), kg=self.graph)
+            model = self._model(self.graph) if self._model is not None else self.graph.cell_model()
+            profile = cell_profile(self.graph) if self._profile is None else self._profile
+            session = Session(model, kg=self.graph, profile=profile)
+            session.reopen = self.reopen
             if self._previous is not None:
                 self.cursor_notes = session.carry_over(self._previous)
                 self._previous = None
@@ -139,16 +159,30 @@ class Served:
 
 
 class GraphHolder:
-    """The current :class:`Served` graph; ``load`` opens a fresh one for :meth:`reload`."""
+    """The current :class:`Served` graph; ``load`` opens a fresh one for :meth:`reload`.
 
-    def __init__(self, graph: Any, load: Callable[[], Any] | None = None) -> None:
+    Every transport serves its cell through one: a request (an HTTP call, a ROS service call)
+    takes the current graph and its session, and a reload or a change carries the cursors over.
+    """
+
+    def __init__(
+        self,
+        graph: Any,
+        load: Callable[[], Any] | None = None,
+        *,
+        model: Callable[[Any], Any] | None = None,
+        profile: str | None = None,
+    ) -> None:
         """``graph`` was opened by ``load`` when that is given (and is then closed here), else it
-        belongs to the caller."""
-        self._current = Served(graph, owned=load is not None)
+        belongs to the caller; ``model`` and ``profile`` as :class:`Served` takes them."""
+        self._model, self._profile = model, profile
         self._load = load
+        # What the reload service does: :meth:`reload`, unless a transport serves it its own way
+        # (the HTTP endpoint warms its cache on the new graph first).
+        self.reopen: Callable[[], tuple[str, str]] = self.reload
+        self._current = self._served(graph, owned=load is not None)
         # Told of the graph served after every change: a reload, or a change in place.
         self.on_change: Callable[[Served], None] | None = None
-        self._current.notify = self._changed
         self._swap = threading.Lock()
         self.reloads = 0
 
@@ -193,14 +227,18 @@ class GraphHolder:
         ------
         CadkgError
             When the graph cannot be opened.
-        RuntimeError
+        StateError
             When this holder was given a graph, not a way to open one.
         """
         if self._load is None:
-            raise RuntimeError("this endpoint serves a graph it cannot reopen")
-        fresh = Served(self._load())
-        fresh.notify = self._changed
-        return fresh
+            raise StateError("this endpoint serves a graph it cannot reopen")
+        return self._served(self._load())
+
+    def _served(self, graph: Any, owned: bool = True) -> Served:
+        served = Served(graph, owned, model=self._model, profile=self._profile)
+        served.notify = self._changed
+        served.reopen = lambda: self.reopen()
+        return served
 
     def _changed(self, served: Served) -> None:
         if self.on_change is not None:
@@ -212,8 +250,9 @@ class GraphHolder:
             old, self._current = self._current, fresh
             fresh.inherit(old)
             self.reloads += 1
-        old.release()
+        # Told while the old graph is open still: the feed asks what its cursors had passed.
         self._changed(fresh)
+        old.release()
         return old.generation, fresh.generation
 
     def reload(self) -> tuple[str, str]:

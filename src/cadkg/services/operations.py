@@ -1,0 +1,136 @@
+"""The operations every cell offers, whatever its use case: who does a piece of work
+(``assign``), the stored task list (``plan``), the tf frames of a label (``label_frames``) and
+serving the store's current generation (``reload``).
+
+They are services like the use cases' (:class:`~cadkg.services.service.Service`, with their
+:class:`~cadkg.services.service.Effect`), in the same table, so ``cadkg call``, the HTTP
+endpoint (``/api/<name>``) and the ROS node serve them with the same checks and answers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from cadkg.errors import NotFound, QueryError
+from cadkg.services.service import Effect, Service
+from cadkg.services.session import Session
+
+__all__ = ["OPERATIONS", "Assigned", "FramesOfLabel", "PlanDocument", "Reloaded"]
+
+
+@dataclass(frozen=True)
+class Assigned:
+    """An assignment made: ``target`` is the IRI of the wire, component or operation."""
+
+    success: bool
+    message: str
+    target: str
+
+
+@dataclass(frozen=True)
+class PlanDocument:
+    """The stored plan as ``cadkg plan --format json`` prints it (``summary``, ``steps``,
+    ``precedence``); ``message`` is its one-line summary."""
+
+    success: bool
+    message: str
+    summary: dict[str, Any]
+    steps: list[dict[str, Any]]
+    precedence: list[dict[str, Any]]
+
+
+@dataclass(frozen=True)
+class FramesOfLabel:
+    """Parallel lists: ``labels[i]`` names the frame ``frame_ids[i]``."""
+
+    success: bool
+    message: str
+    labels: list[str]
+    frame_ids: list[str]
+
+
+@dataclass(frozen=True)
+class Reloaded:
+    """The generation served before and the one served now."""
+
+    success: bool
+    message: str
+    previous: str
+    generation: str
+
+
+def _assign(session: Session, client: str = "default", **params: str) -> Assigned:
+    kind, ident, performer = params["kind"], params["id"], params["performer"]
+    kg = session.kg
+    target = kg.assign(kind, ident, performer)
+    kept = " (kept in the store)" if kg.directory is not None else " (in memory: not kept)"
+    return Assigned(True, f"{kind} {ident} → {performer}{kept}", target)
+
+
+def _plan(session: Session, client: str = "default") -> PlanDocument:
+    from cadkg.plan.graph import cell_base, read_plan
+    from cadkg.plan.report import as_json, summary
+
+    stored = read_plan(session.kg, cell_base(session.kg))
+    if stored is None:
+        raise NotFound("the store holds no plan: make one with cadkg plan STORE")
+    data = as_json(stored)
+    return PlanDocument(True, summary(stored), data["summary"], data["steps"], data["precedence"])
+
+
+def _label_frames(session: Session, client: str = "default", label: str = "") -> FramesOfLabel:
+    from cadkg.query.frames import label_frames
+    from cadkg.services.frames import shown
+
+    published = [frame.child for frame in shown(session).frames]
+    pairs = label_frames(session.kg, published, label)
+    found = bool(pairs) or not label
+    message = f"{len(pairs)} frame(s)" if found else f"no frames of {label!r}"
+    return FramesOfLabel(found, message, [name for name, _ in pairs], [frame for _, frame in pairs])
+
+
+def _reload(session: Session, client: str = "default") -> Reloaded:
+    if session.reopen is None:
+        raise QueryError("reload: only a served cell reloads (cadkg serve, cadkg ros); this one opens afresh")
+    previous, generation = session.reopen()
+    return Reloaded(True, f"reloaded: {previous} → {generation}", previous, generation)
+
+
+OPERATIONS: dict[str, Service] = {
+    s.name: s
+    for s in (
+        Service(
+            "assign",
+            "Who does a wire (its number), a component (its label) or an operation (its list "
+            "position): performer robot or human; kept in the store's assignment graph",
+            {"kind": str, "id": str, "performer": str},
+            _assign,
+            effect=Effect.WRITES,
+            changes_frames=True,
+        ),
+        Service(
+            "plan",
+            "The robot's task list the store holds (cadkg plan makes it)",
+            {},
+            _plan,
+            effect=Effect.READS,
+        ),
+        Service(
+            "label_frames",
+            "The tf frame ids of a label (its CAD items and derived frames); no label: every label's",
+            {"label": str},
+            _label_frames,
+            effect=Effect.READS,
+            optional=frozenset({"label"}),
+        ),
+        Service(
+            "reload",
+            "Serve the store's current generation (after a rebuild); cursors stay on their work",
+            {},
+            _reload,
+            effect=Effect.RELOADS,
+            changes_frames=True,
+        ),
+    )
+}
