@@ -15,8 +15,9 @@ from cadkg.errors import RegistryError
 from cadkg.ingest.reader import Reader, lazy, resolve
 from cadkg.registry import kinds
 
-# What only some commands need: a mesh, a data frame, a graph view, a table on a terminal, a server.
-HEAVY = ("trimesh", "pandas", "networkx", "numpy", "rich", "starlette", "uvicorn", "httpx")
+# What only some commands need: a mesh, a data frame, a graph view, a table on a terminal, a
+# server, the container of a legacy XLS.
+HEAVY = ("trimesh", "pandas", "networkx", "numpy", "rich", "starlette", "uvicorn", "httpx", "olefile")
 
 
 def _fresh(code: str) -> object:

@@ -8,12 +8,12 @@ python-calamine 0.9: two cells, at A1 and IV65536 (a 2.5 KB file), take 1.1 GB; 
 column 65,536 or a declared range of 65,536 × 16,384 makes it ask for 137 or 43 GB and abort
 the process.
 
-So the Workbook stream is read first, through :mod:`cadkg.ingest.compound_file` and in 1 MiB
-chunks: its shared strings (counts and each string's length), then each sheet's declared range
-and cells, refused at the cell that crosses a limit of :mod:`cadkg.ingest.sheet_bounds`. The
-scan also notes the formula errors (``#NAME?``) the library reads as empty cells, as the XLSX
-scan does, and refuses as damaged the few records on which the library would panic instead
-of failing.
+So the Workbook stream is read first, through olefile as :mod:`cadkg.ingest.compound_file`
+checks it (held whole, at most 256 MiB), its records taken in 1 MiB chunks: its shared
+strings (counts and each string's length), then each sheet's declared range and cells,
+refused at the cell that crosses a limit of :mod:`cadkg.ingest.sheet_bounds`. The scan also
+notes the formula errors (``#NAME?``) the library reads as empty cells, as the XLSX scan does,
+and refuses as damaged the few records on which the library would panic instead of failing.
 """
 
 from __future__ import annotations
@@ -376,13 +376,14 @@ def scan_xls(path: str | Path) -> dict[str, dict[tuple[int, int], str]]:
     Raises
     ------
     IngestError
-        At the cell (or shared string) over a limit.
+        At the cell (or shared string) over a limit, or naming the limit of the compound file
+        (:data:`~cadkg.ingest.compound_file.MAX_STREAM` and its neighbours) it is over.
     DamagedWorkbookError
         When the compound file or a record cannot be read safely, which the caller reports as
         a corrupt workbook.
     """
     with Path(path).open("rb") as handle:
-        container = CompoundFile(handle, os.fstat(handle.fileno()).st_size)
+        container = CompoundFile(path, handle, os.fstat(handle.fileno()).st_size)
         errors: dict[str, dict[tuple[int, int], str]] = {}
         budget = TextBudget()
         for stream in container.streams(_STREAMS, _MAX_STREAMS):
