@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 from cadkg.geometry.poses import Pose, Vec3
 from cadkg.ingest.eplan.labels import normalize_label
+from cadkg.usecase import Answer
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, WireStep
 
 __all__ = [
@@ -62,9 +63,7 @@ class CadConnection:
 
 
 @dataclass(frozen=True)
-class CadServiceResult:
-    success: bool
-    message: str
+class CadServiceResult(Answer):
     target_pose: Pose | None = None
     corner_pose: Pose | None = None
     original_pose: Pose | None = None
@@ -73,9 +72,7 @@ class CadServiceResult:
 
 
 @dataclass(frozen=True)
-class FullCadServiceResult:
-    success: bool
-    message: str
+class FullCadServiceResult(Answer):
     target_pose: Pose | None = None
     corner_pose: Pose | None = None
     original_pose: Pose | None = None
@@ -94,9 +91,7 @@ class PinData:
 
 
 @dataclass(frozen=True)
-class ItemScrewResult:
-    success: bool
-    message: str
+class ItemScrewResult(Answer):
     pins: tuple[str, ...] = ()
     screws: tuple[Pose, ...] = ()
     holes: tuple[Pose, ...] = ()
@@ -105,9 +100,7 @@ class ItemScrewResult:
 
 
 @dataclass(frozen=True)
-class TerminalDataResult:
-    success: bool
-    message: str
+class TerminalDataResult(Answer):
     pins: tuple[str, ...] = ()
     terminal_start: Pose | None = None
     screws: tuple[Pose, ...] = ()
@@ -117,17 +110,13 @@ class TerminalDataResult:
 
 
 @dataclass(frozen=True)
-class ClusterResult:
-    success: bool
-    message: str
+class ClusterResult(Answer):
     horizontal: tuple[Cluster, ...] = ()
     vertical: tuple[Cluster, ...] = ()
 
 
 @dataclass(frozen=True)
-class CadReferenceResult:
-    success: bool
-    message: str
+class CadReferenceResult(Answer):
     target_pose: Pose | None = None
     corner_pose: Pose | None = None
 
