@@ -8,6 +8,7 @@ was expected, so the command line can print one clear line instead of a tracebac
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any, cast
 
 __all__ = [
     "CadkgError",
@@ -54,7 +55,8 @@ def _restore(cls: type[BaseException], args: tuple[object, ...], state: dict[str
 
 
 class _Located:
-    """Mixin formatting ``file:line: message (found ..., expected ...)``."""
+    """Mixin of an error or a warning at a place in a file, formatted
+    ``file:line: message (found ..., expected ...)``."""
 
     path: str | None
     line: int | None
@@ -62,6 +64,19 @@ class _Located:
     found: str | None
     expected: str | None
     reason: str
+
+    def __init__(
+        self,
+        path: str | Path | None,
+        reason: str,
+        *,
+        line: int | None = None,
+        cell: str | None = None,
+        found: object | None = None,
+        expected: str | None = None,
+    ) -> None:
+        # Mixed into an exception or a warning, whose constructor takes the message.
+        cast(Any, super()).__init__(self._setup(path, reason, line, cell, found, expected))
 
     def _setup(
         self,
@@ -100,18 +115,6 @@ class _Located:
 class IngestError(_Located, CadkgError):
     """An input file could not be read into records."""
 
-    def __init__(
-        self,
-        path: str | Path | None,
-        reason: str,
-        *,
-        line: int | None = None,
-        cell: str | None = None,
-        found: object | None = None,
-        expected: str | None = None,
-    ) -> None:
-        super().__init__(self._setup(path, reason, line, cell, found, expected))
-
 
 class ManifestError(IngestError):
     """The cell manifest is malformed (unknown key, wrong type, missing file ...)."""
@@ -119,18 +122,6 @@ class ManifestError(IngestError):
 
 class IngestWarning(_Located, UserWarning):
     """Something in an input file was read under a documented assumption."""
-
-    def __init__(
-        self,
-        path: str | Path | None,
-        reason: str,
-        *,
-        line: int | None = None,
-        cell: str | None = None,
-        found: object | None = None,
-        expected: str | None = None,
-    ) -> None:
-        super().__init__(self._setup(path, reason, line, cell, found, expected))
 
 
 class StoreError(CadkgError):

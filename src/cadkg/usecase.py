@@ -27,6 +27,7 @@ from cadkg.services.service import Service
 from cadkg.services.session import Session
 
 __all__ = [
+    "Answer",
     "Collector",
     "Derivation",
     "DerivedKind",
@@ -36,6 +37,16 @@ __all__ = [
     "Settings",
     "UseCase",
 ]
+
+
+@dataclass(frozen=True)
+class Answer:
+    """The first fields of every service's result, which each transport shows as they are:
+    whether the service could answer, and what it says (on ``success=False``, why not and what
+    is known instead; a service answers an unknown name so rather than raising)."""
+
+    success: bool
+    message: str
 
 
 class Collector(Protocol):

@@ -37,6 +37,20 @@ from cadkg.usecase import ExportOptions
 __all__ = ["build", "export", "kinds", "push", "queries", "query", "validate"]
 
 
+def _progress(count: str) -> Progress:
+    """A bar on stderr while a command works, shown only on a terminal; ``count`` is its
+    ``done/total`` column."""
+    return Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn(count),
+        TimeElapsedColumn(),
+        console=err,
+        transient=True,
+        disable=not err.is_terminal,
+    )
+
+
 @click.command()
 @click.argument("manifest", type=click.Path(exists=True, dir_okay=False))
 @click.option(
@@ -50,15 +64,7 @@ __all__ = ["build", "export", "kinds", "push", "queries", "query", "validate"]
 def build(manifest: str, store_dir: str) -> None:
     """Read every file of MANIFEST into a store directory."""
     spec = load_manifest(manifest)
-    with Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        TextColumn("{task.completed}/{task.total} files"),
-        TimeElapsedColumn(),
-        console=err,
-        transient=True,
-        disable=not err.is_terminal,
-    ) as progress:
+    with _progress("{task.completed}/{task.total} files") as progress:
         task = progress.add_task("reading", total=len(spec.sources))
 
         def stage(name: str) -> None:
@@ -206,15 +212,7 @@ def queries() -> None:
 def validate(target: str, no_shacl: bool, strict: bool) -> None:
     """Check the graph: SHACL shapes, unknown labels, duplicate wire numbers, pins without data."""
     kg = open_target(target)
-    with Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        TextColumn("{task.completed}/{task.total}"),
-        TimeElapsedColumn(),
-        console=err,
-        transient=True,
-        disable=not err.is_terminal,
-    ) as progress:
+    with _progress("{task.completed}/{task.total}") as progress:
         task = progress.add_task("checks", total=3)
 
         def step(stage: str, done: int, total: int) -> None:

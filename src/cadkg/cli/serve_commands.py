@@ -4,14 +4,22 @@ from __future__ import annotations
 
 import re
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import click
 
 from cadkg.cli.common import err, guarded, max_query_memory, store_auth, warn
 
 __all__ = ["ros", "serve"]
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def _number(name: str, kind: click.ParamType[Any], default: float, help: str) -> Callable[[F], F]:
+    """An option taking a number in ``kind``'s range, with its default shown in --help."""
+    return click.option(name, type=kind, default=default, show_default=True, help=help)
 
 
 @click.command()
@@ -27,55 +35,25 @@ __all__ = ["ros", "serve"]
 @click.option(
     "--token", envvar="CADKG_SERVE_TOKEN", default=None, help="Bearer token for writes and /reload."
 )
-@click.option(
-    "--timeout",
-    type=click.FloatRange(min=0.1),
-    default=30.0,
-    show_default=True,
-    help="Seconds a request may take.",
-)
-@click.option(
-    "--max-rows",
-    type=click.IntRange(min=1),
-    default=10_000,
-    show_default=True,
-    help="Rows (or triples) per answer.",
-)
-@click.option(
-    "--max-body",
-    type=click.IntRange(min=1),
-    default=1 << 20,
-    show_default=True,
-    help="Bytes per request body.",
-)
-@click.option(
-    "--workers", type=click.IntRange(min=1), default=4, show_default=True, help="Queries evaluated at once."
-)
+@_number("--timeout", click.FloatRange(min=0.1), 30.0, "Seconds a request may take.")
+@_number("--max-rows", click.IntRange(min=1), 10_000, "Rows (or triples) per answer.")
+@_number("--max-body", click.IntRange(min=1), 1 << 20, "Bytes per request body.")
+@_number("--workers", click.IntRange(min=1), 4, "Queries evaluated at once.")
 @max_query_memory
-@click.option(
+@_number(
     "--header-timeout",
-    type=click.FloatRange(min=0.1),
-    default=10.0,
-    show_default=True,
-    help="Seconds a connection has to send a request head (and a body between two chunks).",
+    click.FloatRange(min=0.1),
+    10.0,
+    "Seconds a connection has to send a request head (and a body between two chunks).",
 )
-@click.option(
+@_number(
     "--max-connections",
-    type=click.IntRange(min=0),
-    default=0,
-    show_default=True,
-    help="Connections open at once; past them a 503 (0: from the descriptor limit, less 256).",
+    click.IntRange(min=0),
+    0,
+    "Connections open at once; past them a 503 (0: from the descriptor limit, less 256).",
 )
-@click.option(
-    "--cache-mb", type=click.IntRange(min=0), default=64, show_default=True, help="Answer cache (0: none)."
-)
-@click.option(
-    "--watch",
-    type=click.FloatRange(min=0),
-    default=2.0,
-    show_default=True,
-    help="Seconds between checks for a rebuilt store (0: never).",
-)
+@_number("--cache-mb", click.IntRange(min=0), 64, "Answer cache (0: none).")
+@_number("--watch", click.FloatRange(min=0), 2.0, "Seconds between checks for a rebuilt store (0: never).")
 @click.option(
     "--allow-service",
     "allow_service",

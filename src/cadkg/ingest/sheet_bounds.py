@@ -32,6 +32,7 @@ __all__ = [
     "check_ods_extent",
     "column_letter",
     "scan_xlsx",
+    "shared_string_error",
 ]
 
 # The most rows and columns a sheet can hold, in Excel and in LibreOffice Calc.
@@ -252,16 +253,21 @@ def _check_dimension(attributes: bytes, limits: _Limits, expected: str) -> None:
         )
 
 
+def shared_string_error(path: str | Path, reason: str, number: int) -> IngestError:
+    """A workbook's shared strings past what cadkg reads, at the ``number``-th (XLSX or XLS)."""
+    return IngestError(
+        path,
+        f"{reason} (shared string {number})",
+        expected=f"at most {_MAX_STRINGS:,} shared strings of at most {MAX_TEXT:,} characters",
+    )
+
+
 def _scan_strings(archive: zipfile.ZipFile, member: str, path: str | Path, lengths: array[int]) -> None:
     """Check a shared-strings part; the bytes of text of each string go on ``lengths``."""
     count = 0
 
     def refuse(reason: str) -> IngestError:
-        return IngestError(
-            path,
-            f"{reason} (shared string {count})",
-            expected=f"at most {_MAX_STRINGS:,} shared strings of at most {MAX_TEXT:,} characters",
-        )
+        return shared_string_error(path, reason, count)
 
     for closing, name, attributes, _, text in _tags(archive, member, _MAX_PART, refuse):
         if closing:

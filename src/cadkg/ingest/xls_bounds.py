@@ -26,7 +26,15 @@ from pathlib import Path
 
 from cadkg.errors import IngestError
 from cadkg.ingest.compound_file import CompoundFile, DamagedWorkbookError, Stream
-from cadkg.ingest.sheet_bounds import MAX_CELLS, MAX_COLUMNS, MAX_ROWS, MAX_TEXT, TextBudget, cell_address
+from cadkg.ingest.sheet_bounds import (
+    MAX_CELLS,
+    MAX_COLUMNS,
+    MAX_ROWS,
+    MAX_TEXT,
+    TextBudget,
+    cell_address,
+    shared_string_error,
+)
 
 __all__ = ["DamagedWorkbookError", "scan_xls"]
 
@@ -179,11 +187,7 @@ def _check_strings(
     number = 0
 
     def refuse(reason: str) -> IngestError:
-        return IngestError(
-            path,
-            f"{reason} (shared string {number})",
-            expected=f"at most {_MAX_STRINGS:,} shared strings of at most {MAX_TEXT:,} characters",
-        )
+        return shared_string_error(path, reason, number)
 
     if struct.unpack_from("<I", data, 4)[0] > _MAX_STRINGS:
         raise refuse("the workbook declares more shared strings than cadkg reads")

@@ -30,6 +30,7 @@ from cadkg.ingest.harness.records import (
     WireEnd,
 )
 from cadkg.mapping.dispatch import map_record
+from cadkg.mapping.nodes import named_node
 from cadkg.mapping.writer import TripleWriter, term
 
 __all__: list[str] = []
@@ -61,9 +62,7 @@ def _contact(w: TripleWriter, harness: str, end: WireEnd) -> str:
 
 @map_record.register
 def _(record: Harness, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("harness", record.ident)
-    w.add(node, t("type"), t("Harness"))
-    w.add(node, t("label"), w.text(record.ident))
+    node = named_node(w, "harness", record.ident, "Harness")
     w.add(node, t("fileFormat"), w.text(record.file_format))
     w.add(node, t("sourceLine"), w.typed(record.line))
     _description(w, node, record.description)
@@ -82,6 +81,12 @@ def _part(w: TripleWriter, kind: str, cls: str, harness: str, ident: str, label:
 def _modules(w: TripleWriter, node: str, harness: str, modules: tuple[str, ...]) -> None:
     for module in modules:
         w.add(node, t("inModule"), w.iri("module", harness, module))
+
+
+def _placed_on(w: TripleWriter, node: str, kind: str, harness: str, names: tuple[str, ...]) -> None:
+    """A fixing or a protection sits on the harness's nodes or segments ``names``."""
+    for name in names:
+        w.add(node, t("placedOn"), w.iri(kind, harness, name))
 
 
 def _numbers(w: TripleWriter, node: str, **values: float | Decimal | None) -> None:
@@ -182,10 +187,8 @@ def _(record: HarnessFixing, w: TripleWriter, source_slug: str) -> None:
     node = _part(w, "fixing", "Fixing", h, record.ident, record.label, record.line)
     _description(w, node, record.description)
     _modules(w, node, h, record.modules)
-    for name in record.nodes:
-        w.add(node, t("placedOn"), w.iri("node", h, name))
-    for name in record.segments:
-        w.add(node, t("placedOn"), w.iri("segment", h, name))
+    _placed_on(w, node, "node", h, record.nodes)
+    _placed_on(w, node, "segment", h, record.segments)
 
 
 @map_record.register
@@ -195,8 +198,7 @@ def _(record: HarnessProtection, w: TripleWriter, source_slug: str) -> None:
     _description(w, node, record.description)
     _numbers(w, node, lengthM=record.length_m)
     _modules(w, node, h, record.modules)
-    for name in record.segments:
-        w.add(node, t("placedOn"), w.iri("segment", h, name))
+    _placed_on(w, node, "segment", h, record.segments)
 
 
 @map_record.register

@@ -24,6 +24,7 @@ __all__ = [
     "mesh_node",
     "model_frame",
     "model_node",
+    "named_node",
     "pin_iri",
     "pin_node",
     "placement_pose",
@@ -41,6 +42,18 @@ def component_node(w: TripleWriter, label: str, kind: str = "Component") -> str:
     if w.once(node):
         w.add(node, TYPE, term(kind))
         w.add(node, term("label"), w.text(label))
+    return node
+
+
+def named_node(
+    w: TripleWriter, kind: str, name: str, cls: str, *, by: str = "label", once: bool = False
+) -> str:
+    """The ``cls`` minted from its name (``{base}{kind}/{name}``), given the name as its ``by``;
+    with ``once``, described only by the first record that meets it in the graph."""
+    node = w.iri(kind, name)
+    if not once or w.once(node):
+        w.add(node, TYPE, term(cls))
+        w.add(node, term(by), w.text(name))
     return node
 
 
@@ -94,11 +107,7 @@ def pin_node(w: TripleWriter, ref: PinRef) -> str:
 
 def frame_node(w: TripleWriter, name: str) -> str:
     """The frame called ``name`` (a ROS frame id), described once per graph."""
-    node = w.iri("frame", name)
-    if w.once(node):
-        w.add(node, TYPE, term("Frame"))
-        w.add(node, term("label"), w.text(name))
-    return node
+    return named_node(w, "frame", name, "Frame", once=True)
 
 
 def placement_pose(w: TripleWriter, node: str, placement: Placement, parent: str) -> str:
@@ -110,11 +119,7 @@ def placement_pose(w: TripleWriter, node: str, placement: Placement, parent: str
 
 def model_node(w: TripleWriter, key: str) -> str:
     """The commercial model ``key`` (a component model, a WRI commercial code, a model number)."""
-    node = w.iri("model", key)
-    if w.once(node):
-        w.add(node, TYPE, term("CommercialModel"))
-        w.add(node, term("commercialCode"), w.text(key))
-    return node
+    return named_node(w, "model", key, "CommercialModel", by="commercialCode", once=True)
 
 
 def model_frame(w: TripleWriter, model: str, key: str) -> str:
@@ -149,8 +154,4 @@ def connector_node(w: TripleWriter, label: str) -> str:
 
 def cable_node(w: TripleWriter, name: str) -> str:
     """The cable ``name``, one node whichever file mentions it."""
-    node = w.iri("cable", name)
-    if w.once(node):
-        w.add(node, TYPE, term("Cable"))
-        w.add(node, term("label"), w.text(name))
-    return node
+    return named_node(w, "cable", name, "Cable", once=True)

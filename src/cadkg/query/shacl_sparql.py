@@ -219,19 +219,20 @@ def _generic(component: str, prop: PropertyShape, check: ValueCheck | None) -> s
     if check is None:
         fewer = component.startswith("Min")
         return f"{'fewer' if fewer else 'more'} than {prop.min_count if fewer else prop.max_count} values"
-    if isinstance(check, Datatype):
-        return f"a value is not a well-formed <{check.datatype}> literal"
-    if isinstance(check, ClassOf):
-        return f"a value is not an instance of <{check.cls}>"
-    if isinstance(check, NodeKind):
-        return f"a value is not of node kind sh:{check.kind}"
-    if isinstance(check, Range):
-        return f"a value is not {check.operator} {check.bound.value}"
-    if isinstance(check, Pattern):
-        return f"a value does not match {check.regex!r}"
-    if isinstance(check, Disjoint):
-        return f"a value is also a value of <{check.predicate}>"
-    return "a value is not one of those allowed" if isinstance(check, In) else "a value fits no alternative"
+    return _GENERIC[type(check)](check)
+
+
+# The message of each kind of check, where its shape gives none.
+_GENERIC: dict[type, Callable[[Any], str]] = {
+    Datatype: lambda check: f"a value is not a well-formed <{check.datatype}> literal",
+    ClassOf: lambda check: f"a value is not an instance of <{check.cls}>",
+    NodeKind: lambda check: f"a value is not of node kind sh:{check.kind}",
+    Range: lambda check: f"a value is not {check.operator} {check.bound.value}",
+    Pattern: lambda check: f"a value does not match {check.regex!r}",
+    Disjoint: lambda check: f"a value is also a value of <{check.predicate}>",
+    In: lambda check: "a value is not one of those allowed",
+    AnyOf: lambda check: "a value fits no alternative",
+}
 
 
 def _property_results(row: Any, properties: Sequence[PropertyShape]) -> list[ShapeResult]:

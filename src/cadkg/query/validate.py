@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from cadkg.errors import format_location
 from cadkg.registry import derivation, use_case
@@ -90,29 +90,27 @@ def _semantic(kg: GraphStore, progress: Callable[[str, int, int], None] | None) 
         if progress is not None:
             progress("checks", done, 3)
 
-    findings = []
-    for row in kg.query(_UNKNOWN_LABELS):
-        findings.append(
-            Finding(
-                source_location(kg, row["wire"]),
-                "error",
-                "unknown-label",
-                f"component {row['label']!r} (pin {row['pinName']}) is not in any ID table",
-            )
-        )
+    def wire_errors(query: str, code: str, message: Callable[[Any], str]) -> list[Finding]:
+        return [
+            Finding(source_location(kg, row["wire"]), "error", code, message(row)) for row in kg.query(query)
+        ]
+
+    findings = wire_errors(
+        _UNKNOWN_LABELS,
+        "unknown-label",
+        lambda row: f"component {row['label']!r} (pin {row['pinName']}) is not in any ID table",
+    )
     tick(1)
     findings.extend(_duplicate_wire_numbers(kg))
     tick(2)
-    for row in kg.query(_PINS_WITHOUT_DATA):
-        findings.append(
-            Finding(
-                source_location(kg, row["wire"]),
-                "error",
-                "pin-without-data",
-                f"pin {row['label']}:{row['pinName']}{':' + row['level'] if row['level'] else ''} "
-                "has no screw or hole position in any component model",
-            )
-        )
+    findings += wire_errors(
+        _PINS_WITHOUT_DATA,
+        "pin-without-data",
+        lambda row: (
+            f"pin {row['label']}:{row['pinName']}{':' + row['level'] if row['level'] else ''} "
+            "has no screw or hole position in any component model"
+        ),
+    )
     tick(3)
     return findings
 

@@ -145,14 +145,12 @@ class _Reader:
 
     def part(self, element: etree._Element) -> PartPins:
         line = element.sourceline or 1
-        name = (element.get("P_PART_TERMINAL_NAME") or "").strip()
-        if not name:
-            raise IngestError(
-                self.path,
-                f"<{element.tag}> without a part number",
-                line=line,
-                expected='P_PART_TERMINAL_NAME="..." (the article number)',
-            )
+        name = self.required(
+            element,
+            "P_PART_TERMINAL_NAME",
+            f"<{element.tag}> without a part number",
+            'P_PART_TERMINAL_NAME="..." (the article number)',
+        )
         dims = [element.get(a) for a in ("xdim", "ydim", "zdim")]
         dimensions = None
         if all(d is not None for d in dims):
@@ -181,6 +179,13 @@ class _Reader:
             points.append(point)
         return PartPins(name, dimensions, tuple(points), line)
 
+    def required(self, element: etree._Element, attribute: str, reason: str, expected: str) -> str:
+        """The attribute's value, stripped; an error saying ``reason`` when it is missing or empty."""
+        value = (element.get(attribute) or "").strip()
+        if not value:
+            raise IngestError(self.path, reason, line=element.sourceline or 1, expected=expected)
+        return value
+
     def number(self, raw: str, what: str, line: int) -> float:
         try:
             value = float(raw.strip())
@@ -198,14 +203,9 @@ class _Reader:
 
     def point(self, element: etree._Element, part: str) -> ConnectionPoint:
         line = element.sourceline or 1
-        name = (element.get("name") or "").strip()
-        if not name:
-            raise IngestError(
-                self.path,
-                f"a connection point of part {part!r} without a name",
-                line=line,
-                expected='name="13"',
-            )
+        name = self.required(
+            element, "name", f"a connection point of part {part!r} without a name", 'name="13"'
+        )
         values = {}
         for attribute in (*_POSITION, *_DIRECTION):
             raw = element.get(attribute)

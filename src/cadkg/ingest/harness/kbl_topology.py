@@ -57,18 +57,7 @@ class KblTopology(KblDocument):
     def coordinates(self, point: Any) -> tuple[float, ...]:
         values = []
         for element in child_elements(point, "Coordinates"):
-            try:
-                value = float((element.text or "").strip())
-            except ValueError:
-                value = math.nan
-            if not math.isfinite(value):
-                self.error(
-                    "bad number in <Coordinates>",
-                    element,
-                    found=(element.text or "").strip() or "nothing",
-                    expected="a coordinate in millimetres such as -434.5",
-                )
-            values.append(value)
+            values.append(self.double(element, "a coordinate in millimetres such as -434.5"))
         if len(values) not in (2, 3):
             self.error(
                 "<Cartesian_point> does not have 2 or 3 coordinates",

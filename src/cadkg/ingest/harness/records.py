@@ -28,6 +28,7 @@ __all__ = [
     "HarnessFixing",
     "HarnessModule",
     "HarnessNode",
+    "HarnessPart",
     "HarnessProtection",
     "HarnessRecord",
     "HarnessSegment",
@@ -57,13 +58,20 @@ class Harness:
 
 
 @dataclass(frozen=True, slots=True)
-class HarnessConnector:
-    """A connector occurrence (or a component box acting as one) and its cavity names, in order;
-    ``label`` is its designation (``XA.G46.1``)."""
+class HarnessPart:
+    """What every thing of a harness begins with: its harness (by ident), its ident in the
+    harness, and its label."""
 
     harness: str
     ident: str
     label: str
+
+
+@dataclass(frozen=True, slots=True)
+class HarnessConnector(HarnessPart):
+    """A connector occurrence (or a component box acting as one) and its cavity names, in order;
+    ``label`` is its designation (``XA.G46.1``)."""
+
     kind: str
     cavities: tuple[str, ...]
     description: str | None
@@ -72,12 +80,9 @@ class HarnessConnector:
 
 
 @dataclass(frozen=True, slots=True)
-class HarnessNode:
+class HarnessNode(HarnessPart):
     """A point of the topology; ``connectors`` sit on it (by connector ident)."""
 
-    harness: str
-    ident: str
-    label: str
     connectors: tuple[str, ...]
     line: int
     position: Position | None = None
@@ -85,7 +90,7 @@ class HarnessNode:
 
 
 @dataclass(frozen=True, slots=True)
-class HarnessSegment:
+class HarnessSegment(HarnessPart):
     """A stretch of bundle between two nodes (by node ident).
 
     ``length_source`` says where the length comes from when the format has several: ``physical``
@@ -93,9 +98,6 @@ class HarnessSegment:
     line between the nodes); None where the format has one length only.
     """
 
-    harness: str
-    ident: str
-    label: str
     start: str
     end: str
     length_m: Decimal | None
@@ -125,13 +127,10 @@ class WireRoute:
 
 
 @dataclass(frozen=True, slots=True)
-class HarnessWire:
+class HarnessWire(HarnessPart):
     """A single wire or a core of a cable: its ends in wire order, and its routings (several
     only where variants route it differently)."""
 
-    harness: str
-    ident: str
-    label: str
     ends: tuple[WireEnd, ...]
     routes: tuple[WireRoute, ...]
     section_mm2: Decimal | None
@@ -150,12 +149,9 @@ class HarnessWire:
 
 
 @dataclass(frozen=True, slots=True)
-class HarnessCable:
+class HarnessCable(HarnessPart):
     """A multi-core cable; its cores are :class:`HarnessWire` records naming it as ``cable``."""
 
-    harness: str
-    ident: str
-    label: str
     length_m: Decimal | None
     diameter_m: float | None
     line: int
@@ -163,12 +159,9 @@ class HarnessCable:
 
 
 @dataclass(frozen=True, slots=True)
-class HarnessFixing:
+class HarnessFixing(HarnessPart):
     """A clip, tie or bracket, placed on nodes or segments (by ident)."""
 
-    harness: str
-    ident: str
-    label: str
     description: str | None
     nodes: tuple[str, ...]
     segments: tuple[str, ...]
@@ -177,12 +170,9 @@ class HarnessFixing:
 
 
 @dataclass(frozen=True, slots=True)
-class HarnessProtection:
+class HarnessProtection(HarnessPart):
     """Tape, tube or sleeve along segments (by ident)."""
 
-    harness: str
-    ident: str
-    label: str
     description: str | None
     segments: tuple[str, ...]
     length_m: Decimal | None
@@ -191,14 +181,11 @@ class HarnessProtection:
 
 
 @dataclass(frozen=True, slots=True)
-class HarnessModule:
+class HarnessModule(HarnessPart):
     """What a variant of a modular harness is put together from: a KBL module (or a harness-level
     option code), a VEC variant configuration. ``label`` is the name users choose it by (a KBL
     module's part number); modules of one ``family`` exclude each other."""
 
-    harness: str
-    ident: str
-    label: str
     kind: str
     description: str | None
     control: str | None
@@ -209,12 +196,9 @@ class HarnessModule:
 
 
 @dataclass(frozen=True, slots=True)
-class HarnessConfiguration:
+class HarnessConfiguration(HarnessPart):
     """A named set of modules (a KBL harness configuration: a derivative such as a maximal kit)."""
 
-    harness: str
-    ident: str
-    label: str
     modules: tuple[str, ...]
     line: int
 

@@ -9,7 +9,6 @@ place and referenced in another) and puts the type of generic elements (``Specif
 
 from __future__ import annotations
 
-import math
 import re
 from collections.abc import Iterable
 from decimal import Decimal
@@ -99,18 +98,7 @@ class VecDocument(XmlDocument):
         child = first_child(element, name)
         if child is None:
             return None
-        try:
-            value = float((child.text or "").strip())
-        except ValueError:
-            value = math.nan
-        if not math.isfinite(value):
-            self.error(
-                f"bad number in <{name}>",
-                child,
-                found=(child.text or "").strip() or "nothing",
-                expected="a number such as 625.08",
-            )
-        return value
+        return self.double(child, "a number such as 625.08")
 
     def unit_factor(self, unit: Any, exponent: int, quantity: str, owner: Any) -> Decimal:
         """What one ``unit`` is in metres (``exponent`` 1) or mm² (``exponent`` 2)."""

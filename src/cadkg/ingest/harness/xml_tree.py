@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import math
 from decimal import Decimal, InvalidOperation
 from pathlib import Path
 from typing import Any, NoReturn
@@ -82,6 +83,22 @@ class XmlDocument:
                 )
             ids[ident] = element
         return ids
+
+    def double(self, element: Any, expected: str) -> float:
+        """The finite number (xs:double) ``element`` holds."""
+        text = (element.text or "").strip()
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value):
+            self.error(
+                f"bad number in <{element_name(element)}>",
+                element,
+                found=text or "nothing",
+                expected=expected,
+            )
+        return value
 
     def decimal(self, element: Any, name: str) -> Decimal:
         """The number in the child ``name`` of a numerical value ``element``."""

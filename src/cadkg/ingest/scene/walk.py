@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import re
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path, PureWindowsPath
 from urllib.parse import unquote
@@ -101,6 +101,12 @@ def _warn(node: Node, reason: str) -> None:
     warnings.warn(IngestWarning(node.source, reason, line=node.line), stacklevel=4)
 
 
+def _bad_numbers(node: Node, name: str, reason: str, values: Iterable[float], expected: str) -> IngestError:
+    """An error at the line of ``node``'s field ``name``, showing its numbers."""
+    found = " ".join(f"{v:g}" for v in values)
+    return IngestError(node.source, reason, line=node.fields[name].line, found=found, expected=expected)
+
+
 @dataclass(frozen=True, slots=True)
 class WalkOptions:
     """How forgiving the walk is (the defaults are strict).
@@ -190,12 +196,12 @@ class _Walk:
         for name in ("rotation", "scaleOrientation"):
             value = values[name]
             if value[0] == value[1] == value[2] == 0.0 and value[3] != 0.0:
-                raise IngestError(
-                    node.source,
+                raise _bad_numbers(
+                    node,
+                    name,
                     f"{name!r} of {node.type} has a zero axis and a non-zero angle",
-                    line=node.fields[name].line,
-                    found=" ".join(f"{v:g}" for v in value),
-                    expected="an axis x y z that is not 0 0 0, then the angle in radians",
+                    value,
+                    "an axis x y z that is not 0 0 0, then the angle in radians",
                 )
         if 0.0 in tuple(values["scale"]):
             # Legal, but it flattens everything below it: a slip in an export more often than not.
@@ -278,13 +284,7 @@ class _Walk:
     def sizes(self, node: Node, name: str, default: tuple[float, ...]) -> tuple[float, ...]:
         values = vector_of(node, name, default)
         if (values < 0.0).any():
-            raise IngestError(
-                node.source,
-                f"negative {name!r} of {node.type}",
-                line=node.fields[name].line,
-                found=" ".join(f"{v:g}" for v in values),
-                expected="sizes of 0 or more",
-            )
+            raise _bad_numbers(node, name, f"negative {name!r} of {node.type}", values, "sizes of 0 or more")
         return tuple(float(v) for v in values)
 
     def triangles(self, index: Ints) -> Ints:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from cadkg.ingest.eplan.labels import PinRef
 from cadkg.mapping.dispatch import map_record
-from cadkg.mapping.nodes import cable_node, connector_node, frame_node, pin_node
+from cadkg.mapping.nodes import cable_node, connector_node, frame_node, named_node, pin_node
 from cadkg.mapping.writer import TripleWriter, term, write_pose
 from cadkg.usecases.elimco.cable_list import CableListHarness, CableListWire, ShieldTermination
 from cadkg.usecases.elimco.route_design import BenchPinSpec, RouteCable, RoutePathSpec
@@ -30,11 +30,18 @@ def _contact(w: TripleWriter, connector: str, contact: str) -> str:
     return pin_node(w, PinRef(connector, contact, None, f"{connector}:{contact}"))
 
 
+def _harness_cable(w: TripleWriter, name: str, harness: str) -> str:
+    """The cable ``name``, part of the harness ``harness`` (said once, whichever of its wires
+    and shields comes first)."""
+    cable = cable_node(w, name)
+    if w.once(cable + "#harness"):
+        w.add(cable, t("partOf"), w.iri("harness", harness))
+    return cable
+
+
 @map_record.register
 def _(record: CableListHarness, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("harness", record.part_number)
-    w.add(node, t("type"), t("Harness"))
-    w.add(node, t("label"), w.text(record.part_number))
+    node = named_node(w, "harness", record.part_number, "Harness")
     details = [
         f"{what} {value}" for what, value in (("revision", record.revision), ("index", record.index)) if value
     ]
@@ -45,12 +52,8 @@ def _(record: CableListHarness, w: TripleWriter, source_slug: str) -> None:
 
 @map_record.register
 def _(record: CableListWire, w: TripleWriter, source_slug: str) -> None:
-    wire = w.iri("wire", record.name)
-    cable = cable_node(w, record.cable)
-    if w.once(cable + "#harness"):
-        w.add(cable, t("partOf"), w.iri("harness", record.harness))
-    w.add(wire, t("type"), t("Wire"))
-    w.add(wire, t("wireNumber"), w.text(record.name))
+    cable = _harness_cable(w, record.cable, record.harness)
+    wire = named_node(w, "wire", record.name, "Wire", by="wireNumber")
     w.add(wire, t("partOf"), cable)
     for name, end in (("fromPin", record.origin), ("toPin", record.destination)):
         assert end.contact is not None  # the reader rejects a wire end without a contact
@@ -70,12 +73,8 @@ def _(record: CableListWire, w: TripleWriter, source_slug: str) -> None:
 
 @map_record.register
 def _(record: ShieldTermination, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("shield", record.name)
-    cable = cable_node(w, record.cable)
-    if w.once(cable + "#harness"):
-        w.add(cable, t("partOf"), w.iri("harness", record.harness))
-    w.add(node, t("type"), t("ShieldTermination"))
-    w.add(node, t("label"), w.text(record.name))
+    cable = _harness_cable(w, record.cable, record.harness)
+    node = named_node(w, "shield", record.name, "ShieldTermination")
     w.add(node, t("partOf"), cable)
     w.add(node, t("terminatesAt"), _contact(w, record.connector, record.contact))
     if record.shield is not None:

@@ -23,6 +23,7 @@ from cadkg.registry import reader_for, sniff_kind
 from cadkg.services.display import Frame
 from cadkg.services.service import Effect, Paths, Service, model_services
 from cadkg.services.session import Session
+from cadkg.usecase import Answer
 from cadkg.usecases.elimco.bench import (
     CENTROID_FRAME,
     DRAWING_FRAME,
@@ -74,9 +75,7 @@ class PinPosition:
 
 
 @dataclass(frozen=True)
-class PinPositionsResult:
-    success: bool
-    message: str
+class PinPositionsResult(Answer):
     frame: str = ""
     centroid: Pose | None = None
     pins: tuple[PinPosition, ...] = ()
@@ -92,9 +91,7 @@ class NamedFrame:
 
 
 @dataclass(frozen=True)
-class PinFramesResult:
-    success: bool
-    message: str
+class PinFramesResult(Answer):
     frames: tuple[NamedFrame, ...] = ()
 
 
@@ -111,16 +108,12 @@ class BenchCable:
 
 
 @dataclass(frozen=True)
-class CableListResult:
-    success: bool
-    message: str
+class CableListResult(Answer):
     cables: tuple[BenchCable, ...] = ()
 
 
 @dataclass(frozen=True)
-class PathPositionsResult:
-    success: bool
-    message: str
+class PathPositionsResult(Answer):
     cable: str = ""
     path: int = -1
     frame: str = ""
@@ -132,9 +125,7 @@ class PathPositionsResult:
 
 
 @dataclass(frozen=True)
-class LoadFilesResult:
-    success: bool
-    message: str
+class LoadFilesResult(Answer):
     sources: tuple[str, ...] = ()
 
 

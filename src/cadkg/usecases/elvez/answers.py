@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 from cadkg.errors import CadkgError
 from cadkg.geometry.poses import Pose
+from cadkg.usecase import Answer
 from cadkg.usecases.elvez.files.harnesses import EndConnector, WiringHarness
 from cadkg.usecases.elvez.files.sequence import SequenceStep
 from cadkg.usecases.elvez.model import ElvezModel, known, unresolved
@@ -46,11 +47,9 @@ __all__ = [
 
 
 @dataclass(frozen=True)
-class GuideInfoResult:
+class GuideInfoResult(Answer):
     """``/elvez/guide_info``: the element's CAD ID, size, origin, key centre and corner, key size."""
 
-    success: bool
-    message: str
     id: str = ""
     dimensions: tuple[float, ...] = ()
     origin_frame: Pose | None = None
@@ -63,12 +62,10 @@ class GuideInfoResult:
 
 
 @dataclass(frozen=True)
-class CableInfoResult:
+class CableInfoResult(Answer):
     """``/elvez/cable_info``; ``con_index`` is the cavity [row, column] in the main connector,
     then in ``connector`` when the harness configuration gives it."""
 
-    success: bool
-    message: str
     color: tuple[int, ...] = ()
     length: float = 0.0
     diameter: float = 0.0
@@ -79,11 +76,9 @@ class CableInfoResult:
 
 
 @dataclass(frozen=True)
-class ConInfoResult:
+class ConInfoResult(Answer):
     """``/elvez/con_info``: a connector's colour, size, harness and the cables ending in it."""
 
-    success: bool
-    message: str
     color: tuple[int, ...] = ()
     dimensions: tuple[float, ...] = ()
     wh: int = 0
@@ -99,27 +94,21 @@ class BranchInfo:
 
 
 @dataclass(frozen=True)
-class WhInfoResult:
-    success: bool
-    message: str
+class WhInfoResult(Answer):
     connector: str = ""
     branches: tuple[BranchInfo, ...] = ()
 
 
 @dataclass(frozen=True)
-class AllToolsResult:
-    success: bool
-    message: str
+class AllToolsResult(Answer):
     names: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
-class ToolInfoResult:
+class ToolInfoResult(Answer):
     """``/elvez/tool_info``: the tool's ATC station, its base in the station's frame, its end in
     the base's frame, its size, and where its base (the wrist's seat) is when it is parked."""
 
-    success: bool
-    message: str
     atc_spot: str = ""
     base_wrist_frame: Pose | None = None
     wrist_action_frame: Pose | None = None
@@ -139,16 +128,12 @@ class OperationInfo:
 
 
 @dataclass(frozen=True)
-class AllOpResult:
-    success: bool
-    message: str
+class AllOpResult(Answer):
     operations: tuple[OperationInfo, ...] = ()
 
 
 @dataclass(frozen=True)
-class IndexOpResult:
-    success: bool
-    message: str
+class IndexOpResult(Answer):
     type: str = ""
     spot: tuple[str, ...] = ()
     label: tuple[str, ...] = ()
@@ -171,9 +156,7 @@ class CableRoute:
 
 
 @dataclass(frozen=True)
-class WhRoutesResult:
-    success: bool
-    message: str
+class WhRoutesResult(Answer):
     connector: str = ""
     routes: tuple[CableRoute, ...] = ()
 

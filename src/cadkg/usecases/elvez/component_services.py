@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from cadkg.usecase import Answer
 from cadkg.usecases.elvez.files.harnesses import split_tray
 from cadkg.usecases.elvez.model import ElvezModel, known
 
@@ -26,9 +27,7 @@ class PinsData:
 
 
 @dataclass(frozen=True)
-class ConnectorInfoResult:
-    success: bool
-    message: str
+class ConnectorInfoResult(Answer):
     component: str = ""
     reference: str = ""
     model: str = ""
@@ -42,9 +41,7 @@ class ConnectorInfoResult:
 
 
 @dataclass(frozen=True)
-class PlatformCableInfoResult:
-    success: bool
-    message: str
+class PlatformCableInfoResult(Answer):
     component: str = ""
     color: str = ""
     length: float = 0.0

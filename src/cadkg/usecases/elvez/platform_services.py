@@ -14,6 +14,7 @@ from dataclasses import dataclass, field, replace
 
 from cadkg.errors import CadkgError
 from cadkg.geometry.poses import Pose
+from cadkg.usecase import Answer
 from cadkg.usecases.elvez.files.definitions import ElementDefinition, Guide
 from cadkg.usecases.elvez.files.harnesses import split_tray
 from cadkg.usecases.elvez.model import Element, ElvezModel, known
@@ -70,9 +71,7 @@ class JigTapeData:
 
 
 @dataclass(frozen=True)
-class TrayInfoResult:
-    success: bool
-    message: str
+class TrayInfoResult(Answer):
     key_corner_frame: Pose | None = None
     key_center_frame: Pose | None = None
     wh: str = ""
@@ -80,9 +79,7 @@ class TrayInfoResult:
 
 
 @dataclass(frozen=True)
-class JigInfoResult:
-    success: bool
-    message: str
+class JigInfoResult(Answer):
     commercial: str = ""
     dimensions: tuple[float, ...] = ()
     corner_frame: Pose | None = None
@@ -91,44 +88,32 @@ class JigInfoResult:
 
 
 @dataclass(frozen=True)
-class PlatformGuideInfoResult:
-    success: bool
-    message: str
+class PlatformGuideInfoResult(Answer):
     data: JigGuideData = field(default_factory=JigGuideData)
 
 
 @dataclass(frozen=True)
-class TapingSpotInfoResult:
-    success: bool
-    message: str
+class TapingSpotInfoResult(Answer):
     data: JigTapeData = field(default_factory=JigTapeData)
 
 
 @dataclass(frozen=True)
-class GuideAllInfoResult:
-    success: bool
-    message: str
+class GuideAllInfoResult(Answer):
     data: tuple[JigGuideData, ...] = ()
 
 
 @dataclass(frozen=True)
-class AllCadComponentsResult:
-    success: bool
-    message: str
+class AllCadComponentsResult(Answer):
     data: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
-class GetListResult:
-    success: bool
-    message: str
+class GetListResult(Answer):
     data: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
-class PlatformToolInfoResult:
-    success: bool
-    message: str
+class PlatformToolInfoResult(Answer):
     type: str = ""
     dim: tuple[float, ...] = ()
     dim_tool: tuple[float, ...] = ()

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 from cadkg.plan.graph import robot_positions
 from cadkg.services.session import Session, Work, cursor_done, cursor_rebase, follow
+from cadkg.usecase import Answer
 from cadkg.usecases.elvez.files.sequence import SequenceStep
 from cadkg.usecases.elvez.model import PROFILE, ElvezModel, model_of, unresolved
 
@@ -62,9 +63,7 @@ class OperationItem:
 
 
 @dataclass(frozen=True)
-class NextOperationResult:
-    success: bool
-    message: str
+class NextOperationResult(Answer):
     type: str = ""
     label: tuple[str, ...] = ()
     spot: tuple[SpotData, ...] = ()
@@ -72,9 +71,7 @@ class NextOperationResult:
 
 
 @dataclass(frozen=True)
-class IndexOperationResult:
-    success: bool
-    message: str
+class IndexOperationResult(Answer):
     index: int = 0
     type: str = ""
     label: tuple[str, ...] = ()
@@ -83,15 +80,12 @@ class IndexOperationResult:
 
 
 @dataclass(frozen=True)
-class SequenceResetResult:
-    success: bool
-    message: str
+class SequenceResetResult(Answer):
+    """A reset of the sequence cursor: whether it moved, and to which operation."""
 
 
 @dataclass(frozen=True)
-class AllOperationsResult:
-    success: bool
-    message: str
+class AllOperationsResult(Answer):
     data: tuple[OperationItem, ...] = ()
 
 

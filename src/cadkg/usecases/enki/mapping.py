@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from cadkg.mapping.dispatch import map_record
+from cadkg.mapping.nodes import named_node
 from cadkg.mapping.writer import TripleWriter, term
 from cadkg.usecases.enki.hose import HoseProduct
 
@@ -13,9 +14,7 @@ t = term
 
 @map_record.register
 def _(record: HoseProduct, w: TripleWriter, source_slug: str) -> None:
-    node = w.iri("hose", record.product)
-    w.add(node, t("type"), t("Hose"))
-    w.add(node, t("label"), w.text(record.product))
+    node = named_node(w, "hose", record.product, "Hose")
     w.add(node, t("diameterM"), w.typed(record.diameter_m))
     if record.length_m is not None:
         w.add(node, t("lengthM"), w.typed(record.length_m))

@@ -13,6 +13,7 @@ from typing import Any
 
 from cadkg.services.service import Effect, Service, on_model
 from cadkg.services.session import Session
+from cadkg.usecase import Answer
 
 __all__ = ["SERVICES", "HoseInfoResult", "HoseRecord", "hose_info", "hose_model"]
 
@@ -27,9 +28,7 @@ class HoseRecord:
 
 
 @dataclass(frozen=True)
-class HoseInfoResult:
-    success: bool
-    message: str
+class HoseInfoResult(Answer):
     product: str = ""
     diameter: float = 0.0
     length: float | None = None

@@ -10,9 +10,11 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from typing import Any, TypeVar
 
 from cadkg.geometry.poses import Pose, Vec3
 from cadkg.ingest.eplan.labels import normalize_label
+from cadkg.usecase import Answer
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, Cluster, ComponentGeometry, WireStep
 
 __all__ = [
@@ -62,24 +64,26 @@ class CadConnection:
 
 
 @dataclass(frozen=True)
-class CadServiceResult:
-    success: bool
-    message: str
+class _ComponentAnswer(Answer):
+    """What the two CAD services say of a component first: where to grip it, its corner, its
+    pose in the scene and its size."""
+
     target_pose: Pose | None = None
     corner_pose: Pose | None = None
     original_pose: Pose | None = None
     dimensions: Vec3 | None = None
+
+
+_C = TypeVar("_C", bound=_ComponentAnswer)
+
+
+@dataclass(frozen=True)
+class CadServiceResult(_ComponentAnswer):
     pins: tuple[CadPin, ...] = ()
 
 
 @dataclass(frozen=True)
-class FullCadServiceResult:
-    success: bool
-    message: str
-    target_pose: Pose | None = None
-    corner_pose: Pose | None = None
-    original_pose: Pose | None = None
-    dimensions: Vec3 | None = None
+class FullCadServiceResult(_ComponentAnswer):
     connections: tuple[CadConnection, ...] = ()
 
 
@@ -94,9 +98,7 @@ class PinData:
 
 
 @dataclass(frozen=True)
-class ItemScrewResult:
-    success: bool
-    message: str
+class ItemScrewResult(Answer):
     pins: tuple[str, ...] = ()
     screws: tuple[Pose, ...] = ()
     holes: tuple[Pose, ...] = ()
@@ -105,9 +107,7 @@ class ItemScrewResult:
 
 
 @dataclass(frozen=True)
-class TerminalDataResult:
-    success: bool
-    message: str
+class TerminalDataResult(Answer):
     pins: tuple[str, ...] = ()
     terminal_start: Pose | None = None
     screws: tuple[Pose, ...] = ()
@@ -117,17 +117,13 @@ class TerminalDataResult:
 
 
 @dataclass(frozen=True)
-class ClusterResult:
-    success: bool
-    message: str
+class ClusterResult(Answer):
     horizontal: tuple[Cluster, ...] = ()
     vertical: tuple[Cluster, ...] = ()
 
 
 @dataclass(frozen=True)
-class CadReferenceResult:
-    success: bool
-    message: str
+class CadReferenceResult(Answer):
     target_pose: Pose | None = None
     corner_pose: Pose | None = None
 
@@ -155,20 +151,20 @@ def _natural(text: str) -> tuple[tuple[int, int, str], ...]:
     )
 
 
+def _placed(kind: type[_C], geometry: ComponentGeometry, message: str, **rest: Any) -> _C:
+    """The answer of a CAD service on a component found in the scene: its poses and size, then
+    the ``rest``."""
+    return kind(
+        True, message, geometry.target, geometry.corner, geometry.original, geometry.dimensions, **rest
+    )
+
+
 def cad_service(model: CellModel, label: str) -> CadServiceResult:
     """Morphology of a component: target, corner and original pose, dimensions, pins."""
     geometry, message = _find(model, label)
     if geometry is None or geometry.original is None:
         return CadServiceResult(False, message)
-    return CadServiceResult(
-        True,
-        message,
-        geometry.target,
-        geometry.corner,
-        geometry.original,
-        geometry.dimensions,
-        tuple(_pins_sorted(geometry)),
-    )
+    return _placed(CadServiceResult, geometry, message, pins=tuple(_pins_sorted(geometry)))
 
 
 def connection_of(step: WireStep, here: CadPin | None = None) -> CadConnection:
@@ -213,15 +209,7 @@ def full_cad_service(model: CellModel, label: str = "", cad_item: str = "") -> F
             connections += [connection_of(step, end) for end in ends if end.item == cad_item]
         else:
             connections.append(connection_of(step, ends[0]))
-    return FullCadServiceResult(
-        True,
-        message,
-        geometry.target,
-        geometry.corner,
-        geometry.original,
-        geometry.dimensions,
-        tuple(connections),
-    )
+    return _placed(FullCadServiceResult, geometry, message, connections=tuple(connections))
 
 
 def get_item_screw_service(model: CellModel, label: str, detected_pose: Pose) -> ItemScrewResult:

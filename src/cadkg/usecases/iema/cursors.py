@@ -22,6 +22,7 @@ from cadkg.geometry.poses import Pose, Vec3
 from cadkg.plan.decision import Performer
 from cadkg.plan.graph import robot_positions
 from cadkg.services.session import Session, Work, cursor_done, cursor_rebase, follow
+from cadkg.usecase import Answer
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
 from cadkg.usecases.iema.robot_scope import assignments_of
 
@@ -211,9 +212,7 @@ def connection_provider_service(
 
 
 @dataclass(frozen=True)
-class DisplayResult:
-    success: bool
-    message: str
+class DisplayResult(Answer):
     display: bool
 
 

@@ -3,14 +3,13 @@ and clusters, and the cursors that hand the robot its next wire and rail."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Any
 
 import cadkg.usecases.iema.answers as answers
 import cadkg.usecases.iema.cursors as cursors
 from cadkg.geometry.poses import Pose
 from cadkg.services.display import Frame
-from cadkg.services.service import Effect, Service, on_model
+from cadkg.services.service import Effect, Service, model_services
 from cadkg.services.session import Session
 
 __all__ = ["SERVICES", "cabinet_frames"]
@@ -20,60 +19,53 @@ def _cabinet(session: Session) -> Any:
     return session.model
 
 
-def _label(fn: Callable[..., Any]) -> Callable[..., Any]:
-    return on_model(fn, _cabinet)
+# The services answered from the cabinet model alone: they only read.
+_service = model_services("iema", _cabinet)
 
 
 SERVICES: tuple[Service, ...] = (
-    Service(
+    _service(
         "cad_service",
         "pose, corner, target, dimensions and pins of a component",
         {"label": str},
-        _label(answers.cad_service),
-        effect=Effect.READS,
+        answers.cad_service,
     ),
-    Service(
+    _service(
         "full_cad_service",
         "as cad_service, with the component's connections; by label or by CAD item (cad_item)",
         {"label": str, "cad_item": str},
-        on_model(answers.full_cad_service, _cabinet),
-        optional=frozenset({"label", "cad_item"}),
-        effect=Effect.READS,
+        answers.full_cad_service,
+        optional={"label", "cad_item"},
     ),
-    Service(
+    _service(
         "get_item_screw_service",
         "screws and holes re-expressed from a detected component pose",
         {"label": str, "detected_pose": Pose},
-        on_model(answers.get_item_screw_service, _cabinet),
-        effect=Effect.READS,
+        answers.get_item_screw_service,
     ),
-    Service(
+    _service(
         "get_item_screw_targets",
         "the reference node's get_item_screw_service: pins moved with the detected target pose",
         {"label": str, "cad_pose": Pose},
-        on_model(answers.get_item_screw_targets, _cabinet),
-        effect=Effect.READS,
+        answers.get_item_screw_targets,
     ),
-    Service(
+    _service(
         "get_terminal_data",
         "pins, start, length and height of a terminal block",
         {"label": str},
-        _label(answers.get_terminal_data),
-        effect=Effect.READS,
+        answers.get_terminal_data,
     ),
-    Service(
+    _service(
         "cluster_service",
         "horizontal and vertical clusters of a component's connector points",
         {"label": str},
-        _label(answers.cluster_service),
-        effect=Effect.READS,
+        answers.cluster_service,
     ),
-    Service(
+    _service(
         "cad_reference",
         "target and corner pose of a component",
         {"label": str},
-        _label(answers.cad_reference),
-        effect=Effect.READS,
+        answers.cad_reference,
     ),
     Service(
         "full_connection_provider",

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 from cadkg.errors import NotFound, QueryError
 from cadkg.services.service import Effect, Service, on_model
 from cadkg.services.session import Session
+from cadkg.usecase import Answer
 from cadkg.usecases.vw.graphml import VIEWS, graphml_text
 from cadkg.usecases.vw.harness_data import HarnessRef, WireData, choose_harness, harnesses, wire_data
 from cadkg.usecases.vw.views import LIST_SEPARATOR, choose_modules, topology_view, wire_view
@@ -87,9 +88,7 @@ class TopologyWire:
 
 
 @dataclass(frozen=True)
-class HarnessTopologyResult:
-    success: bool
-    message: str
+class HarnessTopologyResult(Answer):
     harness: str = ""
     file_format: str = ""
     nodes: tuple[TopologyNode, ...] = ()

@@ -149,11 +149,7 @@ class _Reader(XmlReader):
         for element in self.children(root, _KINDS):
             model = self.text(element, "model")
             if model in found:
-                raise self.error(
-                    f"model {model} defined twice (first on line {found[model]})",
-                    element,
-                    expected="each model once",
-                )
+                raise self.twice(f"model {model}", found[model], element, "each model once", verb="defined")
             definition = self.definition(element)
             found[model] = definition.line
             definitions.append(definition)
@@ -213,10 +209,8 @@ class _Reader(XmlReader):
             self.attributes(element, ("couple",))
             couple = self.text(element, "couple")
             if couple in guides:
-                raise self.error(
-                    f"guide couple {couple} given twice (first on line {guides[couple].line})",
-                    element,
-                    expected="each couple once per definition",
+                raise self.twice(
+                    f"guide couple {couple}", guides[couple].line, element, "each couple once per definition"
                 )
             self.children(element, ("key", "collision"))
             key = self.one(element, "key", required=True)
@@ -259,10 +253,8 @@ class _Reader(XmlReader):
         for element in elements:
             box = self.box(element, ident, extra)
             if box.id in found:
-                raise self.error(
-                    f"<{element.tag}> id {box.id} given twice (first on line {found[box.id].line})",
-                    element,
-                    expected="each id once per definition",
+                raise self.twice(
+                    f"<{element.tag}> id {box.id}", found[box.id].line, element, "each id once per definition"
                 )
             found[box.id] = box
         return tuple(found.values())

@@ -91,11 +91,7 @@ class _Reader(XmlReader):
             self.attributes(element, ("id", "first_connector"), ("tray",))
             ident = self.text(element, "id")
             if ident in harnesses:
-                raise self.error(
-                    f"harness {ident} given twice (first on line {harnesses[ident].line})",
-                    element,
-                    expected="each harness id once",
-                )
+                raise self.twice(f"harness {ident}", harnesses[ident].line, element, "each harness id once")
             ends: dict[str, EndConnector] = {}
             for end in self.children(element, ("end_connector",)):
                 self.attributes(end, ("label",))
@@ -125,11 +121,7 @@ class _Reader(XmlReader):
                 "<cable> without a label", element, expected="<cable Row1=... Col1=...>CA1</cable>"
             )
         if label in self.cables:
-            raise self.error(
-                f"cable {label} given twice (first on line {self.cables[label]})",
-                element,
-                expected="each cable in one harness, once",
-            )
+            raise self.twice(f"cable {label}", self.cables[label], element, "each cable in one harness, once")
         self.cables[label] = line
         end = None
         if element.get("Row2") is not None or element.get("Col2") is not None:

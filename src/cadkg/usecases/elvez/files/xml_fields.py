@@ -76,6 +76,12 @@ class XmlReader:
             expected=expected or None,
         )
 
+    def twice(
+        self, what: str, first: int, element: etree._Element, expected: str, *, verb: str = "given"
+    ) -> IngestError:
+        """``what`` (``"harness 3"``) met again at ``element``, having been met first on line ``first``."""
+        return self.error(f"{what} {verb} twice (first on line {first})", element, expected=expected)
+
     def root(self, name: str) -> etree._Element:
         """Parse the file and return its root, which must be ``<name>``."""
         text = read_text(self.path, expected=self.expected)
