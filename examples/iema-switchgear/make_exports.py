@@ -179,10 +179,10 @@ def write_diagram() -> None:
         for at, terminal in enumerate(terminals):
             if not terminal:
                 # An end stop or end plate: pin 0 before the first terminal, 999999 after the
-                # last, each followed by the strip's label alone, as EPLAN writes them.
+                # last, as the diagram the reference node reads writes them (gearbox_demo's .ods;
+                # the workbooks' rows holding the strip's label alone stop its reader there).
                 pin = "0" if at == 0 else "999999"
                 _ods_row(table, [f"=-{strip}", "Q", pin, None, None, None, None, "FERMO MORSETTO"])
-                _ods_row(table, [f"=-{strip}"])
                 continue
             others = ends.get((strip, terminal), [])[:2]
             cells: list[object] = [f"=-{strip}", "Q", terminal]

@@ -124,9 +124,10 @@ def test_duplicate_wire_numbers_get_distinct_iris(fig3_triples: Triples) -> None
 def test_wri_example_maps_items_labels_and_models() -> None:
     data = read_source(EXAMPLE / "ids.wri", "ids.wri", "wri", BASE)
     triples = Triples(data.ntriples)
-    # 117 items and the cabinet's root item ID000001 (=-1, no code): one component more.
-    assert data.report.records == 118
-    assert len(triples.of_type("CadItem")) == 118
+    # 117 items, the cabinet's root item ID000001 (=-1, no code): one component more, and a point
+    # of each of the 9 ducts (a row of the duct's label without a code): no component more.
+    assert data.report.records == 127
+    assert len(triples.of_type("CadItem")) == 127
     assert len(triples.of_type("Component")) == 63
     item = BASE + "item/ID000041"
     assert triples.value(item, "cadId") == "ID000041"
@@ -136,6 +137,13 @@ def test_wri_example_maps_items_labels_and_models() -> None:
     assert triples.value(BASE + "label/Q0010", "rawLabel") == "=-Q0010"
     assert triples.objects(BASE + "item/ID000039", "instanceOf") == []
     assert triples.objects(BASE + "item/ID000001", "instanceOf") == []
+    duct, point = BASE + "item/ID000091", BASE + "item/ID000231"
+    assert triples.value(duct, "instanceOf") == BASE + "model/BOCCH.60X60G"
+    assert triples.objects(point, "instanceOf") == []
+    assert set(triples.objects(BASE + "component/CN1", "hasItem")) == {
+        ox.NamedNode(duct),
+        ox.NamedNode(point),
+    }
 
 
 HOSTILE_LABEL = 'K"1> <http://evil.example/x> . # \\u0022 {a|b}^`'

@@ -38,16 +38,43 @@ def by_line(entries: list[IdEntry]) -> dict[int, IdEntry]:
 
 def test_example_begins_with_the_root_item_and_writes_every_label_with_its_prefix() -> None:
     entries = read_wri(EXAMPLE_IDS)
-    assert len(entries) == 118 and [e.line for e in entries] == list(range(1, 119))
+    assert len(entries) == 127 and [e.line for e in entries] == list(range(1, 128))
     assert entries[0] == IdEntry("ID000001", "1", "=-1", None, 1)
     assert all(e.raw_label == "=-" + e.label for e in entries)
     assert len({e.label for e in entries}) == 63
-    # The same rows as the older form, one line down, labels written =-LABEL.
-    assert [(e.cad_id, e.label, e.commercial, e.line + 1) for e in read_wri(IDS)] == [
-        (e.cad_id, e.label, e.commercial, e.line) for e in entries[1:]
+    # The same rows as the older form, one line down, labels written =-LABEL; only the ducts differ.
+    old = read_wri(IDS)
+    assert [(e.cad_id, e.label, e.commercial) for e in old if not e.label.startswith("CN")] == [
+        (e.cad_id, e.label, e.commercial) for e in entries[1:] if not e.label.startswith("CN")
+    ]
+    # Lines move one down for the root row, nine more after the ducts for their points.
+    assert [e.line + (1 if e.line < 56 else 10) for e in old if not e.label.startswith("CN")] == [
+        e.line for e in entries[1:] if not e.label.startswith("CN")
     ]
     assert by_line(entries)[23] == IdEntry("ID000041", "X00005.2", "=-X00005.2", "6013277", 23)
-    assert [e.line for e in entries if e.commercial is None] == [1, 21, 56, 64]
+    assert [e.line for e in entries if e.commercial is None] == [1, 21, 56, *range(58, 75, 2)]
+
+
+def test_example_ducts_are_written_as_the_real_tables_write_them() -> None:
+    # Each duct: its row with a BOCCH... code, then its point, a row of the same label without one
+    # (the reference node files a code-less -CN row under the duct of its label).
+    entries = read_wri(EXAMPLE_IDS)
+    ducts = [(e.line, e.cad_id, e.label, e.commercial) for e in entries if e.label.startswith("CN")]
+    sizes = ["60X60"] * 4 + ["40X60"] * 3 + ["25X30", "40X60"]
+    assert ducts == [
+        row
+        for n, size in enumerate(sizes, start=1)
+        for row in (
+            (55 + 2 * n, f"ID{90 + n:06d}", f"CN{n}", f"BOCCH.{size}G"),
+            (56 + 2 * n, f"ID{230 + n:06d}", f"CN{n}", None),
+        )
+    ]
+    # The older form's ducts: the same items with digit codes (CN8 none) and no points.
+    old = [(e.cad_id, e.commercial) for e in read_wri(IDS) if e.label.startswith("CN")]
+    assert old == [
+        (f"ID{90 + n:06d}", code)
+        for n, code in enumerate(["6300425"] * 4 + ["6300440"] * 3 + [None, "6300440"], start=1)
+    ]
 
 
 # --- the example's older form ----------------------------------------------------------------------------

@@ -77,7 +77,7 @@ def test_example_inputs_are_not_empty() -> None:
     assert inputs.diagrams and inputs.wires and inputs.models and inputs.frames and inputs.assignments
     # A strip's rows in rail order; the relay's pins from EPLAN's parts management alone.
     kinds = [kind for _, kind, _ in inputs.diagrams["X1600"]]
-    assert kinds == ["start", "placeholder", *["terminal"] * 4, "end", "placeholder"]
+    assert kinds == ["start", *["terminal"] * 4, "end"]
     assert set(inputs.models["6400170"].points) == {"A1", "A2", "11", "12", "14"}
 
 

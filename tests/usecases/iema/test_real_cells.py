@@ -13,6 +13,7 @@ lists and on the example's, and every field they give is compared with cadkg's p
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -22,10 +23,12 @@ from typing import Any
 
 import pytest
 
+from cadkg.geometry.poses import Pose
 from cadkg.graph import KnowledgeGraph
 from cadkg.ingest.wri import read_wri
 from cadkg.query.validate import validate
 from cadkg.services.session import Session
+from cadkg.services.table import call
 from cadkg.usecases.iema import cursors
 from cadkg.usecases.iema.component_model import read_component_models
 from tests.changes.test_derived_things import check_derived
@@ -224,10 +227,20 @@ def test_the_nodes_dictionaries_meet_every_example_label_with_its_model(tmp_path
     rows = read_wri(EXAMPLE / "ids.wri")
     assert set(node["labels"]) == {row.cad_id for row in rows}
     coded = {row.cad_id: row.commercial for row in rows if row.commercial}
-    assert {cad: node["products"][cad] for cad in coded} == coded  # digits only: nothing stripped
-    assert set(coded.values()) <= set(node["models"])
-    assert set(coded.values()) <= {m.key for m in read_component_models(EXAMPLE / "components.xml")}
-    assert len({row.label for row in rows if row.commercial}) == 61
+    # The components' codes are digits only: nothing stripped. The ducts' (BOCCH.60X60G, as the
+    # real tables write them) lose their point in the node's ID dictionary, so the node meets no
+    # model for them and leaves them out of its components, as on the real cabinets.
+    ducts = {cad: code for cad, code in coded.items() if code.startswith("BOCCH.")}
+    assert len(ducts) == 9
+    assert {cad: node["products"][cad] for cad in coded} == {
+        cad: code.replace(".", "") if cad in ducts else code for cad, code in coded.items()
+    }
+    parts = {code for cad, code in coded.items() if cad not in ducts}
+    assert parts <= set(node["models"]) and not {node["products"][cad] for cad in ducts} & set(node["models"])
+    models = {m.key for m in read_component_models(EXAMPLE / "components.xml")}
+    # cadkg keeps the code as written: the ducts meet their models, but CN8's (BOCCH.25X30G) has none.
+    assert set(coded.values()) - models == {"BOCCH.25X30G"}
+    assert len({row.label for row in rows if row.commercial}) == 62
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
@@ -289,3 +302,281 @@ def test_the_diff_reads_the_models_wires_as_its_queries_find_them(tmp_path: Path
         warnings.simplefilter("ignore")
         kg = _build(tmp_path, cabinet, ids, wiring)
     check_derived(kg)
+
+
+# -- the node's start on the example, its pose services beside cadkg's -----------------------
+# The node's own script runs as it is under a Python 2.7 with numpy, enum34, xmltodict and
+# pyexcel-ods, in a temporary folder, only ROS and PyKDL stubbed (tests/usecases/iema/reference_node.py).
+# Its files are the example's, under the names the launch files give them.
+NODE_FILES = {
+    "QE01_cad.x3d": "QE01_cad.x3d",
+    "QE01_ids.wri": "ids.wri",
+    "components.xml": "components.xml",
+    "lista-cablaggio.csv": "lista-cablaggio.csv",
+    "schema-morsetti.ods": "schema-morsetti.ods",
+}
+LAUNCH = {
+    "demo_type": "wires",
+    "output_stl": False,
+    "gearbox_display": True,
+    "cad_name": "QE01",
+    "component_file": "components.xml",
+    "wiring_file": "lista-cablaggio.csv",
+    "terminal_file": "schema-morsetti.ods",
+    "terminal_sheet": "QE01_Schema_Morsetti_00",
+}
+# The launch file's world → gearbox_rf: the cabinet frame, so both answer in it. The node's
+# scene is z up (QE01_cad.x3d): the cabinet frame is its root turned -90° about x.
+GEARBOX_RF = [[0.0, 0.0, 0.0], [-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)]]
+# Equal: within 1 mm and 2 mrad. The node turns its scene back by 1.57 rad, not π/2
+# (SceneConfiguration), which moves a point at the top of the plate by 0.8 mm.
+METRE, RADIAN = 1e-3, 2e-3
+
+
+def _modules_missing() -> str:
+    if not PYTHON2 or not NODE_SCRIPTS.is_dir():
+        return "no Python 2.7 or no node scripts"
+    check = "import numpy, enum, xmltodict, pyexcel_ods"
+    run = subprocess.run([PYTHON2, "-c", check], capture_output=True, timeout=120, check=False)
+    return "" if run.returncode == 0 else "the Python 2.7 lacks numpy, enum34, xmltodict or pyexcel-ods"
+
+
+NODE_START_SKIP = _modules_missing() if DATA else "no node"
+
+
+def _node_start(tmp_path: Path, requests: list[tuple[str, str, dict[str, Any]]]) -> dict[str, Any]:
+    from tests.usecases.iema.reference_node import DRIVER, stub_files
+
+    stubs, cell = tmp_path / "node-stubs", tmp_path / "node-cell"
+    for name, text in stub_files(str(NODE_SCRIPTS.parent)).items():
+        (stubs / name).parent.mkdir(parents=True, exist_ok=True)
+        (stubs / name).write_text(text, encoding="utf-8")
+    cell.mkdir()
+    for name, source in NODE_FILES.items():
+        shutil.copyfile(EXAMPLE / source, cell / name)
+    plan = tmp_path / "node-plan.json"
+    params = dict(LAUNCH, files_path=str(cell) + os.sep)
+    plan.write_text(json.dumps({"params": params, "gearbox_rf": GEARBOX_RF, "requests": requests}))
+    driver = tmp_path / "node-driver.py"
+    driver.write_text(DRIVER, encoding="utf-8")
+    run = subprocess.run(
+        [PYTHON2, "-B", str(driver), str(stubs), str(NODE_SCRIPTS), str(plan)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "database_ready" in run.stdout.splitlines()
+    started: dict[str, Any] = json.loads(run.stdout.splitlines()[-1])
+    return started
+
+
+def _node_pose(pose: dict[str, Any]) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    p, q = pose["position"], pose["orientation"]
+    return (p["x"], p["y"], p["z"]), (q["x"], q["y"], q["z"], q["w"])
+
+
+def _gap(node: tuple[tuple[float, ...], tuple[float, ...]], ours: Any) -> tuple[float, float]:
+    """Distance (m) and angle (rad) between the node's pose and cadkg's."""
+    distance = math.dist(node[0], ours.position)
+    dot = abs(sum(a * b for a, b in zip(node[1], ours.orientation, strict=True)))
+    norm = math.sqrt(sum(a * a for a in node[1]))
+    return distance, 2 * math.acos(min(1.0, dot / norm))
+
+
+def _pose_pairs(tmp_path: Path) -> tuple[list[tuple[str, str, str, Any, Any]], list[str], list[Any]]:
+    """(service, key, field, the node's pose, cadkg's pose) for every pose both answer, and what
+    the node answers with an error or without a pose cadkg gives."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        kg = KnowledgeGraph.build(EXAMPLE / "manifest-node.toml")
+    with kg:
+        model = kg.cell_model()
+        session = Session(model)
+        ducts = {d for step in model.steps for d in step.ducts}
+        labels = sorted(
+            label
+            for label, g in model.components.items()
+            if g.target is not None
+            and label not in ducts
+            and not label.startswith("RAIL")
+            and not g.terminal_block
+        )
+        strips = sorted(label for label, g in model.components.items() if g.terminal_block)
+        ours: list[tuple[str, str, dict[str, Any]]] = []
+        requests: list[tuple[str, str, dict[str, Any]]] = []
+        for label in labels:
+            ours.append(("cad_service", label, {"label": label}))
+            requests.append(("cad_service", "cad_data", {"label": label.replace("-", "")}))
+        for label in strips:
+            ours.append(("get_terminal_data", label, {"label": label}))
+            requests.append(("get_terminal_data", "terminal_data", {"label": label}))
+        # Each wire from its own position: a service that fails leaves the node's cursor where it is.
+        for position in range(110):
+            requests.append(("reset_to_connection_list", "DataSrv", {"data": position, "source": "orig"}))
+            requests.append(("group_connection_provider", "connection_group", {}))
+            requests.append(("reset_to_connection_list", "DataSrv", {"data": position, "source": "orig"}))
+            requests += [("full_connection_provider", "connection_data", {})] * 2
+        detected = call(session, "cad_service", {"label": "F1500.1"}).target_pose
+        moved = Pose((detected.position[0] + 0.01, *detected.position[1:]), detected.orientation)
+        pose = {
+            "position": dict(zip("xyz", moved.position, strict=True)),
+            "orientation": dict(zip("xyzw", moved.orientation, strict=True)),
+        }
+        requests.append(("get_item_screw_targets", "pin_data", {"label": "F1500.1", "cad_pose": pose}))
+        node = _node_start(tmp_path, requests)["answers"]
+        pairs: list[tuple[str, str, str, Any, Any]] = []
+        lacking: list[str] = []
+
+        def pair(service: str, key: str, field: str, theirs: dict[str, Any] | None, mine: Any) -> None:
+            if mine is None:
+                return
+            # A pose the node leaves unfilled keeps ROS's default, a zero quaternion.
+            if theirs is None or not any(theirs["orientation"].values()):
+                lacking.append(f"{service} {key} {field}")
+            else:
+                pairs.append((service, key, field, _node_pose(theirs), mine))
+
+        answers = iter(node)
+        for service, key, params in ours:
+            status, answer = next(answers)
+            mine = call(session, service, params)
+            if status != "ok":
+                lacking.append(f"{service} {key}: {answer}")
+                continue
+            if service == "cad_service":
+                pair(service, key, "target", answer["target_pose"], mine.target_pose)
+                pair(service, key, "corner", answer["corner_pose"], mine.corner_pose)
+                theirs = {p["pin"]: p for p in answer["pins"]}
+                for pin in mine.pins:
+                    for field in ("screw", "hole"):
+                        given = theirs.get(pin.pin)
+                        pair(
+                            service,
+                            f"{key}:{pin.pin}",
+                            field,
+                            given and given[field + "_pose"],
+                            getattr(pin, field),
+                        )
+            else:
+                pair(service, key, "terminal_start", answer["terminal_start"], mine.terminal_start)
+                # The node appends each pin's screw and then its hole to `screws`.
+                theirs = {
+                    pin: (answer["screws"][2 * i], answer["screws"][2 * i + 1])
+                    for i, pin in enumerate(answer["pins"])
+                }
+                for pin, screw, hole in zip(mine.pins, mine.screws, mine.holes, strict=True):
+                    given = theirs.get(pin)
+                    pair(service, f"{key}:{pin}", "screw", given and given[0], screw)
+                    pair(service, f"{key}:{pin}", "hole", given and given[1], hole)
+        groups, ends = [], []
+        for position in range(110):
+            next(answers)
+            status, answer = next(answers)
+            if status == "ok":
+                groups.append(answer)
+            else:
+                lacking.append(f"group_connection_provider {position}: {answer}")
+            next(answers)
+            for source in ("orig", "dest"):
+                status, answer = next(answers)
+                if status == "ok":
+                    ends.append(answer)
+                else:
+                    lacking.append(f"full_connection_provider {position} {source}: {answer}")
+        screw_targets = next(answers)[1]
+        by_position = {g["list_position"]: g for g in groups}
+        keypoints: list[tuple[str, Any, Any]] = []
+        cursors.reset_connection_list(session)
+        while not (w := cursors.group_connection_provider(session)).end:
+            if w.list_position not in by_position:
+                continue
+            theirs = by_position[w.list_position]
+            for end, mine in (("origin", w.origin), ("destination", w.destination)):
+                key = f"{w.list_position} {end} {mine.label}"
+                assert mine is not None
+                pair(
+                    "group_connection_provider",
+                    key,
+                    "component_pose",
+                    theirs[end]["component_pose"],
+                    mine.component_pose,
+                )
+                pair("group_connection_provider", key, "screw", theirs[end]["screw_pose"], mine.screw)
+                pair("group_connection_provider", key, "hole", theirs[end]["hole_pose"], mine.hole)
+            keypoints.append((str(w.list_position), theirs["path_keypoints"], w.path_keypoints))
+        by_end = {(e["list_position"], e["source"]): e for e in ends if not e["end"]}
+        cursors.reset_connection_list(session)
+        while not (e := cursors.full_connection_provider(session)).end:
+            if (e.list_position, e.source) in by_end:
+                given = by_end[(e.list_position, e.source)]
+                pose = None if given["missing_pin_data"] else given["component_pose"]
+                pair(
+                    "full_connection_provider",
+                    f"{e.list_position} {e.source} {e.label}",
+                    "component_pose",
+                    pose,
+                    e.component_pose,
+                )
+        mine = call(session, "get_item_screw_targets", {"label": "F1500.1", "cad_pose": moved})
+        theirs = dict(
+            zip(
+                screw_targets["pins"],
+                zip(screw_targets["screws"], screw_targets["holes"], strict=True),
+                strict=True,
+            )
+        )
+        for pin, screw, hole in zip(mine.pins, mine.screws, mine.holes, strict=True):
+            pair("get_item_screw_targets", f"F1500.1:{pin}", "screw", theirs[pin][0], screw)
+            pair("get_item_screw_targets", f"F1500.1:{pin}", "hole", theirs[pin][1], hole)
+    return pairs, lacking, keypoints
+
+
+# Where the node's poses differ from cadkg's, by label (docs/iema-services.md, "The node's
+# start on the example"): the differences of "Differences from the reference node", seen.
+DIFFERING = {
+    "A0080.1": "corner: the node never reads a model's corner item",
+    "B0040.3": "turned 180°: the node's target keeps the cabinet's orientation, its corner and pins unturned",
+    "SSB-10Q1": "turned +90°: as B0040.3",
+    "SSB-33CAM1": "turned 180°: as B0040.3",
+    "E0040.1": "several items: the node measures the root item only (target, corner)",
+    "H0050.1": "several items: target",
+    "Q0010": "several items: target",
+    "S0050.1": "several items: target",
+    "SSB-08H1": "several items: target, corner",
+    "SSB-10F1": "several items: target",
+    "SSB-10KA1": "several items: target",
+    "SSB-10KA2": "several items: target",
+    "SSB-10KA3": "several items: target",
+    "SSB-75G2": "several items: target, corner",
+    **{f"F1500.{n}": "several items: target, and the detected pose's shift follows it" for n in (1, 2, 3)},
+    **{f"Q1500.{n}": "several items: target" for n in (1, 2, 3)},
+    **{
+        strip: "terminal strip: the providers' component_pose is the first item's target moved half the strip"
+        for strip in ("X0030.1", "X0030.2", "X0031", "X1500", "X1600", "X1700")
+    },
+}
+
+
+@pytest.mark.skipif(bool(NODE_START_SKIP), reason=NODE_START_SKIP or "-")
+def test_the_node_starts_on_the_example_and_its_poses_are_cadkgs(tmp_path: Path) -> None:
+    pairs, lacking, _ = _pose_pairs(tmp_path)
+    gaps = [(service, key, field, *_gap(node, ours)) for service, key, field, node, ours in pairs]
+    equal = [g for g in gaps if g[3] <= METRE and g[4] <= RADIAN]
+    assert (len(gaps), len(equal)) == (1394, 1059)
+    assert max(g[3] for g in equal) < 2e-4 and max(g[4] for g in equal) < 8e-4
+    differing = {g[1].split(":")[0].split()[-1] for g in gaps if g not in equal}
+    assert differing == set(DIFFERING)
+    # Every terminal strip's start, screws and holes are the node's (get_terminal_data).
+    assert all(g in equal for g in gaps if g[0] == "get_terminal_data")
+    # What only cadkg answers: the relays' pins of parts management, the second root model's and
+    # the second child's pins, the root item 1; the node's group provider fails on those pins.
+    unanswered = {
+        line.split(":")[0].split()[1].rstrip(":") for line in lacking if line.startswith("cad_service")
+    }
+    assert unanswered == {"1", "K1510.1", "K1510.2", "K1510.3", "SSB-08H1", "SSB-10F1"}
+    failing = sorted(
+        int(line.split()[1].rstrip(":")) for line in lacking if "KeyError" in line and "group" in line
+    )
+    assert failing == [91, 92, 93, 94, 95, 96, 105, 107]
