@@ -14,42 +14,18 @@ and manage their own processes, with the same limits and messages.
 
 from __future__ import annotations
 
+# What the other stages call; the limits' own workings (how a process puts them on itself,
+# what is said past one) are taken from the submodules by the query workers that share them.
 from cadkg.limited.child import read_limited, run_limited, stream_limited
-from cadkg.limited.limits import (
-    DEFAULT_QUERY_MEMORY,
-    DEFAULT_READ_CPU,
-    DEFAULT_READ_MEMORY,
-    DEFAULT_READ_WALL,
-    READ_CPU_ENV,
-    READ_MEMORY_ENV,
-    READ_WALL_ENV,
-    Limits,
-    cause,
-    exceeded,
-    limit_cpu,
-    limit_memory,
-    read_limits,
-)
-from cadkg.limited.network import leave_network, leave_network_or_warn, warn_unconfined
+from cadkg.limited.limits import DEFAULT_QUERY_MEMORY, Limits, exceeded
+from cadkg.limited.network import leave_network_or_warn
 
 __all__ = [
     "DEFAULT_QUERY_MEMORY",
-    "DEFAULT_READ_CPU",
-    "DEFAULT_READ_MEMORY",
-    "DEFAULT_READ_WALL",
-    "READ_CPU_ENV",
-    "READ_MEMORY_ENV",
-    "READ_WALL_ENV",
     "Limits",
-    "cause",
     "exceeded",
-    "leave_network",
     "leave_network_or_warn",
-    "limit_cpu",
-    "limit_memory",
     "read_limited",
-    "read_limits",
     "run_limited",
     "stream_limited",
-    "warn_unconfined",
 ]

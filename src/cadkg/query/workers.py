@@ -45,15 +45,8 @@ from typing import Any, Self
 import pyoxigraph as ox
 
 from cadkg.errors import CadkgError, QueryError, StoreError, TimeLimitError
-from cadkg.limited import (
-    DEFAULT_QUERY_MEMORY,
-    Limits,
-    cause,
-    exceeded,
-    leave_network,
-    limit_memory,
-    warn_unconfined,
-)
+from cadkg.limited.limits import DEFAULT_QUERY_MEMORY, Limits, cause, exceeded, limit_memory
+from cadkg.limited.network import leave_network, warn_unconfined
 from cadkg.store import GraphStore, QueryResult
 
 __all__ = ["WorkerPool", "query_within"]

@@ -15,47 +15,40 @@ from typing import Any
 from cadkg.errors import NotFound, QueryError
 from cadkg.services.service import Effect, Service
 from cadkg.services.session import Session
+from cadkg.usecase import Answer
 
 __all__ = ["OPERATIONS", "Assigned", "FramesOfLabel", "PlanDocument", "Reloaded"]
 
 
 @dataclass(frozen=True)
-class Assigned:
+class Assigned(Answer):
     """An assignment made: ``target`` is the IRI of the wire, component or operation."""
 
-    success: bool
-    message: str
     target: str
 
 
 @dataclass(frozen=True)
-class PlanDocument:
+class PlanDocument(Answer):
     """The stored plan as ``cadkg plan --format json`` prints it (``summary``, ``steps``,
     ``precedence``); ``message`` is its one-line summary."""
 
-    success: bool
-    message: str
     summary: dict[str, Any]
     steps: list[dict[str, Any]]
     precedence: list[dict[str, Any]]
 
 
 @dataclass(frozen=True)
-class FramesOfLabel:
+class FramesOfLabel(Answer):
     """Parallel lists: ``labels[i]`` names the frame ``frame_ids[i]``."""
 
-    success: bool
-    message: str
     labels: list[str]
     frame_ids: list[str]
 
 
 @dataclass(frozen=True)
-class Reloaded:
+class Reloaded(Answer):
     """The generation served before and the one served now."""
 
-    success: bool
-    message: str
     previous: str
     generation: str
 
