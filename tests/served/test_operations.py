@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 import cadkg
-from cadkg.errors import NotFound, QueryError
+from cadkg.errors import NotFound, QueryError, StoreError
 from cadkg.served.holder import GraphHolder
 from cadkg.services.frames import shown
 from cadkg.services.operations import OPERATIONS
@@ -107,5 +107,22 @@ def test_the_operations_serve_every_use_case_the_same_way() -> None:
         assert any(f.child.endswith("platform") for f in shown(session).frames)
         assert call(session, "label_frames", {}).success
         assert call(holder.current.session(), "reload", {}).success
+    finally:
+        holder.close()
+
+
+def test_a_reload_that_fails_keeps_the_old_cell_and_says_so(tmp_path: Path) -> None:
+    manifest = tmp_path / "manifest.toml"
+
+    def load() -> cadkg.KnowledgeGraph:
+        return cadkg.build(manifest)
+
+    holder = GraphHolder(cadkg.build(IEMA), load)
+    try:
+        manifest.write_text("[cell\n", encoding="utf-8")
+        served = holder.current
+        with pytest.raises(StoreError, match=r"reload failed, still serving the old cell: .*manifest\.toml"):
+            call(served.session(), "reload", {})
+        assert holder.current is served and holder.reloads == 0
     finally:
         holder.close()

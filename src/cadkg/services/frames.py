@@ -108,21 +108,18 @@ class Shown:
 
 
 def shown(session: Session) -> Shown:
-    """The frames and markers of the session's cell, made once per session (so again after
-    every change). When the use case's own frames cannot be made, the cell's frames still
-    are, and ``error`` says why; its services report the same error to every caller."""
+    """The frames and markers of the session's cell as they are now (a service may switch some
+    on or off: ``gearbox_display``). When the use case's own frames cannot be made, the cell's
+    frames still are, and ``error`` says why; its services report the same error to every
+    caller."""
+    from cadkg.query.placements import placements
 
-    def make() -> Shown:
-        from cadkg.query.placements import placements
-
-        placed = placements(session.kg)
-        files = session.kg.files_dir
-        try:
-            frames = static_frames(placed, session.model, session.profile, session)
-            return Shown(frames, marker_specs(placed, session.model, files, session.profile, session))
-        except CadkgError as err:
-            frames = static_frames(placed, session.model, session.profile)
-            markers = marker_specs(placed, session.model, files, session.profile)
-            return Shown(frames, markers, str(err))
-
-    return session.memo("shown", make)
+    placed = placements(session.kg)
+    files = session.kg.files_dir
+    try:
+        frames = static_frames(placed, session.model, session.profile, session)
+        return Shown(frames, marker_specs(placed, session.model, files, session.profile, session))
+    except CadkgError as err:
+        frames = static_frames(placed, session.model, session.profile)
+        markers = marker_specs(placed, session.model, files, session.profile)
+        return Shown(frames, markers, str(err))

@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from cadkg.errors import NotFound, QueryError
+from cadkg.errors import CadkgError, NotFound, QueryError, StateError, StoreError
 from cadkg.services.service import Effect, Service
 from cadkg.services.session import Session
 from cadkg.usecase import Answer
@@ -86,7 +86,12 @@ def _label_frames(session: Session, client: str = "default", label: str = "") ->
 def _reload(session: Session, client: str = "default") -> Reloaded:
     if session.reopen is None:
         raise QueryError("reload: only a served cell reloads (cadkg serve, cadkg ros); this one opens afresh")
-    previous, generation = session.reopen()
+    try:
+        previous, generation = session.reopen()
+    except StateError:
+        raise
+    except CadkgError as err:
+        raise StoreError(f"reload failed, still serving the old cell: {err}") from None
     return Reloaded(True, f"reloaded: {previous} → {generation}", previous, generation)
 
 
