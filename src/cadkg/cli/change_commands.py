@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from cadkg.cli.common import err, guarded, open_local, out, store_or_manifest, write_bytes
+from cadkg.cli.common import err, format_option, guarded, open_local, out, store_or_manifest, write_bytes
 from cadkg.cli.cursor_file import read_cursors
 from cadkg.services.session import Session, Work
 
@@ -27,13 +27,8 @@ __all__ = ["diff"]
 @click.command()
 @store_or_manifest("old", "OLD_OR_STORE")
 @store_or_manifest("new", "NEW", required=False)
-@click.option(
-    "--format",
-    "fmt",
-    type=click.Choice(["table", "json", "csv", "ttl"]),
-    default="table",
-    show_default=True,
-    help="ttl: the change set as RDF statements, to patch the old graph with.",
+@format_option(
+    ["table", "json", "csv", "ttl"], "ttl: the change set as RDF statements, to patch the old graph with."
 )
 @click.option(
     "--move-tolerance",

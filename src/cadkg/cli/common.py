@@ -29,6 +29,7 @@ from cadkg.store import QueryResult
 
 __all__ = [
     "err",
+    "format_option",
     "guarded",
     "max_query_memory",
     "open_local",
@@ -132,6 +133,15 @@ def store_or_manifest(
 ) -> Callable[[F], F]:
     """The argument naming a store directory or a manifest, opened with :func:`open_local`."""
     decorator: Callable[[F], F] = click.argument(name, metavar=metavar, required=required)
+    return decorator
+
+
+def format_option(choices: Sequence[str], help: str | None = None) -> Callable[[F], F]:
+    """``--format``: how a command prints its answer, a table unless another of ``choices`` is
+    asked for (the table is the first choice)."""
+    decorator: Callable[[F], F] = click.option(
+        "--format", "fmt", type=click.Choice(list(choices)), default="table", show_default=True, help=help
+    )
     return decorator
 
 

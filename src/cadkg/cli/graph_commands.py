@@ -14,6 +14,7 @@ from rich.table import Table
 import cadkg.registry as registry
 from cadkg.cli.common import (
     err,
+    format_option,
     guarded,
     max_query_memory,
     open_target,
@@ -83,14 +84,9 @@ def build(manifest: str, store_dir: str) -> None:
 @store_or_manifest()
 @click.argument("query", metavar="QUERY_OR_FILE")
 @click.argument("params", nargs=-1, metavar="[KEY=VALUE]...")
-@click.option(
-    "--format",
-    "fmt",
-    type=click.Choice(["table", "csv", "json", "rows-json"]),
-    default="table",
-    show_default=True,
-    help="json: SPARQL 1.1 Query Results JSON, as /sparql answers; rows-json: {variables, rows} "
-    "of plain values.",
+@format_option(
+    ["table", "csv", "json", "rows-json"],
+    "json: SPARQL 1.1 Query Results JSON, as /sparql answers; rows-json: {variables, rows} of plain values.",
 )
 @click.option(
     "--timeout",

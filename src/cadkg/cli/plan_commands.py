@@ -12,7 +12,7 @@ from pathlib import Path
 import click
 from rich.table import Table
 
-from cadkg.cli.common import err, guarded, open_local, out, store_or_manifest
+from cadkg.cli.common import err, format_option, guarded, open_local, out, store_or_manifest
 from cadkg.graph import KnowledgeGraph
 
 __all__ = ["plan"]
@@ -26,9 +26,7 @@ __all__ = ["plan"]
     default=None,
     help="The robot's rules (TOML); default: the manifest's [plan] rules, else the use case's.",
 )
-@click.option(
-    "--format", "fmt", type=click.Choice(["table", "csv", "json", "ttl"]), default="table", show_default=True
-)
+@format_option(["table", "csv", "json", "ttl"])
 @click.option(
     "-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-", help="A file, or -."
 )

@@ -14,7 +14,7 @@ from __future__ import annotations
 from cadkg.ingest.eplan.bill_of_materials import BomInfo, BomLine
 from cadkg.ingest.eplan.parts import PartPins
 from cadkg.mapping.dispatch import map_record
-from cadkg.mapping.nodes import component_node, model_frame, model_node
+from cadkg.mapping.nodes import component_node, model_frame, model_node, texts
 from cadkg.mapping.writer import TripleWriter, term, write_pose
 
 __all__: list[str] = []
@@ -62,12 +62,12 @@ def _(record: BomLine, w: TripleWriter, source_slug: str) -> None:
     if record.quantity is not None:
         whole = record.quantity == record.quantity.to_integral_value()
         w.add(entry, t("quantity"), w.typed(int(record.quantity) if whole else record.quantity))
-    for predicate, value in (
-        ("description", record.description),
-        ("typeNumber", record.type_number),
-        ("manufacturer", record.manufacturer),
-        ("mountingZone", record.zone),
-        ("functionText", record.function),
-    ):
-        if value:
-            w.add(entry, t(predicate), w.text(value))
+    texts(
+        w,
+        entry,
+        description=record.description,
+        typeNumber=record.type_number,
+        manufacturer=record.manufacturer,
+        mountingZone=record.zone,
+        functionText=record.function,
+    )

@@ -28,6 +28,7 @@ __all__ = [
     "pin_iri",
     "pin_node",
     "placement_pose",
+    "texts",
     "wire_iri",
 ]
 
@@ -55,6 +56,13 @@ def named_node(
         w.add(node, TYPE, term(cls))
         w.add(node, term(by), w.text(name))
     return node
+
+
+def texts(w: TripleWriter, node: str, **values: str | None) -> None:
+    """The given text properties (ontology term → value) that are neither None nor empty."""
+    for name, value in values.items():
+        if value:
+            w.add(node, term(name), w.text(value))
 
 
 def pin_iri(base_iri: str, ref: PinRef) -> str:

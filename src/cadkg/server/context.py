@@ -183,25 +183,24 @@ def json_response(data: Any, status: int = 200, headers: dict[str, str] | None =
     return Response(body, status, headers, media_type="application/json")
 
 
+# The first class an error is an instance of gives its status: a subclass before its base.
+_STATUS: tuple[tuple[type[Exception] | tuple[type[Exception], ...], int], ...] = (
+    (TimeLimitError, 503),
+    (BodyTooLargeError, 413),
+    (NotAcceptableError, 406),
+    (NotFound, 404),
+    (StateError, 409),
+    (StoreError, 502),
+    ((QueryError, ValueError), 400),
+)
+
+
 def status_of(err: Exception) -> tuple[int, dict[str, str]]:
     """The HTTP status (and headers) an error of the endpoint is answered with."""
     if isinstance(err, ProtocolError):
         return err.status, err.headers
-    if isinstance(err, TimeLimitError):
-        return 503, {}
-    if isinstance(err, BodyTooLargeError):
-        return 413, {}
-    if isinstance(err, NotAcceptableError):
-        return 406, {}
-    if isinstance(err, NotFound):
-        return 404, {}
-    if isinstance(err, StateError):
-        return 409, {}
-    if isinstance(err, StoreError):
-        return 502, {}
-    if isinstance(err, QueryError | ValueError):
-        return 400, {}
-    return 500, {}
+    status = next((status for kind, status in _STATUS if isinstance(err, kind)), 500)
+    return status, {}
 
 
 class Endpoint:

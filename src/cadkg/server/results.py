@@ -9,7 +9,7 @@ written by pyoxigraph as Turtle, N-Triples, JSON-LD or RDF/XML.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 from xml.sax.saxutils import escape, quoteattr
@@ -151,22 +151,11 @@ def read_solutions(solutions: Any, max_rows: int, deadline: Deadline | None = No
         When the deadline passes while reading.
     """
     variables = tuple(v.value for v in solutions.variables)
-    rows: list[tuple[Any, ...]] = []
-    truncated = False
-    solution = None
     try:
-        for solution in solutions:
-            if len(rows) == max_rows:
-                truncated = True
-                break
-            rows.append(tuple(solution))
-            if deadline is not None and len(rows) % _CHECK_EVERY == 0:
-                deadline.check()
+        rows, truncated = _read_rows(solutions, tuple, max_rows, deadline)
     finally:
-        # pyoxigraph's results must be dropped on this thread: a time-out's traceback keeps
-        # this frame, and the event loop thread would drop them with it.
-        del solutions, solution
-    return Table(variables, tuple(rows), truncated)
+        del solutions  # as in _read_rows
+    return Table(variables, rows, truncated)
 
 
 def read_triples(triples: Iterable[ox.Triple], max_rows: int, deadline: Deadline | None = None) -> Table:
@@ -177,20 +166,38 @@ def read_triples(triples: Iterable[ox.Triple], max_rows: int, deadline: Deadline
     TimeLimitError
         When the deadline passes while reading.
     """
+    try:
+        rows, truncated = _read_rows(
+            triples, lambda t: (t.subject, t.predicate, t.object), max_rows, deadline
+        )
+    finally:
+        del triples  # as in _read_rows
+    return Table(("subject", "predicate", "object"), rows, truncated)
+
+
+def _read_rows(
+    items: Iterable[Any],
+    row: Callable[[Any], tuple[Any, ...]],
+    max_rows: int,
+    deadline: Deadline | None,
+) -> tuple[tuple[tuple[Any, ...], ...], bool]:
+    """The rows of at most ``max_rows`` items, and whether there were more."""
     rows: list[tuple[Any, ...]] = []
     truncated = False
-    triple = None
+    item = None
     try:
-        for triple in triples:
+        for item in items:
             if len(rows) == max_rows:
                 truncated = True
                 break
-            rows.append((triple.subject, triple.predicate, triple.object))
+            rows.append(row(item))
             if deadline is not None and len(rows) % _CHECK_EVERY == 0:
                 deadline.check()
     finally:
-        del triples, triple  # as in read_solutions
-    return Table(("subject", "predicate", "object"), tuple(rows), truncated)
+        # pyoxigraph's results must be dropped on this thread: a time-out's traceback keeps
+        # this frame, and the event loop thread would drop them with it.
+        del items, item
+    return tuple(rows), truncated
 
 
 # -- writers ----------------------------------------------------------------------------

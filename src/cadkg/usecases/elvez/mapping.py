@@ -28,6 +28,7 @@ from cadkg.mapping.nodes import (
     model_frame,
     model_node,
     pin_node,
+    texts,
 )
 from cadkg.mapping.writer import TripleWriter, term, write_pose
 from cadkg.usecases.elvez.files.components import HarnessComponent
@@ -256,9 +257,7 @@ def _(record: HarnessComponent, w: TripleWriter, source_slug: str) -> None:
         node = component_node(w, record.label)
         w.add(node, t("type"), t("Device"))
     w.add(node, t("sourceLine"), w.typed(record.line))
-    for name, value in (("colourName", record.colour), ("referenceCode", record.reference)):
-        if value:
-            w.add(node, t(name), w.text(value))
+    texts(w, node, colourName=record.colour, referenceCode=record.reference)
     if record.device_type:
         w.add(node, t("deviceType"), w.text(record.device_type))
     if record.model:

@@ -18,6 +18,7 @@ from cadkg.mapping.nodes import (
     model_node,
     pin_node,
     placement_pose,
+    texts,
 )
 from cadkg.mapping.writer import TripleWriter, term, write_pose
 from cadkg.usecases.iema.component_list import ComponentListEntry
@@ -132,14 +133,14 @@ def _(record: DiagramRow, w: TripleWriter, source_slug: str) -> None:
     w.add(row, t("sourceLine"), w.typed(record.line))
     w.add(row, t("diagramPosition"), w.typed(record.position))
     w.add(row, t("rowKind"), w.text(record.kind))
-    for predicate, value in (
-        ("diagramTerminal", record.terminal),
-        ("diagramZone", record.zone),
-        ("functionText", record.function),
-        ("terminalType", record.terminal_type),
-    ):
-        if value:
-            w.add(row, t(predicate), w.text(value))
+    texts(
+        w,
+        row,
+        diagramTerminal=record.terminal,
+        diagramZone=record.zone,
+        functionText=record.function,
+        terminalType=record.terminal_type,
+    )
     for number, (ref, zone) in enumerate(record.destinations, start=1):
         destination = w.iri("diagram", source_slug, record.sheet, str(record.line), str(number))
         w.add(row, t("hasDiagramDestination"), destination)
