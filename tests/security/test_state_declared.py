@@ -22,6 +22,7 @@ import pytest
 import cadkg
 import cadkg.registry as registry
 from cadkg.errors import QueryError
+from cadkg.plan.cell import store_plan
 from cadkg.server import Settings, create_app
 from cadkg.services.service import Effect, Service
 from cadkg.services.session import Session
@@ -48,6 +49,11 @@ IEMA_CALLS: dict[str, dict[str, str]] = {
     "reset_to_connection_list": {"data": "2"},
     "rail_scanner": {},
     "reset_rail_scanner": {},
+    # The operations every cell offers (the test makes the example's plan first).
+    "assign": {"kind": "wire", "id": "1500.51", "performer": "human"},
+    "plan": {},
+    "label_frames": {"label": "F1500.1"},
+    "reload": {},
 }
 
 
@@ -165,6 +171,8 @@ def _state(session: Session, kg: cadkg.KnowledgeGraph) -> tuple[str, int, list[s
 def test_no_reading_service_changes_the_session_or_the_graph(example: str) -> None:
     kg = cadkg.build(EXAMPLES / example / "manifest.toml")
     session = Session(kg.cell_model(), kg=kg)
+    if example == "iema-switchgear":
+        store_plan(kg)  # what the plan service reads
     calls = {
         name: ([IEMA_CALLS[name]] if example == "iema-switchgear" else CALLS[name][1])
         for name in SERVICES
