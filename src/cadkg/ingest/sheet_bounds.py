@@ -186,7 +186,12 @@ def _scan_sheet(
             size = len(text)
             if shared and name == b"v":
                 index = text.strip()
-                size = strings[int(index)] if index.isdigit() and int(index) < len(strings) else 0
+                # An index past nine digits is past any table of strings (and int() refuses 4,300).
+                size = (
+                    strings[int(index)]
+                    if index.isdigit() and len(index) <= 9 and int(index) < len(strings)
+                    else 0
+                )
             if not limits.budget.spend(size):
                 reason, wanted = TextBudget.refusal()
                 raise limits.refuse(reason, row, column, wanted)

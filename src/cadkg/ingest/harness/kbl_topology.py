@@ -14,6 +14,7 @@ from cadkg.errors import IngestWarning
 from cadkg.ingest.harness.geometry import curve_points, polyline_length, rep103_from_vehicle
 from cadkg.ingest.harness.kbl_document import KblDocument, child_elements, child_text, first_child
 from cadkg.ingest.harness.records import HarnessSegment, Position
+from cadkg.ingest.text import small_integer
 
 __all__ = ["KblTopology", "Placement"]
 
@@ -150,7 +151,8 @@ class KblTopology(KblDocument):
                 self.coordinates(p)
                 for p in self.ref(curve, "Control_points", self.points, "a <Cartesian_point>", many=True)
             ]
-            sampled = curve_points(points, int(degree_text)) if degree_text.isdigit() else None
+            degree = small_integer(degree_text)
+            sampled = curve_points(points, degree) if degree is not None else None
             if sampled is None:
                 self.error(
                     "<Center_curve> is not a B-spline",

@@ -13,11 +13,20 @@ from cadkg.ingest.harness.geometry import curve_points, polyline_length, rep103_
 from cadkg.ingest.harness.records import HarnessNode, HarnessSegment, Position
 from cadkg.ingest.harness.vec_parts import VecParts
 from cadkg.ingest.harness.xml_tree import child_elements, child_text, element_name, first_child, kind_of
+from cadkg.ingest.text import small_integer
 
 __all__ = ["VecTopology"]
 
 _UNITS = ("SIUnit", "OtherUnit", "ImperialUnit", "USUnit")
 _POINTS = ("CartesianPoint3D", "CartesianPoint")
+
+
+def _knot(text: str | None) -> float:
+    """A knot's value; NaN (which makes no curve, refused at the curve) where it is not a number."""
+    try:
+        return float(text or "nan")
+    except ValueError:
+        return math.nan
 
 
 class VecTopology(VecParts):
@@ -129,10 +138,11 @@ class VecTopology(VecParts):
                 for c in controls
             ]
             weights = [doc.number(c, "Weight") or 1.0 for c in controls]
-            knots = [float(k.text or "nan") for k in child_elements(curve, "Knots")] or None
+            knots = [_knot(k.text) for k in child_elements(curve, "Knots")] or None
         else:
             points = [self._xyz(p) for p in doc.refs(curve, "ControlPoint", _POINTS)]
-        sampled = curve_points(points, int(degree), knots, weights) if degree.isdigit() else None
+        order = small_integer(degree)
+        sampled = curve_points(points, order, knots, weights) if order is not None else None
         if sampled is None:
             doc.error(
                 f"<{curve.tag.rpartition('}')[2]}> is not a B-spline",

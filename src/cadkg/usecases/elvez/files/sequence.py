@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cadkg.errors import IngestError
-from cadkg.ingest.text import first_line, iter_rows, read_text, split_cells
+from cadkg.ingest.text import first_line, iter_rows, read_text, small_integer, split_cells
 
 __all__ = [
     "CODES",
@@ -115,7 +115,9 @@ def read_sequence(path: str | Path) -> list[SequenceStep]:
         if row.is_blank:
             continue
         order = row.cell(0)
-        if not order.isdigit() or int(order) < 1:
+        # int() refuses runs of over 4,300 digits and '²', which isdigit() accepts.
+        number = small_integer(order)
+        if number is None or number < 1:
             raise IngestError(
                 path, "Order is not a whole number from 1", line=row.line, found=order, expected="1, 2, 3 ..."
             )
@@ -138,5 +140,5 @@ def read_sequence(path: str | Path) -> list[SequenceStep]:
                 found=row.cell(3),
                 expected=_FORMS[code.upper()],
             )
-        steps.append(SequenceStep(int(order), code, labels, row.cell(3), spots, row.line))
+        steps.append(SequenceStep(number, code, labels, row.cell(3), spots, row.line))
     return steps
