@@ -37,7 +37,6 @@ from cadkg.ros_adapter.sparql import SPARQL_TEXT_TASK, sparql_text
 from cadkg.served.holder import GraphHolder, Served
 from cadkg.served.target import model_with, open_target
 from cadkg.services.frames import Shown, shown
-from cadkg.services.service import Effect
 from cadkg.store import cell_profile
 
 __all__ = ["CadkgNode", "default_namespace", "main", "sparql_text", "srv_type"]
@@ -181,7 +180,7 @@ class CadkgNode:
                 if refusal:
                     raise CadkgError(refusal)
                 params = convert.request_params(service.params, request)
-                result = self._call(name, params, convert.client_of(request))
+                result = self.holder.run(name, params, convert.client_of(request))
                 data = (
                     convert.response(result)
                     if type(result).__name__ in convert.FIELDS
@@ -195,23 +194,6 @@ class CadkgNode:
             return convert.fill(response, data, _resolve)
 
         return handle
-
-    def _call(self, name: str, params: dict[str, Any], client: str) -> Any:
-        """Run a service of the table on the graph served now, one call at a time on it."""
-        effect = services.SERVICES[name].effect
-        served = self.holder.acquire()
-        try:
-            with served.lock:
-                session = served.session()
-                if effect is not Effect.RELOADS:
-                    result = services.call(session, name, params, client=client)
-                    if effect.changes_graph and getattr(result, "success", False):
-                        served.edited()
-                    return result
-            # Outside the lock: the old graph goes on answering while the new one opens.
-            return services.call(session, name, params, client=client)
-        finally:
-            served.release()
 
     def _sparql(self, request: Any, response: Any) -> Any:
         try:

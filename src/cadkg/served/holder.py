@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import itertools
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from cadkg.errors import CadkgError, StateError
+from cadkg.services.service import Effect
 from cadkg.services.session import Session, Work
 from cadkg.store import cell_profile
 
@@ -216,10 +217,6 @@ class GraphHolder:
         finally:
             current.lock.release()
 
-    @property
-    def reopenable(self) -> bool:
-        return self._load is not None
-
     def open(self) -> Served:
         """Open the graph again (not served yet: see :meth:`swap`).
 
@@ -258,6 +255,32 @@ class GraphHolder:
     def reload(self) -> tuple[str, str]:
         """:meth:`open` and :meth:`swap` in one."""
         return self.swap(self.open())
+
+    def run(self, name: str, params: Mapping[str, Any], client: str = "default") -> Any:
+        """Run service ``name`` of the table on the graph served now, by its effect: one call at
+        a time on the graph; a change in place makes a new session; a reload runs outside the
+        graph's lock, so the graph it replaces goes on answering while the new one opens.
+
+        Raises
+        ------
+        CadkgError
+            As the service raises it (an unknown service, a bad parameter, a failed reload).
+        """
+        from cadkg.services.table import SERVICES, call
+
+        effect = SERVICES[name].effect
+        served = self.acquire()
+        try:
+            with served.lock:
+                session = served.session()
+                if effect is not Effect.RELOADS:
+                    result = call(session, name, params, client=client)
+                    if effect.changes_graph and getattr(result, "success", False):
+                        served.edited()
+                    return result
+            return call(session, name, params, client=client)
+        finally:
+            served.release()
 
     def close(self) -> None:
         with self._swap:

@@ -213,13 +213,7 @@ async def call_service(
 
         if effect is Effect.RELOADS:
             # Not a job on the served graph: the graph it replaces goes on answering meanwhile.
-            served = endpoint.holder.acquire()
-            try:
-                with served.lock:
-                    session = served.session()
-                result = await asyncio.to_thread(call, session, name, params, client=owner)
-            finally:
-                served.release()
+            result = await asyncio.to_thread(endpoint.holder.run, name, params, owner)
             return endpoint.respond(shaped(result), endpoint.holder.current.generation)
         # What a service that loads files reads over HTTP is copied from inside the files root
         # first, and handed on as the list of those copies.
