@@ -148,6 +148,12 @@ def use_case(profile: str) -> UseCase:
         raise KeyError(f"unknown profile {profile!r}; known: {', '.join(sorted(cases))}") from None
 
 
+def loaded() -> object:
+    """The registry's table as loaded now: what a cache of something made from it is keyed on
+    (a test may load the registry afresh)."""
+    return _table()
+
+
 def services() -> dict[str, Service]:
     """Every service of every use case, by name."""
     return dict(_table().services)

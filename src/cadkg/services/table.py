@@ -20,21 +20,31 @@ from cadkg.services.session import Session
 __all__ = ["SERVICES", "call", "served_for", "services_for"]
 
 
+_MERGED: tuple[object, dict[str, Service]] | None = None
+
+
 def _table() -> dict[str, Service]:
-    """The operations and the registry's services (registering loads every use case).
+    """The operations and the registry's services (registering loads every use case), merged
+    once per loaded registry.
 
     Raises
     ------
     RegistryError
         When a use case names a service as one of the operations every cell offers.
     """
+    global _MERGED
+    source = registry.loaded()
+    if _MERGED is not None and _MERGED[0] is source:
+        return _MERGED[1]
     from cadkg.services.operations import OPERATIONS
 
     declared = registry.services()
     taken = sorted(set(OPERATIONS) & set(declared))
     if taken:
         raise RegistryError(f"services {', '.join(taken)} are operations every cell offers")
-    return {**OPERATIONS, **declared}
+    merged = {**OPERATIONS, **declared}
+    _MERGED = (source, merged)
+    return merged
 
 
 class _Services(Mapping[str, Service]):
