@@ -35,7 +35,7 @@ from cadkg.errors import CadkgError, QueryError
 from cadkg.services.display import Frame, MarkerSpec
 from cadkg.services.session import Session
 
-__all__ = ["ARROW_LENGTH", "Shown", "marker_specs", "shown", "static_frames"]
+__all__ = ["ARROW_LENGTH", "Shown", "marker_specs", "published_frames", "shown", "static_frames"]
 
 
 ARROW_LENGTH = 0.02
@@ -105,6 +105,17 @@ class Shown:
     frames: list[Frame]
     markers: list[MarkerSpec]
     error: str = ""
+
+
+def published_frames(session: Session) -> list[Frame]:
+    """The frames of :func:`shown`, without making its markers."""
+    from cadkg.query.placements import placements
+
+    placed = placements(session.kg)
+    try:
+        return static_frames(placed, session.model, session.profile, session)
+    except CadkgError:
+        return static_frames(placed, session.model, session.profile)
 
 
 def shown(session: Session) -> Shown:

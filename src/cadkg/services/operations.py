@@ -74,9 +74,9 @@ def _plan(session: Session, client: str = "default") -> PlanDocument:
 
 def _label_frames(session: Session, client: str = "default", label: str = "") -> FramesOfLabel:
     from cadkg.query.frames import label_frames
-    from cadkg.services.frames import shown
+    from cadkg.services.frames import published_frames
 
-    published = [frame.child for frame in shown(session).frames]
+    published = [frame.child for frame in published_frames(session)]
     pairs = label_frames(session.kg, published, label)
     found = bool(pairs) or not label
     message = f"{len(pairs)} frame(s)" if found else f"no frames of {label!r}"
