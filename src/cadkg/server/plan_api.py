@@ -9,8 +9,8 @@ from typing import Any
 from starlette.requests import Request
 from starlette.responses import Response
 
-from cadkg.server.api import call_service
-from cadkg.server.context import ProtocolError, json_response
+from cadkg.server.api import _error, call_service
+from cadkg.server.context import ProtocolError
 
 __all__ = ["plan"]
 
@@ -23,6 +23,6 @@ async def plan(request: Request) -> Response:
     """``GET /api/plan``: steps, precedence and summary of the stored plan."""
     if request.method != "GET":
         # Taken here, so that no service named like it answers a POST in its stead.
-        error = ProtocolError(405, "the plan is read with GET; cadkg plan STORE makes it", {"Allow": "GET"})
-        return json_response({"error": str(error)}, error.status, error.headers)
+        refusal = ProtocolError(405, "the plan is read with GET; cadkg plan STORE makes it", {"Allow": "GET"})
+        return _error(refusal)
     return await call_service(request, "plan", _document)
