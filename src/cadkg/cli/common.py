@@ -148,12 +148,9 @@ def format_option(choices: Sequence[str], help: str | None = None) -> Callable[[
 def open_local(target: str, *, writable: bool = False) -> KnowledgeGraph:
     """A store directory or a manifest (see :func:`open_target`); a URL is refused, since the
     command works on local files."""
-    from cadkg.remote import is_url
-    from cadkg.served.target import TargetError
+    from cadkg.served.target import open_target as open_cell
 
-    if is_url(target):
-        raise TargetError(f"{target!r} is neither a store directory nor a manifest file")
-    return open_target(target, writable=writable)
+    return open_cell(target, writable=writable, local=True, warn=warn)
 
 
 def parse_params(pairs: Sequence[str]) -> dict[str, str]:

@@ -25,6 +25,7 @@ def open_target(
     target: str | Path,
     *,
     writable: bool = False,
+    local: bool = False,
     auth: Auth | None = None,
     timeout: float | None = None,
     warn: Callable[[str], None] | None = None,
@@ -32,7 +33,8 @@ def open_target(
     """Open ``target``: a store directory (read-only unless ``writable``: then changes such as
     an assignment are kept in it as new generations), a manifest built in memory (its readers'
     warnings handed to ``warn``), or a remote endpoint asked with ``auth`` (else the
-    credentials of ``CADKG_STORE_AUTH[_DIGEST]``) and ``timeout`` when given.
+    credentials of ``CADKG_STORE_AUTH[_DIGEST]``) and ``timeout`` when given; ``local``
+    refuses a URL (a command that works on local files).
 
     Raises
     ------
@@ -44,6 +46,9 @@ def open_target(
     from cadkg.graph import KnowledgeGraph
     from cadkg.remote import DEFAULT_TIMEOUT, RemoteGraph, auth_from_env, is_url
 
+    neither = TargetError(f"{str(target)!r} is neither a store directory nor a manifest file")
+    if is_url(target) and local:
+        raise neither
     if is_url(target):
         credentials = auth if auth is not None else auth_from_env()
         seconds = DEFAULT_TIMEOUT if timeout is None else timeout
@@ -58,7 +63,7 @@ def open_target(
                 for warning in report.warnings:
                     warn(str(warning))
         return kg
-    raise TargetError(f"{str(target)!r} is neither a store directory nor a manifest file")
+    raise neither
 
 
 def model_with(settings: Mapping[str, float]) -> Callable[[KnowledgeGraph], Any]:
