@@ -1,4 +1,4 @@
 """ROS 2 access to a cell: the only package that imports rclpy (in :mod:`.node`).
 
-:mod:`.convert` and :mod:`.frames` are plain Python and import without ROS.
+:mod:`.convert` is plain Python and imports without ROS.
 """
