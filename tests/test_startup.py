@@ -8,15 +8,18 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
 from cadkg.errors import RegistryError
+from cadkg.graph import KnowledgeGraph
 from cadkg.ingest.reader import Reader, lazy, resolve
 from cadkg.registry import kinds
 
 # What only some commands need: a mesh, a data frame, a graph view, a table on a terminal, a
 # server, the container of a legacy XLS.
+MINI = Path(__file__).parent / "data" / "cells" / "mini"
 HEAVY = ("trimesh", "pandas", "networkx", "numpy", "rich", "starlette", "uvicorn", "httpx", "olefile")
 
 
@@ -81,3 +84,38 @@ def test_a_misnamed_function_says_which(spec: str, message: str) -> None:
     reader = Reader("misnamed", (".x",), spec, "a test")
     with pytest.raises(RegistryError, match=message):
         reader.read("file.x")
+
+
+OTHER_CASES = ("elvez", "elimco", "vw", "enki")
+
+
+def test_one_call_imports_only_its_own_use_case_and_command(tmp_path: Path) -> None:
+    """``cadkg call`` on a cabinet's store imports the cabinet's services, and no other use
+    case's services or answers, nor another command's module; ``cadkg services`` lists them all."""
+    store = tmp_path / "store"
+    KnowledgeGraph.build(MINI / "manifest.toml", store).close()
+    found = _fresh(
+        "import json, sys, contextlib, io\nfrom cadkg.cli import cli\n"
+        "out = io.StringIO()\n"
+        "with contextlib.redirect_stdout(out):\n"
+        f"    cli.main(['call', {str(store)!r}, 'cad_service', 'label=K1'], standalone_mode=False)\n"
+        "print(json.dumps({'answer': json.loads(out.getvalue()),\n"
+        "    'modules': sorted(m for m in sys.modules if m.startswith(('cadkg.usecases.', 'cadkg.cli.')))}))"
+    )
+    assert isinstance(found, dict)
+    assert found["answer"]["success"] is True
+    modules = found["modules"]
+    assert "cadkg.usecases.iema.services" in modules and "cadkg.cli.service_commands" in modules
+    # Another use case's package (its declaration) is imported, nothing of its modules.
+    others = [m for m in modules if m.startswith(tuple(f"cadkg.usecases.{c}." for c in OTHER_CASES))]
+    assert others == []
+    commands = {f"cadkg.cli.{name}_commands" for name in ("graph", "change", "plan", "serve")}
+    assert not commands & set(modules), sorted(commands & set(modules))
+
+
+def test_every_use_case_service_is_listed_when_all_are_asked_for() -> None:
+    from cadkg.registry import services, use_cases
+
+    listed = services()
+    assert {s.profile for s in listed.values()} == {c.name for c in use_cases() if c.services}
+    assert {"cad_service", "guide_info", "pin_frames", "hose_info"} <= set(listed)

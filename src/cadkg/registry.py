@@ -37,6 +37,7 @@ __all__ = [
     "reader_for",
     "register",
     "services",
+    "services_of",
     "sniff_kind",
     "use_case",
     "use_cases",
@@ -52,6 +53,12 @@ class _Table:
         self.readers: dict[str, Reader] = {}
         self.use_cases: dict[str, UseCase] = {}
         self.services: dict[str, Service] = {}
+        # The services of each use case not yet in ``services``, in the order the use cases were
+        # added (a name clash names the later one): the tuple, or the ``"module:attribute"``
+        # naming it, imported when first needed.
+        self.unread: dict[str, tuple[Service, ...] | str] = {}
+        # Moves with every use case added: what a cache made from the table is keyed on.
+        self.changes = 0
         self.derivations: dict[str, Derivation] = {}
         # The derivation of the cells whose use case declares none (Derivation.default).
         self.default: tuple[str, Derivation] | None = None
@@ -96,15 +103,7 @@ def _add(table: _Table, case: UseCase) -> None:
         raise RegistryError(f"use case {case.name!r} is already registered")
     for reader in case.readers:
         _add_reader(table, reader)
-    for service in case.services:
-        if not isinstance(service.effect, Effect):
-            raise RegistryError(
-                f"service {service.name!r} of {case.name} declares no Effect (what a call changes)"
-            )
-        if service.name in table.services:
-            owner = table.services[service.name].profile
-            raise RegistryError(f"service {service.name!r} of {case.name} is already one of {owner}'s")
-        table.services[service.name] = dataclasses.replace(service, profile=case.name)
+    table.unread[case.name] = case.services
     if case.derivation is not None and case.derivation.default:
         if table.default is not None:
             raise RegistryError(
@@ -115,6 +114,33 @@ def _add(table: _Table, case: UseCase) -> None:
     if case.derivation is not None:
         table.derivations[case.name] = case.derivation
     table.use_cases[case.name] = case
+    table.changes += 1
+
+
+def _add_services(table: _Table, name: str, declared: Iterable[Service]) -> None:
+    for service in declared:
+        if not isinstance(service.effect, Effect):
+            raise RegistryError(
+                f"service {service.name!r} of {name} declares no Effect (what a call changes)"
+            )
+        if service.name in table.services:
+            owner = table.services[service.name].profile
+            raise RegistryError(f"service {service.name!r} of {name} is already one of {owner}'s")
+        table.services[service.name] = dataclasses.replace(service, profile=name)
+
+
+def _read_services(table: _Table, name: str) -> None:
+    """Add the services of use case ``name`` to the table, importing them when they are named."""
+    spec = table.unread.pop(name, None)
+    if spec is None:
+        return
+    from cadkg.ingest.reader import resolve
+
+    declared = resolve(spec) if isinstance(spec, str) else spec
+    if not isinstance(declared, tuple) or not all(isinstance(s, Service) for s in declared):
+        raise RegistryError(f"services {spec!r} of {name} are not a tuple of cadkg.services.service.Service")
+    _add_services(table, name, declared)
+    table.changes += 1
 
 
 def add_use_case(case: UseCase) -> None:
@@ -150,13 +176,27 @@ def use_case(profile: str) -> UseCase:
 
 def loaded() -> object:
     """The registry's table as loaded now: what a cache of something made from it is keyed on
-    (a test may load the registry afresh)."""
-    return _table()
+    (a test may load the registry afresh, a notebook add a use case)."""
+    table = _table()
+    return (table, table.changes)
 
 
 def services() -> dict[str, Service]:
-    """Every service of every use case, by name."""
-    return dict(_table().services)
+    """Every service of every use case, by name (importing every use case's services)."""
+    table = _table()
+    for name in list(table.unread):
+        _read_services(table, name)
+    return dict(table.services)
+
+
+def services_of(profile: str) -> dict[str, Service]:
+    """The services of one use case (``""``: :data:`DEFAULT_PROFILE`), by name, importing only
+    that use case's: a command on one cell does not import every use case's answers. An
+    unknown profile has none."""
+    table = _table()
+    wanted = profile or DEFAULT_PROFILE
+    _read_services(table, wanted)
+    return {name: s for name, s in table.services.items() if s.profile == wanted}
 
 
 def derivation(profile: str) -> Derivation | None:

@@ -154,7 +154,9 @@ class UseCase:
     # The section of D3.1 that describes it ("4.1"); use cases are listed in this order.
     section: str = ""
     readers: tuple[Reader, ...] = ()
-    services: tuple[Service, ...] = ()
+    # Or the ``"module:attribute"`` naming them, imported when a command first needs the
+    # services of this use case (the answers' modules are most of a command's start-up).
+    services: tuple[Service, ...] | str = ()
     # A folder of named SPARQL queries (``.rq``, see cadkg.query.named).
     queries: Traversable | Path | None = None
     # Where the ROS node serves the services by default (``/gearbox_handler``).

@@ -35,21 +35,25 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
     """
     from cadkg.services.service import Effect, to_jsonable
     from cadkg.services.session import Session
-    from cadkg.services.table import SERVICES, call
+    from cadkg.services.table import call, find
     from cadkg.store import cell_profile
 
-    declared = SERVICES.get(service)
-    # A service that writes (assign) changes a store in a new generation, as cadkg assign does.
-    kg = open_target(target, writable=declared is not None and declared.effect is Effect.WRITES)
-    session = Session(kg.cell_model(), kg=kg, profile=cell_profile(kg))
     store = Path(target) if Path(target).is_dir() else None
+    kg = open_target(target)
+    profile = cell_profile(kg)
+    declared = find(service, profile)
+    if declared is not None and declared.effect is Effect.WRITES and store is not None:
+        # A service that writes (assign) changes a store in a new generation, as cadkg assign does.
+        kg.close()
+        kg = open_target(target, writable=True)
+    session = Session(kg.cell_model(), kg=kg, profile=profile)
     generation = kg.generation
     if store is not None:
         for note in resume_cursors(session, store, generation):
             err.print(f"cadkg: {note}", markup=False)
     result = call(session, service, parse_params(params), client=client)
     # Only a service declared to move a cursor writes the cursor file.
-    if store is not None and SERVICES[service].effect is Effect.CURSOR:
+    if store is not None and declared is not None and declared.effect is Effect.CURSOR:
         write_cursors(store, generation, session)
     answer = to_jsonable(result)
     out.print_json(json.dumps(answer))

@@ -17,15 +17,24 @@ from cadkg.errors import QueryError, RegistryError
 from cadkg.services.service import CONVERT, Service
 from cadkg.services.session import Session
 
-__all__ = ["SERVICES", "call", "served_for", "services_for"]
+__all__ = ["SERVICES", "call", "find", "served_for", "services_for"]
 
 
 _MERGED: tuple[object, dict[str, Service]] | None = None
 
 
+def _without_operations(declared: Mapping[str, Service]) -> None:
+    """Raises RegistryError when a use case names a service as one of the operations."""
+    from cadkg.services.operations import OPERATIONS
+
+    taken = sorted(set(OPERATIONS) & set(declared))
+    if taken:
+        raise RegistryError(f"services {', '.join(taken)} are operations every cell offers")
+
+
 def _table() -> dict[str, Service]:
-    """The operations and the registry's services (registering loads every use case), merged
-    once per loaded registry.
+    """The operations and the registry's services (importing every use case's), merged once
+    per state of the registry.
 
     Raises
     ------
@@ -33,18 +42,31 @@ def _table() -> dict[str, Service]:
         When a use case names a service as one of the operations every cell offers.
     """
     global _MERGED
-    source = registry.loaded()
-    if _MERGED is not None and _MERGED[0] is source:
+    if _MERGED is not None and _MERGED[0] == registry.loaded():
         return _MERGED[1]
     from cadkg.services.operations import OPERATIONS
 
     declared = registry.services()
-    taken = sorted(set(OPERATIONS) & set(declared))
-    if taken:
-        raise RegistryError(f"services {', '.join(taken)} are operations every cell offers")
+    _without_operations(declared)
     merged = {**OPERATIONS, **declared}
-    _MERGED = (source, merged)
+    _MERGED = (registry.loaded(), merged)
     return merged
+
+
+def find(name: str, profile: str = "") -> Service | None:
+    """Service ``name`` as a cell of ``profile`` finds it: one of the operations, or of its use
+    case's services (importing only those), else of any use case's; None when there is none.
+
+    Raises
+    ------
+    RegistryError
+        When a use case names a service as one of the operations every cell offers.
+    """
+    from cadkg.services.operations import OPERATIONS
+
+    own = registry.services_of(profile)
+    _without_operations(own)
+    return OPERATIONS.get(name) or own.get(name) or _table().get(name)
 
 
 class _Services(Mapping[str, Service]):
@@ -65,8 +87,7 @@ SERVICES: Mapping[str, Service] = _Services()
 
 def services_for(profile: str) -> list[Service]:
     """The services of one use case (``""``: the default profile)."""
-    wanted = profile or registry.DEFAULT_PROFILE
-    return [s for s in registry.services().values() if s.profile == wanted]
+    return list(registry.services_of(profile).values())
 
 
 def served_for(profile: str) -> list[Service]:
@@ -85,10 +106,9 @@ def call(session: Session, name: str, params: Mapping[str, str | Any], client: s
     QueryError
         On an unknown service, a missing, unknown or malformed parameter.
     """
-    known = _table()
-    service = known.get(name)
+    service = find(name, session.profile)
     if service is None:
-        raise QueryError(f"unknown service {name!r}; known: {', '.join(sorted(known))}")
+        raise QueryError(f"unknown service {name!r}; known: {', '.join(sorted(_table()))}")
     unknown = set(params) - set(service.params)
     if unknown:
         raise QueryError(

@@ -12,7 +12,6 @@ from importlib import resources
 
 from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import UseCase
-from cadkg.usecases.elimco.services import SERVICES, bench_frames
 
 __all__ = ["USE_CASE"]
 
@@ -50,11 +49,11 @@ USE_CASE = UseCase(
             "cadkg.usecases.elimco.route_design:looks_like_path_info",
         ),
     ),
-    services=SERVICES,
+    services="cadkg.usecases.elimco.services:SERVICES",
     queries=resources.files(__name__).joinpath("queries"),
     changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/elimco",
-    frames=bench_frames,
+    frames=lazy("cadkg.usecases.elimco.services:bench_frames"),
     scene=lazy("cadkg.usecases.elimco.scene:bench_scene"),
     mapping="cadkg.usecases.elimco.mapping",
 )

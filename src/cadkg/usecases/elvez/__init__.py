@@ -14,7 +14,6 @@ from importlib import resources
 
 from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import Planner, UseCase
-from cadkg.usecases.elvez.services import SERVICES, element_meshes, platform_frames
 
 # The readers, the mappings, the checks and the planner are named, not imported: their modules
 # (numpy, the scene reader, the planner) load when a cell first needs them.
@@ -74,12 +73,12 @@ USE_CASE = UseCase(
             "cadkg.usecases.elvez.files.sequence:looks_like_sequence",
         ),
     ),
-    services=SERVICES,
+    services="cadkg.usecases.elvez.services:SERVICES",
     queries=resources.files(__name__).joinpath("queries"),
     changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/elvez",
-    frames=platform_frames,
-    markers=element_meshes,
+    frames=lazy("cadkg.usecases.elvez.services:platform_frames"),
+    markers=lazy("cadkg.usecases.elvez.services:element_meshes"),
     scene=lazy("cadkg.usecases.elvez.scene:platform_scene"),
     checks=lazy("cadkg.usecases.elvez.checks:findings"),
     planner=Planner(DEFAULT_RULES, lazy("cadkg.usecases.elvez.plan_tasks:elvez_problem")),

@@ -11,7 +11,6 @@ from importlib import resources
 
 from cadkg.ingest.reader import Reader
 from cadkg.usecase import UseCase
-from cadkg.usecases.enki.services import SERVICES
 
 __all__ = ["USE_CASE"]
 
@@ -28,7 +27,7 @@ USE_CASE = UseCase(
             "cadkg.usecases.enki.hose:looks_like_hose_table",
         ),
     ),
-    services=SERVICES,
+    services="cadkg.usecases.enki.services:SERVICES",
     ros_namespace="/enki",
     changes=resources.files(__name__).joinpath("changes"),
     mapping="cadkg.usecases.enki.mapping",

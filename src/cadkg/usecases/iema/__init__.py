@@ -17,7 +17,6 @@ from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import Derivation, DerivedKind, Planner, UseCase
 from cadkg.usecases.iema.derive.settings import DERIVE_SETTINGS
 from cadkg.usecases.iema.plan_scope import DEFAULT_RULES, SETTINGS
-from cadkg.usecases.iema.services import SERVICES, cabinet_frames
 
 # The derivation, the planner, the checks and the readers are named, not imported: their
 # modules (numpy, the scene's meshes, the planner) load when a cell first needs them,
@@ -87,12 +86,12 @@ USE_CASE = UseCase(
             "cadkg.usecases.iema.marker_table:looks_like_marker_table",
         ),
     ),
-    services=SERVICES,
+    services="cadkg.usecases.iema.services:SERVICES",
     queries=resources.files(__name__).joinpath("queries"),
     changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/gearbox_handler",
     derivation=CABINET,
-    frames=cabinet_frames,
+    frames=lazy("cadkg.usecases.iema.services:cabinet_frames"),
     checks=lambda kg: [*_cabinet_checks(kg), *_order_check(kg)],
     planner=Planner(DEFAULT_RULES, lazy("cadkg.usecases.iema.plan_tasks:iema_problem"), SETTINGS),
     mapping="cadkg.usecases.iema.mapping",

@@ -15,7 +15,6 @@ from typing import Any
 
 from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import ExportOptions, ExportView, UseCase
-from cadkg.usecases.vw.services import SERVICES
 
 __all__ = ["USE_CASE"]
 
@@ -45,7 +44,7 @@ USE_CASE = UseCase(
             "cadkg.usecases.vw.harness_text:looks_like_harness_text",
         ),
     ),
-    services=SERVICES,
+    services="cadkg.usecases.vw.services:SERVICES",
     queries=resources.files(__name__).joinpath("queries"),
     changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/vw_harness",
