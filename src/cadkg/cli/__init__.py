@@ -6,22 +6,52 @@ line (file:line: what was found, what was expected); ``--debug`` adds the traceb
 
 from __future__ import annotations
 
+import importlib
 import sys
 from collections.abc import Sequence
 
 import click
 
-from cadkg.cli.change_commands import diff
 from cadkg.cli.common import err
-from cadkg.cli.graph_commands import build, export, kinds, push, queries, query, validate
-from cadkg.cli.plan_commands import plan
-from cadkg.cli.serve_commands import ros, serve
-from cadkg.cli.service_commands import assign, call_service, list_services
 
 __all__ = ["cli", "main"]
 
+# Each command's module is imported when the command runs (or --help lists them): one command
+# does not pay for importing every other's.
+COMMANDS = {
+    "build": "cadkg.cli.graph_commands:build",
+    "diff": "cadkg.cli.change_commands:diff",
+    "query": "cadkg.cli.graph_commands:query",
+    "push": "cadkg.cli.graph_commands:push",
+    "queries": "cadkg.cli.graph_commands:queries",
+    "validate": "cadkg.cli.graph_commands:validate",
+    "export": "cadkg.cli.graph_commands:export",
+    "call": "cadkg.cli.service_commands:call_service",
+    "services": "cadkg.cli.service_commands:list_services",
+    "assign": "cadkg.cli.service_commands:assign",
+    "plan": "cadkg.cli.plan_commands:plan",
+    "kinds": "cadkg.cli.graph_commands:kinds",
+    "serve": "cadkg.cli.serve_commands:serve",
+    "ros": "cadkg.cli.serve_commands:ros",
+}
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+
+class _Commands(click.Group):
+    """A group whose commands are named in :data:`COMMANDS`."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(COMMANDS)
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        spec = COMMANDS.get(cmd_name)
+        if spec is None:
+            return None
+        module, _, name = spec.partition(":")
+        found: click.Command = getattr(importlib.import_module(module), name)
+        return found
+
+
+@click.group(cls=_Commands, context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--debug", is_flag=True, help="Show tracebacks of errors.")
 @click.option(
     "--auth", envvar="CADKG_STORE_AUTH", metavar="USER:PASSWORD", help="Basic auth for a store URL."
@@ -35,25 +65,6 @@ __all__ = ["cli", "main"]
 @click.version_option(package_name="cadkg")
 def cli(debug: bool, auth: str | None, auth_digest: str | None) -> None:
     """cadkg: one knowledge graph of a robotic wiring cell, from the factory's own files."""
-
-
-for command in (
-    build,
-    diff,
-    query,
-    push,
-    queries,
-    validate,
-    export,
-    call_service,
-    list_services,
-    assign,
-    plan,
-    kinds,
-    serve,
-    ros,
-):
-    cli.add_command(command)
 
 
 def main(argv: Sequence[str] | None = None) -> None:
