@@ -12,8 +12,9 @@ import pytest
 import cadkg
 from cadkg.errors import IngestError, IngestWarning
 from cadkg.registry import sniff_kind
+from cadkg.usecases.iema.derive.strip_items import items_along
 from cadkg.usecases.iema.marker_table import QrMarker, read_marker_table
-from cadkg.usecases.iema.terminal_diagram import DiagramRow, items_along, read_terminal_diagram
+from cadkg.usecases.iema.terminal_diagram import DiagramRow, read_terminal_diagram
 from tests.conftest import IEMA
 from tests.ingest.workbooks import write_ods, write_xlsx
 

@@ -11,12 +11,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from importlib import resources
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from cadkg.plan.decision import Decision, Performer
 from cadkg.plan.rules import Rules
-from cadkg.usecases.iema.derive.cabinet import CellModel, WireStep
 from cadkg.usecases.iema.robot_scope import DEFAULT_ZONES, LABEL_RULE, scope_reason, scope_rule
+
+if TYPE_CHECKING:
+    from cadkg.usecases.iema.derive.cabinet import CellModel, WireStep
 
 __all__ = ["DEFAULT_RULES", "SETTINGS", "Scope", "scope_decision", "scope_of"]
 

@@ -23,14 +23,14 @@ items in the WRI table, as the cell's software does.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 from cadkg.ingest.eplan.labels import normalize_label
 from cadkg.ingest.sheet import Sheet, cell_text, read_workbook, settle_sheets, sheet_text
 
-__all__ = ["DiagramRow", "items_along", "looks_like_terminal_diagram", "read_terminal_diagram"]
+__all__ = ["DiagramRow", "looks_like_terminal_diagram", "read_terminal_diagram"]
 
 _EXPECTED = (
     "a header row 'Morsettiera | Zona | Pin | Comp. Destinazione 1 …' or 'Morsettiera | Pin | Ponte | …'"
@@ -213,24 +213,3 @@ class _Layout:
         if terminal is None:
             return "division" if text("zone") else "placeholder"
         return "terminal"
-
-
-# Rows of a terminal diagram that stand for an item along the strip; an end row takes the
-# strip's next item when the WRI table has one left (its second end stop), else none.
-_OWN_ITEM = frozenset({"start", "division", "terminal", "accessory", "end"})
-
-
-def items_along(
-    rows: list[tuple[int, str, str | None]], items: Iterable[str]
-) -> list[tuple[int, str, str | None]]:
-    """(position, item, terminal) along a strip: its diagram rows matched in order with its items."""
-    left = iter(items)
-    slots: list[tuple[int, str, str | None]] = []
-    placed = 0
-    for _, kind, terminal in rows:
-        if kind == "floor" and slots:
-            slots.append((slots[-1][0], slots[-1][1], terminal))
-        elif kind in _OWN_ITEM and (item := next(left, None)) is not None:
-            placed += 1
-            slots.append((placed, item, terminal if kind == "terminal" else None))
-    return slots

@@ -19,7 +19,7 @@ import cadkg.usecases.iema.robot_scope as scope
 from cadkg.geometry.poses import IDENTITY, Pose, Vec3, bounds, box_corners, closest_point_on_segment
 from cadkg.plan.decision import Assignments, Performer
 from cadkg.usecases.iema.derive.extract import CellInputs, ModelInfo, PinInfo, WireInfo
-from cadkg.usecases.iema.terminal_diagram import items_along
+from cadkg.usecases.iema.derive.strip_items import items_along
 
 __all__ = ["CadPin", "CellModel", "Cluster", "ComponentGeometry", "Rail", "WireStep", "derive_cell"]
 
