@@ -20,6 +20,7 @@ from pathlib import Path, PurePosixPath
 from lxml import etree
 
 from cadkg.errors import IngestError
+from cadkg.ingest.xml_input import attributes_of
 
 __all__ = [
     "MAX_CELLS",
@@ -308,7 +309,7 @@ def _attribute(element: etree._Element, local: str, default: str = "") -> str:
     found = element.get(local)
     if found is not None:
         return str(found)
-    return next((str(v) for k, v in element.attrib.items() if _local(k) == local), default)
+    return next((v for k, v in attributes_of(element).items() if _local(k) == local), default)
 
 
 def _parts(archive: zipfile.ZipFile, path: str | Path) -> tuple[list[tuple[str, str]], list[str]]:
@@ -393,6 +394,10 @@ def check_ods_extent(path: str | Path) -> None:
                         if _attribute(cell, "value-type") or len(cell):
                             filled = columns
                         text += _cell_text(cell) * times
+                    # lxml takes time with the square of an element's namespaced attributes to
+                    # move one still referenced from Python (as the loop's cell is) out of a tree
+                    # being cleared; clearing the cell itself frees them at once.
+                    cell.clear()
                 rows += repeated
                 if filled:
                     last, width = rows, max(width, filled)
@@ -412,7 +417,7 @@ def _count(element: etree._Element, local: str) -> int:
 def _cell_text(cell: etree._Element) -> int:
     """The characters a cell's value may become: its text, its value attributes (a string or
     date given there), and the spaces of ``<text:s text:c="n">``."""
-    size = sum(len(value) for name, value in cell.attrib.items() if _local(name).endswith("value"))
+    size = sum(len(value) for name, value in attributes_of(cell).items() if _local(name).endswith("value"))
     for node in cell.iter():
         size += len(node.text or "") + len(node.tail or "") if node is not cell else len(node.text or "")
         if node is not cell and _local(node.tag) == "s":

@@ -16,11 +16,17 @@ from lxml import etree
 from cadkg.errors import IngestError
 from cadkg.ingest.text import xml_document
 
-__all__ = ["element_children", "parse_untrusted_xml", "read_xml_file"]
+__all__ = ["attributes_of", "element_children", "parse_untrusted_xml", "read_xml_file"]
 
 _DECLARATIONS = re.compile(rb"<!(DOCTYPE|ENTITY)", re.IGNORECASE)
 _ENTITY = re.compile(rb"<!(ENTITY)", re.IGNORECASE)
 _TOO_DEEP = re.compile(r"Excessive depth in document: (\d+)")
+# lxml's ``attrib.items()`` (and ``values()``) looks each value up again from the element's
+# first attribute, a time that grows with the square of their number; its ``keys()`` and XPath's
+# attribute axis walk them once, in the same order. Below a few dozen the square costs less
+# than an XPath call.
+_VALUES = etree.XPath("@*", smart_strings=False)
+_FEW_ATTRIBUTES = 32
 
 
 def parse_untrusted_xml(
@@ -103,6 +109,15 @@ def read_xml_file(path: str | Path, *, root: str, what: str, expected: str) -> e
             expected=expected,
         )
     return element
+
+
+def attributes_of(element: etree._Element) -> dict[str, str]:
+    """The attributes of ``element``, name (``{namespace}local`` when namespaced) to value, in
+    document order: what ``dict(element.attrib)`` holds, in time linear in their number."""
+    attrib = element.attrib
+    if len(attrib) <= _FEW_ATTRIBUTES:
+        return dict(attrib.items())
+    return dict(zip(attrib.keys(), _VALUES(element), strict=True))
 
 
 def element_children(

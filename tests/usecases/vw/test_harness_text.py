@@ -248,3 +248,39 @@ def test_bad_positions(write: Write, body: str, found: str, reason: str) -> None
         read(write, HEAD + body)
     assert (caught.value.found, caught.value.line) == (found, HEAD.count("\n") + body.count("\n"))
     assert reason in str(caught.value)
+
+
+def _shlex_words(line: str) -> list[str] | str:
+    import shlex
+
+    lexer = shlex.shlex(line, posix=True)
+    lexer.whitespace_split = True
+    lexer.commenters = "#"
+    try:
+        return list(lexer)
+    except ValueError as err:
+        return str(err)
+
+
+def test_lines_split_into_the_words_shlex_gives() -> None:
+    """The reader splits lines itself, in linear time; its words (and refusals) are shlex's."""
+    import random
+
+    from cadkg.usecases.vw.harness_statements import split_words
+
+    def words(line: str) -> list[str] | str:
+        try:
+            return split_words(line)
+        except ValueError as err:
+            return str(err)
+
+    pieces = ["a", "b=", " ", "\t", "\r", "\n", "'", '"', "\\", "#", "é", "\x0b", "x=1", "''"]
+    rng = random.Random(43)
+    lines = ["".join(rng.choice(pieces) for _ in range(rng.randint(0, 12))) for _ in range(30_000)]
+    lines += ['a "b\\"c\\\\d\\e" f', "'a\\b' c#d", 'k="x y"z #c', '"\\', "\\", "a\\ b", '""', "x'"]
+    differ = [(line, words(line), _shlex_words(line)) for line in lines if words(line) != _shlex_words(line)]
+    assert differ == []
+    assert {_shlex_words(line) for line in lines if isinstance(_shlex_words(line), str)} == {
+        "No closing quotation",
+        "No escaped character",
+    }

@@ -17,7 +17,7 @@ from lxml import etree
 from cadkg.errors import IngestError
 from cadkg.ingest.scene.nodes import MAX_NESTING, Field, Node, ParsedFile
 from cadkg.ingest.text import xml_document
-from cadkg.ingest.xml_input import parse_untrusted_xml
+from cadkg.ingest.xml_input import attributes_of, parse_untrusted_xml
 
 __all__ = ["ITEM_NODES", "X3D_NAMESPACE", "parse_x3d", "x3d_parser"]
 
@@ -136,7 +136,7 @@ class _Builder:
                     expected="the DEF name of an earlier element",
                 )
             return Node(kind, self.source, line, use_of=target)
-        fields = {k: Field(line, v) for k, v in element.attrib.items() if k not in _NOT_FIELDS}
+        fields = {k: Field(line, v) for k, v in attributes_of(element).items() if k not in _NOT_FIELDS}
         node = Node(kind, self.source, line, fields=fields)
         for child in element:
             if not isinstance(child.tag, str):

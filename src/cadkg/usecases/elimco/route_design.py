@@ -24,7 +24,7 @@ from lxml import etree
 
 from cadkg.errors import IngestError
 from cadkg.ingest.text import read_text, small_integer
-from cadkg.ingest.xml_input import element_children, parse_untrusted_xml
+from cadkg.ingest.xml_input import attributes_of, element_children, parse_untrusted_xml
 
 __all__ = [
     "ROLES",
@@ -408,7 +408,7 @@ class _Document:
         self, element: etree._Element, required: tuple[str, ...], optional: tuple[str, ...]
     ) -> dict[str, str]:
         """The element's attributes, stripped; raises on a missing, empty or unknown one."""
-        values = {str(k): str(v).strip() for k, v in element.attrib.items()}
+        values = {k: v.strip() for k, v in attributes_of(element).items()}
         for name in values:
             if name not in required and name not in optional:
                 raise self.error(
