@@ -8,8 +8,6 @@ centroid, the pins as tf frames, the cables and each cable's path.
 
 from __future__ import annotations
 
-from importlib import resources
-
 from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import UseCase
 from cadkg.usecases.elimco.services import SERVICES, bench_frames
@@ -18,6 +16,7 @@ __all__ = ["USE_CASE"]
 
 USE_CASE = UseCase(
     name="elimco",
+    package=__name__,
     title="aeronautic harness routing on a pin workbench (D3.1 section 4.2)",
     section="4.2",
     readers=(
@@ -51,8 +50,6 @@ USE_CASE = UseCase(
         ),
     ),
     services=SERVICES,
-    queries=resources.files(__name__).joinpath("queries"),
-    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/elimco",
     frames=bench_frames,
     scene=lazy("cadkg.usecases.elimco.scene:bench_scene"),

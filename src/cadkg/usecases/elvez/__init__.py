@@ -24,6 +24,7 @@ __all__ = ["USE_CASE"]
 
 USE_CASE = UseCase(
     name="elvez",
+    package=__name__,
     title="wire harness assembly on jigs and guides (D3.1 section 4.3, Table 2)",
     section="4.3",
     readers=(
@@ -75,8 +76,6 @@ USE_CASE = UseCase(
         ),
     ),
     services=SERVICES,
-    queries=resources.files(__name__).joinpath("queries"),
-    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/elvez",
     frames=platform_frames,
     markers=element_meshes,

@@ -11,7 +11,6 @@ component data and the cursors that hand the robot its next wire and rail.
 from __future__ import annotations
 
 import dataclasses
-from importlib import resources
 
 from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import Derivation, DerivedKind, Planner, UseCase
@@ -48,6 +47,7 @@ CABINET = Derivation(
 
 USE_CASE = UseCase(
     name="iema",
+    package=__name__,
     title="switchgear cabinet wiring (D3.1 section 4.1, Table 1)",
     section="4.1",
     readers=(
@@ -88,8 +88,6 @@ USE_CASE = UseCase(
         ),
     ),
     services=SERVICES,
-    queries=resources.files(__name__).joinpath("queries"),
-    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/gearbox_handler",
     derivation=CABINET,
     frames=cabinet_frames,
