@@ -264,33 +264,33 @@ class _Kbl(KblParts):
         records.extend(replace(s, modules=as_tuple(segment_modules[i])) for i, s in things.segments.items())
         records.extend(replace(c, modules=as_tuple(union(cores[i]))) for i, c in things.cables.items())
         records.extend(self._wire_record(w, wire_modules[i]) for i, w in things.wires.items())
-        records.extend(
-            HarnessFixing(
-                self.harness,
-                ident,
-                child_text(element, "Id") or ident,
-                child_text(element, "Description"),
-                tuple(dict.fromkeys(things.placements[ident].nodes)),
-                tuple(dict.fromkeys(things.placements[ident].segments)),
-                element.sourceline,
-                as_tuple(fixing_modules[ident]),
+        for ident, element in things.fixings.items():
+            nodes, segments = self._placed(things, ident)
+            variants = as_tuple(fixing_modules[ident])
+            records.append(
+                HarnessFixing(*self._named(ident, element), nodes, segments, element.sourceline, variants)
             )
-            for ident, element in things.fixings.items()
-        )
-        records.extend(
-            HarnessProtection(
-                self.harness,
-                ident,
-                child_text(element, "Id") or ident,
-                child_text(element, "Description"),
-                tuple(dict.fromkeys(things.placements[ident].segments)),
-                self.length(first_child(element, "Protection_length")),
-                element.sourceline,
-                as_tuple(protection_modules[ident]),
+        for ident, element in things.protections.items():
+            _, segments = self._placed(things, ident)
+            length = self.length(first_child(element, "Protection_length"))
+            variants = as_tuple(protection_modules[ident])
+            records.append(
+                HarnessProtection(
+                    *self._named(ident, element), segments, length, element.sourceline, variants
+                )
             )
-            for ident, element in things.protections.items()
-        )
         return records
+
+    def _named(self, ident: str, element: Any) -> tuple[str, str, str, str | None]:
+        """What a fixing and a protection begin with: harness, ident, label (its Id, else its
+        ident) and description."""
+        return self.harness, ident, child_text(element, "Id") or ident, child_text(element, "Description")
+
+    @staticmethod
+    def _placed(things: _Things, ident: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+        """The nodes and the segments a fixing or a protection is placed on, each once."""
+        placement = things.placements[ident]
+        return tuple(dict.fromkeys(placement.nodes)), tuple(dict.fromkeys(placement.segments))
 
     def _wire_record(self, wire: WireInfo, modules: Modules) -> HarnessWire:
         part = wire.part
