@@ -23,7 +23,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from cadkg.errors import IngestError
 from cadkg.ingest.harness.kbl_document import (
     EXPECTED,
     KBL_NAMESPACE,
@@ -48,8 +47,7 @@ from cadkg.ingest.harness.records import (
     WireRoute,
 )
 from cadkg.ingest.harness.variants import Modules, as_tuple, topology_modules, union, walk
-from cadkg.ingest.text import xml_document
-from cadkg.ingest.xml_input import parse_untrusted_xml
+from cadkg.ingest.xml_input import read_xml_file
 
 __all__ = ["KBL_NAMESPACE", "KBL_VERSIONS", "looks_like_kbl", "read_kbl"]
 
@@ -75,13 +73,7 @@ def read_kbl(path: str | Path) -> list[HarnessRecord]:
         file:line.
     """
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as err:
-        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
-    document = xml_document(path, data, expected=EXPECTED)
-    root = parse_untrusted_xml(path, document, what="KBL", expected=EXPECTED)
-    return _Kbl(path, root).records()
+    return _Kbl(path, read_xml_file(path, what="KBL", expected=EXPECTED)).records()
 
 
 @dataclass
