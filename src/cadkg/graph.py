@@ -124,24 +124,15 @@ class KnowledgeGraph(GraphStore):
                 kg = cls.memory()
                 kg._load_sources(manifest, reading, clock, bulk=False)
             else:
-                kg = cls._build_into(manifest, Path(directory), reading, clock)
+                root = Path(directory)
+                generation = new_generation(root)
+                # No change is made to the live generation while this one is built from it: a
+                # change waits, then goes into what this build publishes (see _change).
+                with writing(root):
+                    kg = cls._build_locked(manifest, root, generation, reading, clock)
         clock.stop()
         kg.stages = clock.stages
         return kg
-
-    @classmethod
-    def _build_into(
-        cls,
-        manifest: Manifest,
-        directory: Path,
-        on_source: Callable[[SourceSpec], None],
-        clock: StageClock,
-    ) -> KnowledgeGraph:
-        generation = new_generation(directory)
-        # No change is made to the live generation while this one is built from it: a change
-        # waits, then goes into what this build publishes (see _change).
-        with writing(directory):
-            return cls._build_locked(manifest, directory, generation, on_source, clock)
 
     @classmethod
     def _build_locked(

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from importlib import resources
 from importlib.resources.abc import Traversable
 from pathlib import Path
 from typing import Any, Protocol
@@ -153,6 +154,9 @@ class UseCase:
     title: str
     # The section of D3.1 that describes it ("4.1"); use cases are listed in this order.
     section: str = ""
+    # The package it lives in (``package=__name__``): its ``queries`` and ``changes`` folders,
+    # where it has them, are the folders of those fields unless they are given.
+    package: str = ""
     readers: tuple[Reader, ...] = ()
     # Or the ``"module:attribute"`` naming them, imported when a command first needs the
     # services of this use case (the answers' modules are most of a command's start-up).
@@ -181,3 +185,12 @@ class UseCase:
     # before a build maps a record rather than with the declaration: it imports the record
     # classes, and so their readers. A use case may import it itself instead.
     mapping: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.package:
+            return
+        root = resources.files(self.package)
+        for name in ("queries", "changes"):
+            folder = root.joinpath(name)
+            if getattr(self, name) is None and folder.is_dir():
+                object.__setattr__(self, name, folder)  # frozen: set once, while being made

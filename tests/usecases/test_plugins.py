@@ -140,6 +140,19 @@ def test_the_shipped_use_cases_are_found_through_their_entry_points() -> None:
         registry.use_case("xyz")
 
 
+def test_a_use_case_finds_its_folders_in_the_package_it_names(tmp_path: Path) -> None:
+    # ENKI keeps the kinds of a revision diff in changes/ and has no named queries.
+    enki = registry.use_case("enki")
+    assert enki.changes is not None and enki.changes.joinpath("hose.rq").is_file()
+    assert enki.queries is None
+    iema = registry.use_case("iema")
+    assert iema.queries is not None and any(e.name.endswith(".rq") for e in iema.queries.iterdir())
+    # A folder given stands as given.
+    given = UseCase(name="toy-folders", title="given", package="cadkg.usecases.iema", queries=tmp_path)
+    assert given.queries == tmp_path
+    assert given.changes is not None and given.changes.joinpath("component.rq").is_file()
+
+
 def test_a_use_case_from_another_package_works_from_the_cli(tmp_path: Path) -> None:
     env = _toy_package(tmp_path)
     kinds = _cadkg(env, "kinds")

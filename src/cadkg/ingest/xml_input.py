@@ -83,8 +83,8 @@ def parse_untrusted_xml(
         raise IngestError(path, reason, line=line_offset + line, expected=expected) from None
 
 
-def read_xml_file(path: str | Path, *, root: str, what: str, expected: str) -> etree._Element:
-    """The root element of the XML file ``path``, which must be ``<root>``.
+def read_xml_file(path: str | Path, *, root: str | None = None, what: str, expected: str) -> etree._Element:
+    """The root element of the XML file ``path``, which must be ``<root>`` when one is given.
 
     Raises
     ------
@@ -92,7 +92,6 @@ def read_xml_file(path: str | Path, *, root: str, what: str, expected: str) -> e
         On an unreadable, empty or binary file, a refused declaration, malformed XML, or
         another root element.
     """
-
     try:
         data = Path(path).read_bytes()
     except OSError as err:
@@ -100,7 +99,7 @@ def read_xml_file(path: str | Path, *, root: str, what: str, expected: str) -> e
     element = parse_untrusted_xml(
         path, xml_document(path, data, expected=expected), what=what, expected=expected
     )
-    if element.tag != root:
+    if root is not None and element.tag != root:
         raise IngestError(
             path,
             f"the root element is not <{root}>",

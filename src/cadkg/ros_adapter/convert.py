@@ -110,32 +110,30 @@ def cad_pin(value: Any) -> Data:
     }
 
 
-def _connection(value: Any) -> Data:
-    return {
-        "wire": str(value.wire),
-        "list_position": int(value.list_position),
-        "source": str(value.source),
-        "origin": str(value.origin),
-        "destination": str(value.destination),
-        "performer": str(value.performer),
-        "missing_pin_data": bool(value.missing_pin_data),
-        "reason": str(value.reason),
-        "pin": str(value.pin),
-        "target_item": str(value.target_item),
-        "target_pin": str(value.target_pin),
-        "screw_pose": pose(value.screw_pose),
-        "hole_pose": pose(value.hole_pose),
-        "connection_list": str(value.connection_list),
-    }
+def _fields(converters: dict[str, Converter]) -> Converter:
+    """A message's data from the attributes of the same names, each through its converter."""
+    return lambda value: {name: convert(getattr(value, name)) for name, convert in converters.items()}
 
 
-def _pin_data(value: Any) -> Data:
-    return {
-        "pin": str(value.pin),
-        "wire": _text(value.wire),
-        "termination": _text(value.termination),
-        "exact": bool(value.exact),
+_connection = _fields(
+    {
+        "wire": str,
+        "list_position": int,
+        "source": str,
+        "origin": str,
+        "destination": str,
+        "performer": str,
+        "missing_pin_data": bool,
+        "reason": str,
+        "pin": str,
+        "target_item": str,
+        "target_pin": str,
+        "screw_pose": pose,
+        "hole_pose": pose,
+        "connection_list": str,
     }
+)
+_pin_data = _fields({"pin": str, "wire": _text, "termination": _text, "exact": bool})
 
 
 def _cluster(value: Any) -> Data:

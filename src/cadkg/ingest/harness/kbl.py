@@ -23,7 +23,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from cadkg.errors import IngestError
 from cadkg.ingest.harness.kbl_document import (
     EXPECTED,
     KBL_NAMESPACE,
@@ -48,8 +47,7 @@ from cadkg.ingest.harness.records import (
     WireRoute,
 )
 from cadkg.ingest.harness.variants import Modules, as_tuple, topology_modules, union, walk
-from cadkg.ingest.text import xml_document
-from cadkg.ingest.xml_input import parse_untrusted_xml
+from cadkg.ingest.xml_input import read_xml_file
 
 __all__ = ["KBL_NAMESPACE", "KBL_VERSIONS", "looks_like_kbl", "read_kbl"]
 
@@ -75,13 +73,7 @@ def read_kbl(path: str | Path) -> list[HarnessRecord]:
         file:line.
     """
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as err:
-        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
-    document = xml_document(path, data, expected=EXPECTED)
-    root = parse_untrusted_xml(path, document, what="KBL", expected=EXPECTED)
-    return _Kbl(path, root).records()
+    return _Kbl(path, read_xml_file(path, what="KBL", expected=EXPECTED)).records()
 
 
 @dataclass
@@ -264,33 +256,33 @@ class _Kbl(KblParts):
         records.extend(replace(s, modules=as_tuple(segment_modules[i])) for i, s in things.segments.items())
         records.extend(replace(c, modules=as_tuple(union(cores[i]))) for i, c in things.cables.items())
         records.extend(self._wire_record(w, wire_modules[i]) for i, w in things.wires.items())
-        records.extend(
-            HarnessFixing(
-                self.harness,
-                ident,
-                child_text(element, "Id") or ident,
-                child_text(element, "Description"),
-                tuple(dict.fromkeys(things.placements[ident].nodes)),
-                tuple(dict.fromkeys(things.placements[ident].segments)),
-                element.sourceline,
-                as_tuple(fixing_modules[ident]),
+        for ident, element in things.fixings.items():
+            nodes, segments = self._placed(things, ident)
+            variants = as_tuple(fixing_modules[ident])
+            records.append(
+                HarnessFixing(*self._named(ident, element), nodes, segments, element.sourceline, variants)
             )
-            for ident, element in things.fixings.items()
-        )
-        records.extend(
-            HarnessProtection(
-                self.harness,
-                ident,
-                child_text(element, "Id") or ident,
-                child_text(element, "Description"),
-                tuple(dict.fromkeys(things.placements[ident].segments)),
-                self.length(first_child(element, "Protection_length")),
-                element.sourceline,
-                as_tuple(protection_modules[ident]),
+        for ident, element in things.protections.items():
+            _, segments = self._placed(things, ident)
+            length = self.length(first_child(element, "Protection_length"))
+            variants = as_tuple(protection_modules[ident])
+            records.append(
+                HarnessProtection(
+                    *self._named(ident, element), segments, length, element.sourceline, variants
+                )
             )
-            for ident, element in things.protections.items()
-        )
         return records
+
+    def _named(self, ident: str, element: Any) -> tuple[str, str, str, str | None]:
+        """What a fixing and a protection begin with: harness, ident, label (its Id, else its
+        ident) and description."""
+        return self.harness, ident, child_text(element, "Id") or ident, child_text(element, "Description")
+
+    @staticmethod
+    def _placed(things: _Things, ident: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+        """The nodes and the segments a fixing or a protection is placed on, each once."""
+        placement = things.placements[ident]
+        return tuple(dict.fromkeys(placement.nodes)), tuple(dict.fromkeys(placement.segments))
 
     def _wire_record(self, wire: WireInfo, modules: Modules) -> HarnessWire:
         part = wire.part

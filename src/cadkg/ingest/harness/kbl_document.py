@@ -14,7 +14,14 @@ from typing import Any
 
 from lxml import etree
 
-from cadkg.ingest.harness.xml_tree import XmlDocument, child_elements, child_text, element_name, first_child
+from cadkg.ingest.harness.xml_tree import (
+    SI_PREFIXES,
+    XmlDocument,
+    child_elements,
+    child_text,
+    element_name,
+    first_child,
+)
 
 __all__ = [
     "EXPECTED",
@@ -34,15 +41,7 @@ KBL_VERSIONS = ("2.3 SR-1", "2.4", "2.4 SR-1")
 """The ``version_id`` values read, those of the schemas cadkg was written against."""
 
 EXPECTED = "a KBL file: <kbl:KBL_container version_id=...> holding a <Harness>"
-# Checked on the bytes before parsing: even with entity expansion off, a DOCTYPE can pull
-# in external subsets or declare entities whose meaning would silently be dropped.
-_PREFIX = {
-    None: Decimal(1),
-    "kilo": Decimal(1000),
-    "centi": Decimal("0.01"),
-    "milli": Decimal("0.001"),
-    "micro": Decimal("0.000001"),
-}
+_PREFIX = {None: Decimal(1)} | {name: SI_PREFIXES[name] for name in ("kilo", "centi", "milli", "micro")}
 _NAMED_LENGTH = {"m": Decimal(1), "cm": Decimal("0.01"), "mm": Decimal("0.001")}
 _NAMED_AREA_MM2 = {"mm2": Decimal(1), "mm²": Decimal(1), "sqmm": Decimal(1), "m2": Decimal(10**6)}
 

@@ -24,7 +24,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from cadkg.errors import IngestError, IngestWarning
+from cadkg.errors import IngestWarning
 from cadkg.ingest.harness.records import (
     Harness,
     HarnessFixing,
@@ -40,8 +40,7 @@ from cadkg.ingest.harness.vec_parts import VecWire
 from cadkg.ingest.harness.vec_topology import VecTopology
 from cadkg.ingest.harness.vec_variants import VecVariants
 from cadkg.ingest.harness.xml_tree import child_elements, child_text, first_child
-from cadkg.ingest.text import xml_document
-from cadkg.ingest.xml_input import parse_untrusted_xml
+from cadkg.ingest.xml_input import read_xml_file
 
 __all__ = ["VEC_NAMESPACE", "VEC_VERSIONS", "looks_like_vec", "read_vec"]
 
@@ -64,14 +63,7 @@ def read_vec(path: str | Path) -> list[HarnessRecord]:
         segments do not follow on from each other; located at file:line.
     """
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as err:
-        raise IngestError(path, f"cannot read the file: {err.strerror}") from err
-    document = VecDocument(
-        path,
-        parse_untrusted_xml(path, xml_document(path, data, expected=EXPECTED), what="VEC", expected=EXPECTED),
-    )
+    document = VecDocument(path, read_xml_file(path, what="VEC", expected=EXPECTED))
     harnesses = [
         d
         for d in child_elements(document.root, "DocumentVersion")

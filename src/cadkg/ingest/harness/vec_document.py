@@ -17,7 +17,14 @@ from typing import Any
 
 from lxml import etree
 
-from cadkg.ingest.harness.xml_tree import XmlDocument, child_text, element_name, first_child, kind_of
+from cadkg.ingest.harness.xml_tree import (
+    SI_PREFIXES,
+    XmlDocument,
+    child_text,
+    element_name,
+    first_child,
+    kind_of,
+)
 
 __all__ = ["EXPECTED", "VEC_NAMESPACE", "VEC_VERSIONS", "VecDocument"]
 
@@ -28,14 +35,7 @@ VEC_VERSIONS = ("1.1", "1.2", "2.0", "2.1")
 """The VEC versions read (any revision: 1.1.3, 2.0.1 ...)."""
 
 EXPECTED = "a VEC file: <vec:VecContent> with a <VecVersion> and a HarnessDescription document"
-_PREFIX = {
-    None: Decimal(1),
-    "Kilo": Decimal(1000),
-    "Deci": Decimal("0.1"),
-    "Centi": Decimal("0.01"),
-    "Milli": Decimal("0.001"),
-    "Micro": Decimal("0.000001"),
-}
+_PREFIX = {None: Decimal(1)} | {name.capitalize(): factor for name, factor in SI_PREFIXES.items()}
 _VERSION = re.compile(r"^(?P<major>\d+)\.(?P<minor>\d+)(?:\.\d+)?$")
 
 

@@ -13,6 +13,7 @@ from lxml import etree
 from cadkg.errors import IngestError
 
 __all__ = [
+    "SI_PREFIXES",
     "XSI_TYPE",
     "XmlDocument",
     "child_elements",
@@ -23,6 +24,16 @@ __all__ = [
 ]
 
 XSI_TYPE = "{http://www.w3.org/2001/XMLSchema-instance}type"
+
+SI_PREFIXES = {
+    "kilo": Decimal(1000),
+    "deci": Decimal("0.1"),
+    "centi": Decimal("0.01"),
+    "milli": Decimal("0.001"),
+    "micro": Decimal("0.000001"),
+}
+"""The factors of the SI prefixes that lengths and areas of a harness file come with, by name
+(KBL spells them in lower case, VEC capitalised)."""
 
 
 def element_name(element: Any) -> str:

@@ -8,8 +8,6 @@ centroid, the pins as tf frames, the cables and each cable's path.
 
 from __future__ import annotations
 
-from importlib import resources
-
 from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import UseCase
 
@@ -17,6 +15,7 @@ __all__ = ["USE_CASE"]
 
 USE_CASE = UseCase(
     name="elimco",
+    package=__name__,
     title="aeronautic harness routing on a pin workbench (D3.1 section 4.2)",
     section="4.2",
     readers=(
@@ -50,8 +49,6 @@ USE_CASE = UseCase(
         ),
     ),
     services="cadkg.usecases.elimco.services:SERVICES",
-    queries=resources.files(__name__).joinpath("queries"),
-    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/elimco",
     frames=lazy("cadkg.usecases.elimco.services:bench_frames"),
     scene=lazy("cadkg.usecases.elimco.scene:bench_scene"),

@@ -23,6 +23,7 @@ __all__ = ["USE_CASE"]
 
 USE_CASE = UseCase(
     name="elvez",
+    package=__name__,
     title="wire harness assembly on jigs and guides (D3.1 section 4.3, Table 2)",
     section="4.3",
     readers=(
@@ -74,8 +75,6 @@ USE_CASE = UseCase(
         ),
     ),
     services="cadkg.usecases.elvez.services:SERVICES",
-    queries=resources.files(__name__).joinpath("queries"),
-    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/elvez",
     frames=lazy("cadkg.usecases.elvez.services:platform_frames"),
     markers=lazy("cadkg.usecases.elvez.services:element_meshes"),

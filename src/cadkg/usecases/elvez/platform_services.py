@@ -27,6 +27,7 @@ __all__ = [
     "JigGuideData",
     "JigInfoResult",
     "JigTapeData",
+    "NameList",
     "PlatformGuideInfoResult",
     "PlatformToolInfoResult",
     "TapingSpotInfoResult",
@@ -103,13 +104,20 @@ class GuideAllInfoResult(Answer):
 
 
 @dataclass(frozen=True)
-class AllCadComponentsResult(Answer):
+class NameList(Answer):
+    """A list of names, the reference's ``string[] data`` response."""
+
     data: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
-class GetListResult(Answer):
-    data: tuple[str, ...] = ()
+class AllCadComponentsResult(NameList):
+    """``all_cad_components``: a jig's guides and taping spots, a box's trays."""
+
+
+@dataclass(frozen=True)
+class GetListResult(NameList):
+    """``get_tools_service``: the tools' names."""
 
 
 @dataclass(frozen=True)

@@ -7,8 +7,6 @@ product table.
 
 from __future__ import annotations
 
-from importlib import resources
-
 from cadkg.ingest.reader import Reader
 from cadkg.usecase import UseCase
 
@@ -16,6 +14,7 @@ __all__ = ["USE_CASE"]
 
 USE_CASE = UseCase(
     name="enki",
+    package=__name__,
     title="hose handling (D3.1 section 4.5)",
     section="4.5",
     readers=(
@@ -29,6 +28,5 @@ USE_CASE = UseCase(
     ),
     services="cadkg.usecases.enki.services:SERVICES",
     ros_namespace="/enki",
-    changes=resources.files(__name__).joinpath("changes"),
     mapping="cadkg.usecases.enki.mapping",
 )

@@ -11,7 +11,6 @@ component data and the cursors that hand the robot its next wire and rail.
 from __future__ import annotations
 
 import dataclasses
-from importlib import resources
 
 from cadkg.ingest.reader import Reader, lazy
 from cadkg.usecase import Derivation, DerivedKind, Planner, UseCase
@@ -47,6 +46,7 @@ CABINET = Derivation(
 
 USE_CASE = UseCase(
     name="iema",
+    package=__name__,
     title="switchgear cabinet wiring (D3.1 section 4.1, Table 1)",
     section="4.1",
     readers=(
@@ -87,8 +87,6 @@ USE_CASE = UseCase(
         ),
     ),
     services="cadkg.usecases.iema.services:SERVICES",
-    queries=resources.files(__name__).joinpath("queries"),
-    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/gearbox_handler",
     derivation=CABINET,
     frames=lazy("cadkg.usecases.iema.services:cabinet_frames"),

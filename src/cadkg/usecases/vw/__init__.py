@@ -10,7 +10,6 @@ harness, by ``cadkg export --view`` and the ``harness_topology`` service.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from importlib import resources
 from typing import Any
 
 from cadkg.ingest.reader import Reader, lazy
@@ -33,6 +32,7 @@ def _view(name: str) -> ExportView:
 
 USE_CASE = UseCase(
     name="vw",
+    package=__name__,
     title="harness state for a detection system (D3.1 section 4.4)",
     section="4.4",
     readers=(
@@ -45,8 +45,6 @@ USE_CASE = UseCase(
         ),
     ),
     services="cadkg.usecases.vw.services:SERVICES",
-    queries=resources.files(__name__).joinpath("queries"),
-    changes=resources.files(__name__).joinpath("changes"),
     ros_namespace="/vw_harness",
     views={"topology": _view("topology"), "wires": _view("wires")},
 )
