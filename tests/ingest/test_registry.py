@@ -213,3 +213,34 @@ def test_one_derivation_may_be_the_default(monkeypatch: pytest.MonkeyPatch) -> N
     second = UseCase(name="toy-default", title="a second default", derivation=toy_derivation(default=True))
     with pytest.raises(RegistryError, match="iema and toy-default both derive"):
         registry.add_use_case(second)
+
+
+def test_a_call_finds_its_service_without_reading_the_registry_again(monkeypatch: pytest.MonkeyPatch) -> None:
+    from cadkg.services import table
+    from cadkg.services.service import Effect, Service
+
+    monkeypatch.setattr(registry, "_TABLE", None)
+    reads: list[str] = []
+    services_of = registry.services_of
+
+    def counted(profile: str) -> dict[str, Service]:
+        reads.append(profile)
+        return services_of(profile)
+
+    monkeypatch.setattr(registry, "services_of", counted)
+    first = table.find("cad_service", "iema")
+    assert first is not None and first is table.find("cad_service", "iema")
+    assert reads == ["iema"]
+    # A use case added afterwards is seen: the memo is keyed on the registry's state.
+    added = Service(
+        "toy_answer",
+        "a toy's answer",
+        {},
+        lambda session, client: 1,
+        effect=Effect.READS,
+        profile="toy-answers",
+    )
+    registry.add_use_case(UseCase(name="toy-answers", title="one answer", services=(added,)))
+    assert table.find("toy_answer", "toy-answers") == added
+    assert table.find("cad_service", "iema") is first
+    assert reads == ["iema", "toy-answers", "iema"]

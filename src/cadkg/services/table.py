@@ -64,9 +64,23 @@ def find(name: str, profile: str = "") -> Service | None:
     """
     from cadkg.services.operations import OPERATIONS
 
-    own = registry.services_of(profile)
-    _without_operations(own)
-    return OPERATIONS.get(name) or own.get(name) or _table().get(name)
+    return OPERATIONS.get(name) or _own(profile).get(name) or _table().get(name)
+
+
+_OWN: dict[str, tuple[object, dict[str, Service]]] = {}
+
+
+def _own(profile: str) -> dict[str, Service]:
+    """The services of ``profile``'s use case, checked against the operations once per state of
+    the registry: every call of every transport looks its service up here."""
+    own = _OWN.get(profile)
+    if own is not None and own[0] == registry.loaded():
+        return own[1]
+    services = registry.services_of(profile)
+    _without_operations(services)
+    # Keyed after the read: reading a use case's services is itself a change of the registry.
+    _OWN[profile] = (registry.loaded(), services)
+    return services
 
 
 class _Services(Mapping[str, Service]):
