@@ -147,3 +147,34 @@ def test_load_files_past_the_ratio_changes_nothing(tmp_path: Path) -> None:
     # serves, every quad, and its generation are what stay.
     assert answer["same"] is True and answer["quads"] > 400, answer
     assert read_pointer(store) == generation
+
+
+def test_a_reload_past_the_ratio_keeps_the_cell_served(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import httpx
+
+    from cadkg.graph import KnowledgeGraph
+    from cadkg.server import Settings
+    from tests.server.serving import serving
+
+    cell = tmp_path / "cell"
+    shutil.copytree(EXAMPLES / "enki-hose", cell)
+    monkeypatch.setenv("CADKG_READ_RATIO", "12")
+    hoses = "SELECT (COUNT(?h) AS ?n) WHERE { ?h ck:diameterM ?d }"
+
+    def count(base: str) -> str:
+        answer = httpx.get(
+            f"{base}/sparql", params={"query": hoses}, headers={"Accept": "application/sparql-results+json"}
+        )
+        return str(answer.json()["results"]["bindings"][0]["n"]["value"])
+
+    settings = Settings(token="t0ken", watch_seconds=0)
+    with serving(lambda: KnowledgeGraph.build(cell / "manifest.toml"), settings) as base:
+        assert count(base) == "3"
+        _hoses(cell / "hoses.csv", 60_000)
+        response = httpx.post(f"{base}/reload", headers={"Authorization": "Bearer t0ken"}, timeout=CAP)
+        assert response.status_code != 200
+        error = response.json()["error"]
+        assert "hoses.csv" in error and "CADKG_READ_RATIO" in error and "\n" not in error, error
+        assert count(base) == "3"
