@@ -71,6 +71,7 @@ def write_graphs(
         on_source,
         sink=sink if stream else None,
         on_record=(lambda source: collector.source(source.rel)) if collector is not None else None,
+        keep=collector.wants if collector is not None else None,
     )
     for data in graphs:
         sink(data.graph, data.ntriples)  # what was not streamed

@@ -59,6 +59,11 @@ class Collector(Protocol):
 
     def source(self, rel: str) -> Callable[[object], None]: ...
 
+    # Whether ``source``'s function needs ``record``: called where the file is read (a limited
+    # child, on the collector as it was when the file's read began), only what it takes is
+    # sent back.
+    def wants(self, record: object) -> bool: ...
+
     def inputs(self) -> Any: ...
 
 

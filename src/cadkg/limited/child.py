@@ -26,8 +26,7 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Callable, Generator, Iterable
-from itertools import islice
+from collections.abc import Callable, Generator, Iterable, Iterator
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -221,11 +220,29 @@ def _limit(limits: Limits) -> None:
     limit_cpu(limits.cpu)
 
 
-def _send(stream: Any, message: object) -> None:
-    data = pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL)
+def _send(stream: Any, message: object) -> int:
+    """Send ``message``; the bytes it took."""
+    return _send_packed(stream, pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL))
+
+
+def _send_packed(stream: Any, data: bytes) -> int:
     stream.write(_HEADER.pack(len(data)))
     stream.write(data)
     stream.flush()
+    return len(data)
+
+
+def _batches(items: Iterable[object]) -> Iterator[list[object]]:
+    """``items`` in lists of up to ``_BATCH``; a ``bytes`` item (a chunk of triples, already a
+    batch of its own) ends its list, so it is sent while the work goes on."""
+    batch: list[object] = []
+    for item in items:
+        batch.append(item)
+        if len(batch) >= _BATCH or type(item) is bytes:
+            yield batch
+            batch = []
+    if batch:
+        yield batch
 
 
 def _picklable(err: BaseException) -> BaseException:
@@ -250,7 +267,9 @@ def stream_limited(
 ) -> Generator[object, None, None]:
     """The items of ``read(*args)``, computed in a limited child and sent in batches while it
     goes on. Warnings it gives are given again here after its last item; its exceptions are
-    raised here. Closing the iterator early stops the child. Raises as :func:`run_limited`.
+    raised here. Closing the iterator early stops the child. Raises as :func:`run_limited`, and
+    past ``limits.output`` bytes of items sent (pickled), ``exceeded(limits, "output")``: the
+    child stops before it sends the batch that would pass it.
     """
 
     def body(stream: Any) -> int:
@@ -264,9 +283,14 @@ def stream_limited(
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
-                items = iter(read(*args))
-                while batch := list(islice(items, _BATCH)):
-                    _send(stream, ("items", batch))
+                sent = 0
+                for batch in _batches(read(*args)):
+                    data = pickle.dumps(("items", batch), protocol=pickle.HIGHEST_PROTOCOL)
+                    sent += len(data)
+                    if limits.output and sent > limits.output:
+                        raise exceeded(limits, "output")
+                    _send_packed(stream, data)
+                    del data, batch
             except Exception as err:  # MemoryError included
                 return _failed(stream, limits, err)
         _send(stream, ("warnings", [(w.category, w.message) for w in caught]))
@@ -361,7 +385,8 @@ def read_limited(
     ------
     ReadLimitError
         ``path: needs more than N MiB to read (limit set by CADKG_READ_LIMIT_MIB)``, and the
-        same of CPU time (``CADKG_READ_CPU_S``) and time (``CADKG_READ_WALL_S``).
+        same of CPU time (``CADKG_READ_CPU_S``), time (``CADKG_READ_WALL_S``) and what the read
+        gives back per byte of ``path`` (``CADKG_READ_RATIO``).
     IngestError
         When the child died otherwise; and whatever ``read`` raises.
     """

@@ -35,10 +35,12 @@ __all__ = [
     "DEFAULT_QUERY_MEMORY",
     "DEFAULT_READ_CPU",
     "DEFAULT_READ_MEMORY",
+    "DEFAULT_READ_RATIO",
     "DEFAULT_READ_WALL",
     "OUT_OF_MEMORY",
     "READ_CPU_ENV",
     "READ_MEMORY_ENV",
+    "READ_RATIO_ENV",
     "READ_WALL_ENV",
     "Limits",
     "cause",
@@ -65,6 +67,18 @@ DEFAULT_READ_WALL = 600
 limit, as a loaded machine gives a reader half a core; a reader that waits on nothing (a hung
 library, a file that never ends) holds no CPU and is stopped by this one."""
 
+READ_RATIO_ENV = "CADKG_READ_RATIO"
+DEFAULT_READ_RATIO = 256
+"""Bytes the read of one input file may hand back per byte of the file (0: no limit): its
+triples as N-Triples, the records its cell's derivation takes and the files beside its graph.
+The bundled examples hand back at most 46 bytes a byte (an ID table; a file of a few hundred
+bytes more, which the allowance below covers) and the synthetic cabinets' lists about 30; a
+compressed workbook a few times what its text would. What follows a read (the loader, the
+store, the derivation's inputs) grows with what it hands back, so this bounds them by the file."""
+READ_RATIO_ALLOWANCE = 1 << 20
+"""Bytes every file may hand back besides its ratio: the provenance of its graph, a small file's
+few rows (docs/server.md, "Bounded memory on input files")."""
+
 OUT_OF_MEMORY = 75
 """The exit code of a child that ran out of memory where a message may not fit any more."""
 # A native library aborts on an allocation it cannot make (or crashes on the null it got); the
@@ -76,9 +90,11 @@ _MEMORY_SIGNALS = frozenset({signal.SIGABRT, signal.SIGKILL, signal.SIGSEGV, sig
 class Limits:
     """What a limited child may take, and what is said when it takes more.
 
-    ``memory`` MiB of data segment, ``cpu`` seconds of CPU time, ``wall`` seconds of time (each
-    0: no limit); ``network``: whether it keeps the network. ``file`` is the file read (else the
-    work is a query); the ``*_setting`` fields name the option or variable that raises a limit.
+    ``memory`` MiB of data segment, ``cpu`` seconds of CPU time, ``wall`` seconds of time,
+    ``output`` bytes of what a streamed child sends back, ``ratio`` of them per byte of ``file``
+    (each 0: no limit); ``network``: whether it keeps the network. ``file`` is the file read
+    (else the work is a query); the ``*_setting`` fields name the option or variable that raises
+    a limit.
     """
 
     memory: int = 0
@@ -89,11 +105,14 @@ class Limits:
     memory_setting: str = "--max-query-memory"
     cpu_setting: str = ""
     wall_setting: str = ""
+    output: int = 0
+    ratio: int = 0
+    output_setting: str = ""
 
     @property
     def any(self) -> bool:
         """Whether any limit is set (without, the work may as well run where it is)."""
-        return bool(self.memory or self.cpu or self.wall or not self.network)
+        return bool(self.memory or self.cpu or self.wall or self.output or not self.network)
 
 
 def _setting(name: str, default: int, unit: str) -> int:
@@ -107,12 +126,19 @@ def _setting(name: str, default: int, unit: str) -> int:
 
 def read_limits(path: str | Path) -> Limits:
     """The limits of reading ``path``: the ``CADKG_READ_*`` variables where set, else the defaults.
+    What the read hands back is bounded by the size of ``path`` (a file that is not there, by
+    the allowance alone).
 
     Raises
     ------
     CadkgError
         When a variable is not a whole number.
     """
+    ratio = _setting(READ_RATIO_ENV, DEFAULT_READ_RATIO, "bytes per byte of the file")
+    try:
+        size = Path(path).stat().st_size
+    except OSError:
+        size = 0
     return Limits(
         memory=_setting(READ_MEMORY_ENV, DEFAULT_READ_MEMORY, "MiB"),
         cpu=_setting(READ_CPU_ENV, DEFAULT_READ_CPU, "seconds"),
@@ -121,6 +147,9 @@ def read_limits(path: str | Path) -> Limits:
         memory_setting=READ_MEMORY_ENV,
         cpu_setting=READ_CPU_ENV,
         wall_setting=READ_WALL_ENV,
+        output=ratio * size + READ_RATIO_ALLOWANCE if ratio else 0,
+        ratio=ratio,
+        output_setting=READ_RATIO_ENV,
     )
 
 
@@ -165,12 +194,15 @@ def limit_cpu(seconds: int) -> None:
 
 
 def exceeded(limits: Limits, limit: str) -> LimitError:
-    """The error of work stopped at its ``limit`` (``"memory"``, ``"cpu"`` or ``"wall"``)."""
+    """The error of work stopped at its ``limit`` (``"memory"``, ``"cpu"``, ``"wall"`` or, of a
+    file's read, ``"output"``)."""
     if limits.file is not None:
         reason = {
             "memory": f"needs more than {limits.memory:,} MiB to read",
             "cpu": f"needs more than {limits.cpu:,} s of CPU time to read",
             "wall": f"took more than {limits.wall:g} s to read and was stopped",
+            "output": f"gives more than {limits.ratio:,} bytes of triples and records per byte of "
+            f"the file ({limits.output / (1 << 20):,.1f} MiB in all) and was stopped",
         }[limit]
         setting = getattr(limits, f"{limit}_setting")
         return ReadLimitError(limits.file, f"{reason} (limit set by {setting})", limit=limit)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import closing
 from dataclasses import dataclass, field
 from itertools import chain, islice
@@ -55,6 +55,7 @@ def read_source(
     sink: Callable[[str, bytes], None] | None = None,
     on_record: Callable[[object], None] | None = None,
     profile: str = "",
+    keep: Callable[[object], bool] | None = None,
 ) -> GraphData:
     """Read one file with the reader of its kind and map it into its named graph.
 
@@ -62,15 +63,21 @@ def read_source(
     With ``sink``, the N-Triples go to ``sink(graph, chunk)`` as they are mapped and the
     returned ``ntriples`` is empty; a reader that streams its records is then mapped row by
     row, so ``sink`` may have had part of a file when a later row raises (builds use it for a
-    store that a failure discards). ``on_record`` sees every record once it is mapped.
+    store that a failure discards). ``on_record`` sees every record for which ``keep`` (called
+    where the file is read: see below) is true, all of them without ``keep``, in file order.
     ``profile`` is the cell's use case, which picks the reader of a shared suffix that no
     content tells apart (see :func:`cadkg.registry.sniff_kind`).
+
+    The file is read and mapped in a limited child (:func:`cadkg.limited.read_limited`), which
+    sends back the N-Triples in chunks, the records ``on_record`` is to see and the files beside
+    the graph: all of it counts against what a file may give per byte (``CADKG_READ_RATIO``),
+    so what this process does with it is bounded by the file.
 
     Raises
     ------
     IngestError
-        Located errors of the reader; an unknown kind; ``needs more than N MiB to read`` (see
-        :mod:`cadkg.limited`).
+        Located errors of the reader; an unknown kind; ``needs more than N MiB to read`` and the
+        other read limits (see :mod:`cadkg.limited`).
     """
     started = time.perf_counter()
     _register_core_mappings()
@@ -80,41 +87,89 @@ def read_source(
     except KeyError as err:
         raise IngestError(path, str(err.args[0])) from None
     graph = graph_iri(base_iri, rel_path)
-    writer = TripleWriter(base_iri)
-    writer.root_frame = frame or "cabinet"
-    slug = Path(rel_path).stem
-    count = 0
+    if on_record is not None and keep is None:
+        keep = _everything
+    source = _Source(path, rel_path, kind, base_iri, frame or "cabinet", graph, keep)
+    held: list[bytes] = []
+    put = held.append if sink is None else (lambda chunk: sink(graph, chunk))
+    mapped: _Mapped | None = None
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", IngestWarning)
-        # Read in a child process under the read limit, one by one where the reader can: the
-        # child then never holds every record. Without a sink nothing is written before the
-        # last record is mapped, so a later row's error still leaves nothing behind.
-        # Closed on an error in the mapping too, which stops the child at once.
-        with closing(read_limited(path, reader.stream or reader.read, path)) as incoming:
-            # The first records (or the file's refusal) before the checksum, which reads every byte.
-            first = list(islice(incoming, 1))
-            if sink is not None:
-                writer.stream_to(lambda chunk: sink(graph, chunk))
-            map_provenance(writer, graph, rel_path, sha256_of(path), kind)
-            for record in chain(first, incoming):
-                count += 1
-                mapper(type(record))(record, writer, slug)
-                writer.maybe_flush()
-                if on_record is not None:
-                    on_record(record)
+        # Without a sink nothing leaves this function before the last record is mapped, so a
+        # later row's error still leaves nothing behind. Closed on an error here too, which
+        # stops the child at once.
+        with closing(read_limited(path, _mapped, reader.stream or reader.read, source)) as incoming:
+            for item in incoming:
+                if type(item) is bytes:
+                    put(item)
+                elif type(item) is _Mapped:
+                    mapped = item
+                elif on_record is not None:
+                    on_record(item)
+    assert mapped is not None  # the child's last item, unless it raised
     report = SourceReport(
         rel_path=rel_path,
         kind=kind,
-        records=count,
-        triples=writer.triples,
+        records=mapped.records,
+        triples=mapped.triples,
         seconds=time.perf_counter() - started,
         warnings=tuple(str(w.message) for w in caught if issubclass(w.category, IngestWarning)),
     )
-    ntriples = writer.data()
-    if sink is not None:
-        sink(graph, ntriples)
-        ntriples = b""
-    return GraphData(graph=graph, ntriples=ntriples, report=report, files=writer.all_files())
+    ntriples = b"".join(held)
+    return GraphData(graph=graph, ntriples=ntriples, report=report, files=mapped.files)
+
+
+def _everything(record: object) -> bool:
+    return True
+
+
+@dataclass(frozen=True)
+class _Source:
+    """What the child that reads one file needs to map it."""
+
+    path: Path
+    rel_path: str
+    kind: str
+    base_iri: str
+    frame: str
+    graph: str
+    keep: Callable[[object], bool] | None
+
+
+@dataclass(frozen=True)
+class _Mapped:
+    """The last item of a file's read: how many records and triples, the files beside the graph."""
+
+    records: int
+    triples: int
+    files: dict[str, bytes]
+
+
+def _mapped(read: Callable[[Path], Iterable[object]], source: _Source) -> Iterator[object]:
+    """In the child: the N-Triples of ``source`` in chunks (``bytes``), the records its ``keep``
+    takes, then a :class:`_Mapped`."""
+    writer = TripleWriter(source.base_iri)
+    writer.root_frame = source.frame
+    chunks: list[bytes] = []
+    writer.stream_to(chunks.append)
+    slug = Path(source.rel_path).stem
+    keep = source.keep
+    records = iter(read(source.path))
+    # The first records (or the file's refusal) before the checksum, which reads every byte.
+    first = list(islice(records, 1))
+    map_provenance(writer, source.graph, source.rel_path, sha256_of(source.path), source.kind)
+    count = 0
+    for record in chain(first, records):
+        count += 1
+        mapper(type(record))(record, writer, slug)
+        writer.maybe_flush()
+        if chunks:
+            yield from chunks
+            chunks.clear()
+        if keep is not None and keep(record):
+            yield record
+    yield writer.data()
+    yield _Mapped(count, writer.triples, writer.all_files())
 
 
 def _register_core_mappings() -> None:
@@ -147,11 +202,13 @@ def read_manifest_graphs(
     on_source: Callable[[SourceSpec], None] | None = None,
     sink: Callable[[str, bytes], None] | None = None,
     on_record: Callable[[SourceSpec], Callable[[object], None]] | None = None,
+    keep: Callable[[object], bool] | None = None,
 ) -> Iterator[GraphData]:
     """The manifest's own graph, then one graph per source, in manifest order.
 
     ``sink`` receives the sources' N-Triples in chunks (see :func:`read_source`);
-    ``on_record(source)`` gives the function that sees each record of ``source``.
+    ``on_record(source)`` gives the function that sees each record of ``source`` that ``keep``
+    takes (every record without ``keep``).
     """
     yield manifest_graph(manifest)
     for source in manifest.sources:
@@ -166,4 +223,5 @@ def read_manifest_graphs(
             sink=sink,
             on_record=on_record(source) if on_record is not None else None,
             profile=manifest.cell.profile,
+            keep=keep,
         )

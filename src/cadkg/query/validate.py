@@ -132,10 +132,14 @@ def _derived_graph(kg: GraphStore) -> list[Finding]:
         return []
     model = cell_model()
     base = derive.base(model)
-    if not base or not derive.ntriples(model, base, None).strip():
+    if not base:
         return []
     graph = derive.graph(model)
+    # Asked first: writing the graph's triples again only to see that there are some took
+    # longer than every other check of a 10k-wire cabinet together.
     if kg.ask(f"ASK {{ GRAPH <{graph}> {{ ?s ?p ?o }} }}"):
+        return []
+    if not derive.ntriples(model, base, None).strip():
         return []
     where = str(getattr(kg, "directory", None) or graph)
     return [
@@ -154,12 +158,16 @@ def _duplicate_wire_numbers(kg: GraphStore) -> list[Finding]:
     (EPLAN numbers potential jumpers that way); each further chain is an error."""
     import networkx as nx
 
-    by_number: dict[tuple[str, str], nx.Graph] = {}
+    by_number: dict[tuple[str, str], list[Any]] = {}
     for row in kg.query(_WIRE_ENDS):
-        chains = by_number.setdefault((row["scope"] or "", row["number"]), nx.Graph())
-        chains.add_edge(row["from"], row["to"], wire=row["wire"], order=row["sequence"] or 0)
+        by_number.setdefault((row["scope"] or "", row["number"]), []).append(row)
     findings = []
-    for (_, number), chains in by_number.items():
+    for (_, number), rows in by_number.items():
+        if len(rows) < 2:  # one wire is one chain: most numbers, no graph to make
+            continue
+        chains = nx.Graph()
+        for row in rows:
+            chains.add_edge(row["from"], row["to"], wire=row["wire"], order=row["sequence"] or 0)
         parts = [
             sorted((data["order"], data["wire"]) for _, _, data in chains.subgraph(nodes).edges(data=True))
             for nodes in nx.connected_components(chains)

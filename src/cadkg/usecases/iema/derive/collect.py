@@ -101,6 +101,11 @@ class InputCollector:
 
         return take
 
+    def wants(self, record: object) -> bool:
+        """Whether :meth:`source`'s function needs ``record``: records of a type it gathers,
+        and of a type it does not know (which makes it give up), while it is complete."""
+        return self.complete and _HANDLERS.get(type(record)) is not InputCollector._nothing
+
     def add_edits(self, edits: Iterable[tuple[str, str]]) -> None:
         """Assignments (target IRI, performer) kept in the store's edits graph."""
         graph = self.base + "assignments"
