@@ -187,6 +187,7 @@ def iema_problem(kg: Any, rules: Rules) -> Problem:
                 _point(step.destination),
                 step.iri,
                 where,
+                tuple(termination or "" for termination in step.terminations),
             )
         )
         decisions[key] = decision
