@@ -86,6 +86,8 @@ def test_a_persons_wire_that_blocks_a_robots_pin_delays_the_robots_lane(
     steps = _steps(data)
     assert (steps["W2"]["start_s"], steps["W2"]["end_s"]) == (0.0, 50.0)
     assert (steps["W1"]["start_s"], steps["W1"]["end_s"]) == (50.0, 1050.0)
+    explained = run("plan", blocked, "--rules", _rules(tmp_path, BLOCKING_RULES), "--explain", "W1").stdout
+    assert "When: 50 s → 1050 s, in the robot's lane" in explained
     people = sorted(
         (s["start_s"], s["end_s"])  # type: ignore[type-var]
         for s in steps.values()

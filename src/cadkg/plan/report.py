@@ -127,6 +127,9 @@ def explain(plan: StoredPlan, task: str) -> str | None:
         f"Who: {step.performer} — {step.rule}: {step.reason}",
         f"Where: {step.why_here}",
     ]
+    if step.start_s is not None and step.end_s is not None:
+        lane = "the robot's" if step.performer == Performer.ROBOT else "the person's"
+        lines.append(f"When: {step.start_s:.0f} s → {step.end_s:.0f} s, in {lane} lane")
     for before, after, reason, dropped in plan.precedence:
         if step.key not in (before, after):
             continue
