@@ -127,6 +127,15 @@ def test_results_convert_to_their_response(sessions: dict[str, Session], name: s
         assert outcomes[-1] is False, name
 
 
+def test_the_plan_steps_carry_their_times(sessions: dict[str, Session]) -> None:
+    _, response_fields = service("Plan")
+    result = call(sessions["iema-switchgear"], "plan", {})
+    data = convert.typed_response(result, response_fields, msg_fields)
+    times = [(s["start_s"], s["end_s"]) for s in data["steps"]]
+    assert times == [(s["start_s"], s["end_s"]) for s in result.steps] and times[0] == (0.0, 240.0)
+    assert "makespan" in data["message"] and max(end for _, end in times) == result.summary["makespan_s"]
+
+
 def test_a_missing_result_field_is_an_error_not_a_default() -> None:
     from cadkg.usecases.enki.services import HoseInfoResult
 

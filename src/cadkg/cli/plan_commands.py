@@ -46,8 +46,22 @@ __all__ = ["plan"]
     help="Improve the order with OR-Tools CP-SAT for this much of its deterministic time "
     "(pip install 'cadkg[solver]').",
 )
+@click.option(
+    "--balance/--no-balance",
+    default=None,
+    help="Move robot's tasks to a person while that shortens the makespan "
+    "(default: the rules' [time] balance).",
+)
 @guarded
-def plan(target: str, rules: Path | None, fmt: str, output: str, task: str | None, budget: float) -> None:
+def plan(
+    target: str,
+    rules: Path | None,
+    fmt: str,
+    output: str,
+    task: str | None,
+    budget: float,
+    balance: bool | None,
+) -> None:
     """Make (or refresh) the robot's task list of a cell and print it.
 
     A store keeps it as the named graph {base}plan, which the cursor services follow; a
@@ -61,7 +75,7 @@ def plan(target: str, rules: Path | None, fmt: str, output: str, task: str | Non
         raise click.UsageError("--solve needs OR-Tools: pip install 'cadkg[solver]'")
     kg = open_local(target, writable=True)
     try:
-        stored = store_plan(kg, rules, budget)
+        stored = store_plan(kg, rules, budget, balance)
         err.print(summary(stored), markup=False)
         if task is not None:
             text = explain(stored, task)

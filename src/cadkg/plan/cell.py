@@ -1,22 +1,26 @@
 """The plan of a cell: its use case's tasks under a rules file, ordered.
 
 The rules are, first found: the file given, the manifest's ``[plan] rules``, the use case's
-default (``plan-rules.toml`` in its folder).
+default (``plan-rules.toml`` in its folder). Their time model is the default's, each ``[time]``
+key the chosen file gives replacing the default's.
 """
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 import cadkg.registry as registry
 from cadkg.errors import QueryError
+from cadkg.plan.balance import timed
 from cadkg.plan.graph import StoredPlan, cell_base, read_plan, write_plan
 from cadkg.plan.order import Plan, make_plan
 from cadkg.plan.rules import Rules, check_settings, load_rules, parse_rules
+from cadkg.plan.times import TimeModel
 from cadkg.store import cell_profile
 
-__all__ = ["cell_base", "cell_profile", "plan_cell", "rules_of", "store_plan"]
+__all__ = ["cell_base", "cell_profile", "plan_cell", "rules_of", "store_plan", "time_model"]
 
 
 def rules_of(kg: Any, rules: Path | None = None) -> Rules:
@@ -48,19 +52,36 @@ def _chosen_rules(kg: Any, profile: str, default: Any, rules: Path | None) -> Ru
     return load_rules(default, f"the {profile} default rules")
 
 
-def plan_cell(kg: Any, rules: Path | None = None, solver_budget: float = 0.0) -> Plan:
-    """The plan of the cell in ``kg`` (not written; see :func:`store_plan`); with a
-    ``solver_budget``, improved by CP-SAT (:func:`cadkg.plan.order.make_plan`)."""
-    return _planned(kg, rules_of(kg, rules), solver_budget)
+def plan_cell(
+    kg: Any, rules: Path | None = None, solver_budget: float = 0.0, balance: bool | None = None
+) -> Plan:
+    """The plan of the cell in ``kg``, timed (not written; see :func:`store_plan`); with a
+    ``solver_budget``, improved by CP-SAT (:func:`cadkg.plan.order.make_plan`); balanced when
+    ``balance`` says so, else when the rules' ``[time] balance`` does."""
+    return _planned(kg, rules_of(kg, rules), solver_budget, balance)
 
 
-def _planned(kg: Any, rules: Rules, solver_budget: float = 0.0) -> Plan:
+def time_model(kg: Any, rules: Rules) -> TimeModel:
+    """The time model of ``rules``: the use case's default ``[time]`` under the file's own."""
     planner = registry.use_case(cell_profile(kg)).planner
     assert planner is not None  # rules_of raised otherwise
-    return make_plan(planner.tasks(kg, rules), solver_budget)
+    default = load_rules(planner.rules, f"the {cell_profile(kg)} default rules")
+    return TimeModel.layered(default.time, rules.time)
 
 
-def store_plan(kg: Any, rules: Path | None = None, solver_budget: float = 0.0) -> StoredPlan:
+def _planned(kg: Any, rules: Rules, solver_budget: float = 0.0, balance: bool | None = None) -> Plan:
+    planner = registry.use_case(cell_profile(kg)).planner
+    assert planner is not None  # rules_of raised otherwise
+    problem = planner.tasks(kg, rules)
+    model = time_model(kg, rules)
+    plan = make_plan(problem, solver_budget)
+    chosen = model.balance if balance is None else balance
+    return timed(problem, plan, model, partial(make_plan, solver_budget=solver_budget), chosen)
+
+
+def store_plan(
+    kg: Any, rules: Path | None = None, solver_budget: float = 0.0, balance: bool | None = None
+) -> StoredPlan:
     """Make the plan of the cell in ``kg``, replace its plan graph with it, and read it back.
 
     Raises what :func:`rules_of` raises, StoreError on a read-only store, and ImportError when
@@ -68,7 +89,7 @@ def store_plan(kg: Any, rules: Path | None = None, solver_budget: float = 0.0) -
     """
     chosen = rules_of(kg, rules)
     base = cell_base(kg)
-    write_plan(kg, _planned(kg, chosen, solver_budget), base, chosen.source)
+    write_plan(kg, _planned(kg, chosen, solver_budget, balance), base, chosen.source)
     stored = read_plan(kg, base)
     assert stored is not None  # just written
     return stored

@@ -15,10 +15,12 @@ from dataclasses import dataclass
 from enum import StrEnum
 from typing import TypeVar
 
-__all__ = ["ASSIGNED", "Assignments", "Decision", "Performer", "Rule", "decide"]
+__all__ = ["ASSIGNED", "BALANCE", "Assignments", "Decision", "Performer", "Rule", "decide"]
 
 # The rule of a decision an explicit assignment made.
 ASSIGNED = "assigned"
+# The rule of a robot's task a balanced plan hands to a person (cadkg.plan.balance).
+BALANCE = "balance"
 
 T = TypeVar("T")
 

@@ -63,6 +63,16 @@ def plan_ntriples(plan: Plan, base: str, rules: str) -> bytes:
         w.add(task_list, _t(name), typed(value))
     w.add(task_list, _t("travelM"), typed(float(plan.measure.travel)))
     w.add(task_list, _t("filesTravelM"), typed(float(plan.files.travel)))
+    timing = plan.timing
+    if timing is not None:
+        for name, seconds in (
+            ("robotTimeS", timing.robot_s),
+            ("personTimeS", timing.person_s),
+            ("makespanS", timing.makespan_s),
+        ):
+            w.add(task_list, _t(name), typed(float(seconds)))
+    if plan.unbalanced_makespan_s is not None:
+        w.add(task_list, _t("unbalancedMakespanS"), typed(float(plan.unbalanced_makespan_s)))
     nodes = {}
     for step in plan.steps:
         task = step.task
@@ -82,6 +92,9 @@ def plan_ntriples(plan: Plan, base: str, rules: str) -> bytes:
             w.add(node, _t("toolNames"), text(";".join(task.tools)))
         if task.iri:
             w.add(node, _t("doesWork"), f"<{task.iri}>")
+        if timing is not None:
+            w.add(node, _t("startS"), typed(float(timing.start[step.index])))
+            w.add(node, _t("endS"), typed(float(timing.end[step.index])))
     for n, (edge, dropped) in enumerate(
         [(e, False) for e in plan.precedence] + [(e, True) for e in plan.dropped]
     ):
@@ -119,6 +132,9 @@ class PlannedStep:
     rule: str
     reason: str
     why_here: str
+    # Seconds from the plan's start (None in a plan stored before plans were timed).
+    start_s: float | None = None
+    end_s: float | None = None
 
 
 @dataclass(frozen=True)
@@ -136,11 +152,13 @@ def read_plan(kg: Any, base: str) -> StoredPlan | None:
         return None
     graph = ox.NamedNode(name)
     rows = kg.query(
-        """SELECT ?step ?key ?label ?kind ?who ?tools ?work ?position ?rule ?reason ?why WHERE { GRAPH ?g {
+        """SELECT ?step ?key ?label ?kind ?who ?tools ?work ?position ?rule ?reason ?why ?start ?end
+           WHERE { GRAPH ?g {
              ?t a ck:PlannedTask ; ck:stepIndex ?step ; ck:taskKey ?key ; ck:label ?label ;
                 ck:taskKind ?kind ; ck:assignedTo ?who ; ck:filePosition ?position ; ck:decisionRule ?rule ;
                 ck:decisionReason ?reason ; ck:placementReason ?why .
-             OPTIONAL { ?t ck:toolNames ?tools } OPTIONAL { ?t ck:doesWork ?work } } } ORDER BY ?step""",
+             OPTIONAL { ?t ck:toolNames ?tools } OPTIONAL { ?t ck:doesWork ?work }
+             OPTIONAL { ?t ck:startS ?start ; ck:endS ?end } } } ORDER BY ?step""",
         g=graph,
     )
     steps = tuple(
@@ -156,6 +174,8 @@ def read_plan(kg: Any, base: str) -> StoredPlan | None:
             r["rule"],
             r["reason"],
             r["why"],
+            float(r["start"]) if r["start"] is not None else None,
+            float(r["end"]) if r["end"] is not None else None,
         )
         for r in rows
     )

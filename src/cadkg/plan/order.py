@@ -19,6 +19,7 @@ from cadkg.plan.greedy import PERSON, greedy_order
 from cadkg.plan.measure import Measure, lower_bound, measure
 from cadkg.plan.solver import solve_order
 from cadkg.plan.tasks import Precedence, Problem, Task
+from cadkg.plan.times import Timing
 
 __all__ = ["CYCLE", "Plan", "Step", "make_plan"]
 
@@ -40,7 +41,8 @@ class Step:
 @dataclass
 class Plan:
     """The ordered tasks, the precedence kept, the edges dropped to break cycles, and measures
-    of the plan and of the files' own order."""
+    of the plan and of the files' own order; once timed (:mod:`cadkg.plan.balance`), when each
+    step starts and ends, and the makespan before a balance moved tasks."""
 
     steps: list[Step]
     precedence: list[Precedence]
@@ -49,6 +51,8 @@ class Plan:
     files: Measure = field(default_factory=Measure)
     lower_bound: int = 0
     notes: list[tuple[str, str]] = field(default_factory=list)
+    timing: Timing | None = None
+    unbalanced_makespan_s: float | None = None
 
     def step_of(self, task: str) -> Step | None:
         """The step of the task keyed or labelled ``task``."""

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from cadkg.plan.decision import Performer
+from cadkg.plan.decision import BALANCE, Performer
 from cadkg.plan.graph import PlannedStep, StoredPlan
 
 __all__ = ["CSV_COLUMNS", "as_json", "explain", "find", "rows", "summary"]
@@ -42,13 +42,40 @@ def summary(plan: StoredPlan) -> str:
         f"travel {travel:.2f} m (files' order {files_travel:.2f} m); precedence {kept} edges, "
         f"{broken:.0f} broken by the files' order, none by the plan"
         + (f", {dropped} dropped to break cycles" if dropped else "")
+        + _times(plan)
         + f"; rules: {plan.summary.get('rulesSource', '')}"
     )
 
 
+def _times(plan: StoredPlan) -> str:
+    """``; time: robot 420 s, person 240 s, makespan 480 s side by side`` (and what a balance
+    gained); empty for a plan stored before plans were timed."""
+    if "makespanS" not in plan.summary:
+        return ""
+    text = (
+        f"; time: robot {_number(plan, 'robotTimeS'):.0f} s, person {_number(plan, 'personTimeS'):.0f} s, "
+        f"makespan {_number(plan, 'makespanS'):.0f} s side by side"
+    )
+    if "unbalancedMakespanS" in plan.summary:
+        moved = sum(1 for s in plan.steps if s.rule == BALANCE)
+        before = _number(plan, "unbalancedMakespanS")
+        text += f" (balanced: {moved} tasks moved to a person, {before:.0f} s before)"
+    return text
+
+
+# The summary's times as --format json names them.
+_TIMES = {
+    "robotTimeS": "robot_time_s",
+    "personTimeS": "person_time_s",
+    "makespanS": "makespan_s",
+    "unbalancedMakespanS": "unbalanced_makespan_s",
+}
+
+
 def as_json(plan: StoredPlan) -> dict[str, Any]:
-    """The plan as JSON data: summary, steps (the CSV's fields, the file position and why the
-    step is where it is) and ``precedence: [{before, after, reason}]`` (kept edges)."""
+    """The plan as JSON data: summary (with ``robot_time_s``, ``person_time_s``, ``makespan_s``),
+    steps (the CSV's fields, the file position, why the step is where it is, ``start_s`` and
+    ``end_s``) and ``precedence: [{before, after, reason}]`` (kept edges)."""
     names = {"toolChanges", "filesToolChanges", "toolChangesLowerBound", "filesPrecedenceViolations"}
     return {
         "summary": {
@@ -59,6 +86,7 @@ def as_json(plan: StoredPlan) -> dict[str, Any]:
                 for k, v in plan.summary.items()
                 if k in names | {"travelM", "filesTravelM", "rulesSource"}
             },
+            **{json: float(plan.summary[k]) for k, json in _TIMES.items() if k in plan.summary},
         },
         "steps": [
             {
@@ -68,6 +96,8 @@ def as_json(plan: StoredPlan) -> dict[str, Any]:
                 "file_position": step.position,
                 "rule": step.rule,
                 "placement": step.why_here,
+                "start_s": step.start_s,
+                "end_s": step.end_s,
             }
             for step, row in zip(plan.steps, rows(plan), strict=True)
         ],
@@ -97,6 +127,9 @@ def explain(plan: StoredPlan, task: str) -> str | None:
         f"Who: {step.performer} — {step.rule}: {step.reason}",
         f"Where: {step.why_here}",
     ]
+    if step.start_s is not None and step.end_s is not None:
+        lane = "the robot's" if step.performer == Performer.ROBOT else "the person's"
+        lines.append(f"When: {step.start_s:.0f} s → {step.end_s:.0f} s, in {lane} lane")
     for before, after, reason, dropped in plan.precedence:
         if step.key not in (before, after):
             continue

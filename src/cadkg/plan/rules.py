@@ -10,6 +10,9 @@
     name = "screwdriver"
     serves = ["PUNTALINO_vite", "CAPICORDA_vite"]
 
+    [time]                     # the time model (cadkg.plan.times), every key optional
+    person_task_s = 240
+
 Every use case ships a default (``plan-rules.toml`` in its folder); a manifest names its own
 with ``[plan] rules = "FILE"``, and ``cadkg plan --rules FILE`` overrides both. What a task
 class is (a wire end's termination, an operation's code) is the use case's to say.
@@ -17,6 +20,7 @@ class is (a wire end's termination, an operation's code) is the use case's to sa
 
 from __future__ import annotations
 
+import math
 import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -25,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from cadkg.errors import CadkgError
+from cadkg.plan.times import CLASS_TABLES, NUMBERS, TIME_KEYS
 
 __all__ = ["Rules", "RulesError", "Tool", "check_settings", "load_rules", "parse_rules"]
 
@@ -41,11 +46,13 @@ class Tool:
 
 @dataclass(frozen=True)
 class Rules:
-    """``robot`` holds the ``[robot]`` settings; ``tools`` the ``[[tool]]`` entries in file order."""
+    """``robot`` holds the ``[robot]`` settings; ``tools`` the ``[[tool]]`` entries in file order;
+    ``time`` the ``[time]`` values the file gives, checked."""
 
     source: str
     robot: dict[str, Any] = field(default_factory=dict)
     tools: tuple[Tool, ...] = ()
+    time: dict[str, Any] = field(default_factory=dict)
     # Task class → the first tool serving it: asked twice per wire.
     _serving: dict[str, str] = field(init=False, repr=False, compare=False)
 
@@ -93,9 +100,9 @@ def parse_rules(text: str, source: str) -> Rules:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise RulesError(f"{source}: {err}") from None
-    unknown = sorted(set(data) - {"robot", "tool"})
+    unknown = sorted(set(data) - {"robot", "tool", "time"})
     if unknown:
-        raise RulesError(f"{source}: unknown table [{unknown[0]}]; expected [robot] and [[tool]]")
+        raise RulesError(f"{source}: unknown table [{unknown[0]}]; expected [robot], [[tool]] and [time]")
     robot = data.get("robot", {})
     if not isinstance(robot, dict):
         raise RulesError(f"{source}: 'robot' must be a table [robot]")
@@ -117,7 +124,42 @@ def parse_rules(text: str, source: str) -> Rules:
         if not isinstance(serves, list) or not all(isinstance(s, str) for s in serves):
             raise RulesError(f"{source}: [[tool]] {name}: serves must be a list of strings")
         tools.append(Tool(name, tuple(serves)))
-    return Rules(source, robot, tuple(tools))
+    return Rules(source, robot, tuple(tools), _time(data.get("time", {}), source))
+
+
+def _seconds(value: Any, where: str, *, positive: bool = False) -> float:
+    # bool is an int to Python: a time of `true` is a mistake, not 1 s.
+    number = not isinstance(value, bool) and isinstance(value, int | float) and math.isfinite(value)
+    if not number or value < 0 or (positive and value == 0):
+        kind = "a positive number" if positive else "a non-negative number"
+        raise RulesError(f"{where} must be {kind}, not {value!r}")
+    return float(value)
+
+
+def _time(table: Any, source: str) -> dict[str, Any]:
+    """The ``[time]`` values the file gives, checked: each names the file and key when wrong."""
+    if not isinstance(table, dict):
+        raise RulesError(f"{source}: 'time' must be a table [time]")
+    values: dict[str, Any] = {}
+    for key, value in table.items():
+        where = f"{source}: [time] {key}"
+        if key in NUMBERS:
+            values[key] = _seconds(value, where, positive=key == "robot_speed_m_s")
+        elif key in CLASS_TABLES:
+            if not isinstance(value, dict):
+                raise RulesError(f"{where} must be a table [time.{key}] of task classes and seconds")
+            values[key] = {
+                str(name): _seconds(seconds, f"{source}: [time.{key}] {name}")
+                for name, seconds in value.items()
+            }
+        elif key == "balance":
+            if not isinstance(value, bool):
+                raise RulesError(f"{where} must be true or false, not {value!r}")
+            values[key] = value
+        else:
+            expected = ", ".join(sorted(TIME_KEYS))
+            raise RulesError(f"{source}: unknown key [time] {key}; expected one of: {expected}")
+    return values
 
 
 def check_settings(rules: Rules, known: frozenset[str]) -> Rules:

@@ -22,7 +22,9 @@ class Task:
 
     ``key`` is unique in the problem (``W1``, ``op3``); ``label`` is what a person calls it (the
     wire number, the operation's code and labels); ``tools`` the tools it needs in the order it
-    uses them; ``start`` and ``end`` where the robot's tool is when it starts and ends it.
+    uses them; ``start`` and ``end`` where the robot's tool is when it starts and ends it;
+    ``classes`` what the time model times it by (a wire's ends' terminations; without any, its
+    ``kind``).
     """
 
     key: str
@@ -34,6 +36,7 @@ class Task:
     end: Vec3 | None = None
     iri: str = ""
     where: str = ""
+    classes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)

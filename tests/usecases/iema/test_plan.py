@@ -89,7 +89,7 @@ def test_the_zones_are_the_cells_own_as_the_providers_use_them(tmp_path: Path) -
     step = next(s for s in kg.cell_model().steps if s.wire == "W7")
     decision = plan_cell(kg).step_of("W7").decision  # type: ignore[union-attr]
     assert (decision.performer, decision.rule) == (step.performer, "zone") == ("human", "zone")
-    assert decision.reason == f"origin {step.reason} (the manifest's [derive] robot_zones)"
+    assert decision.reason == f"{step.reason} (the manifest's [derive] robot_zones)"
     assert "robot zones P, Q" in decision.reason
 
 

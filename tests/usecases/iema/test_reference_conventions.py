@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from cadkg.graph import KnowledgeGraph
+from cadkg.plan.cell import plan_cell
 from cadkg.query.validate import validate
 from cadkg.services.session import Session
 from cadkg.usecases.iema import answers, cursors
@@ -25,12 +26,13 @@ MINI = ROOT / "tests" / "data" / "cells" / "mini"
 EXAMPLE = ROOT / "examples" / "iema-switchgear"
 
 
-def _mini(tmp_path: Path, rows: dict[int, tuple[int, str]] | None = None, derive: str = "") -> Path:
-    """A copy of the mini cell; ``rows`` replaces cells of connections.tsv (line → column, text)."""
+def _mini(tmp_path: Path, rows: dict[tuple[int, int], str] | None = None, derive: str = "") -> Path:
+    """A copy of the mini cell; ``rows`` replaces cells of connections.tsv ((line, column) → text;
+    column 1 is the origin's zone, 4 the destination's)."""
     cell = tmp_path / "mini"
     shutil.copytree(MINI, cell)
     lines = (cell / "connections.tsv").read_text(encoding="utf-8").splitlines()
-    for line, (column, text) in (rows or {}).items():
+    for (line, column), text in (rows or {}).items():
         cells = lines[line - 1].split("\t")
         cells[column] = text
         lines[line - 1] = "\t".join(cells)
@@ -69,36 +71,65 @@ def _served(kg: KnowledgeGraph) -> list[str]:
 # -- 4. which wires the robot is handed ------------------------------------------------------
 def test_the_scope_rule_names_its_value() -> None:
     zones = ("Q", "QE")
-    assert scope_reason("Q", ("K1", "X1"), zones, {"K1"}) is None  # the zone decides, not the labels
-    assert scope_reason("P", ("K1",), zones, {"K1"}) == "zone P is not among the robot zones Q, QE"
-    assert scope_reason(None, ("K1", "M1"), zones, {"K1"}) == "label M1 is not in the CAD (no ID table row)"
-    assert scope_reason("", ("K1",), zones, {"K1"}) is None
+    assert scope_reason(("Q", "QE"), ("K1", "X1"), zones, {"K1"}) is None  # the zones decide, not the labels
+    assert (
+        scope_reason(("P", "Q"), ("K1",), zones, {"K1"}) == "origin zone P is not among the robot zones Q, QE"
+    )
+    # Both ends must be reachable: a wire from the cabinet to a motor (zone B) is a person's.
+    assert scope_reason(("Q", "B"), ("K1",), zones, {"K1"}) == (
+        "destination zone B is not among the robot zones Q, QE"
+    )
+    assert scope_reason(("Q", None), ("K1", "M1"), zones, {"K1"}) is None  # an end without a zone: not judged
+    assert scope_reason((None, None), ("K1", "M1"), zones, {"K1"}) == (
+        "label M1 is not in the CAD (no ID table row)"
+    )
+    assert scope_reason(("", ""), ("K1",), zones, {"K1"}) is None
 
 
 def test_a_wire_of_another_zone_goes_to_a_person_with_the_reason(
     tmp_path: Path, built: list[KnowledgeGraph]
 ) -> None:
     # Line 3 of connections.tsv is W2 (K1:13 → X1:2:b); its origin zone becomes P.
-    kg = _build(built, _mini(tmp_path, {3: (1, "P")}))
+    kg = _build(built, _mini(tmp_path, {(3, 1): "P"}))
     assert _served(kg) == ["W1", "W4"]  # W3 is assigned to a person by the overlay
     w2 = next(c for c in answers.full_cad_service(kg.cell_model(), "K1").connections if c.wire == "W2")
-    assert (w2.performer, w2.reason) == ("human", "zone P is not among the robot zones Q, QE")
+    assert (w2.performer, w2.reason) == ("human", "origin zone P is not among the robot zones Q, QE")
     rows = kg.query(
         """SELECT ?number ?who ?why WHERE { GRAPH ?g { ?w ck:assignedTo ?who ; ck:assignmentReason ?why }
              ?w ck:wireNumber ?number }"""
     ).rows
     assert [(r["number"], r["who"].rsplit("#")[-1], r["why"]) for r in rows] == [
-        ("W2", "human", "zone P is not among the robot zones Q, QE")
+        ("W2", "human", "origin zone P is not among the robot zones Q, QE")
     ]
     findings = [str(f) for f in validate(kg, shacl=False) if f.check == "wire-for-a-person"]
     assert findings == [
         "connections.tsv:3: warning: wire W2 is given to a person:"
-        " zone P is not among the robot zones Q, QE [wire-for-a-person]"
+        " origin zone P is not among the robot zones Q, QE [wire-for-a-person]"
     ]
 
 
+def test_a_wire_whose_destination_is_outside_the_zones_goes_to_a_person(
+    tmp_path: Path, built: list[KnowledgeGraph]
+) -> None:
+    # Line 4 is W3 (a person's by the overlay), line 5 W4: its destination zone becomes B (a motor).
+    kg = _build(built, _mini(tmp_path, {(5, 4): "B"}))
+    assert _served(kg) == ["W1", "W2"]
+    w4 = next(c for c in answers.full_cad_service(kg.cell_model(), "K1").connections if c.wire == "W4")
+    assert (w4.performer, w4.reason) == ("human", "destination zone B is not among the robot zones Q, QE")
+    findings = [str(f) for f in validate(kg, shacl=False) if f.check == "wire-for-a-person"]
+    assert findings == [
+        "connections.tsv:5: warning: wire W4 is given to a person:"
+        " destination zone B is not among the robot zones Q, QE [wire-for-a-person]"
+    ]
+    step = next(s for s in plan_cell(kg).steps if s.task.label == "W4")
+    assert (step.decision.rule, step.decision.reason) == (
+        "zone",
+        "destination zone B is not among the robot zones Q, QE (the default [derive] robot_zones)",
+    )
+
+
 def test_the_manifest_names_the_robot_zones(tmp_path: Path, built: list[KnowledgeGraph]) -> None:
-    kg = _build(built, _mini(tmp_path, {3: (1, "P")}, 'robot_zones = ["Q", "P"]'))
+    kg = _build(built, _mini(tmp_path, {(3, 1): "P"}, 'robot_zones = ["Q", "P"]'))
     assert _served(kg) == ["W1", "W2", "W4"]
     assert sorted(r["z"] for r in kg.query("SELECT ?z WHERE { ?c ck:robotZone ?z }")) == ["P", "Q"]
 
@@ -107,7 +138,7 @@ def test_a_list_without_zones_hands_the_robot_the_wires_between_cad_labels(
     tmp_path: Path, built: list[KnowledgeGraph]
 ) -> None:
     # W4 ends on K9, which no ID table row names.
-    kg = _build(built, _mini(tmp_path, {line: (1, "") for line in (2, 3, 4, 5)}))
+    kg = _build(built, _mini(tmp_path, {(line, column): "" for line in (2, 3, 4, 5) for column in (1, 4)}))
     assert _served(kg) == ["W1", "W2"]
     w4 = answers.full_cad_service(kg.cell_model(), "K1").connections[-1]
     assert (w4.wire, w4.reason) == ("W4", "label K9 is not in the CAD (no ID table row)")

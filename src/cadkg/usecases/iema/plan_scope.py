@@ -1,7 +1,7 @@
 """Which wires are the cabinet's robot's to make at all, as the planner reports it.
 
-The decision is the cabinet rule of :mod:`cadkg.usecases.iema.robot_scope` (the zones of the
-manifest's ``[derive] robot_zones``, Q and QE by default; for a wire the list gives no zone, the
+The decision is the cabinet rule of :mod:`cadkg.usecases.iema.robot_scope` (both ends in the
+zones of the manifest's ``[derive] robot_zones``, Q and QE by default; for a wire the list gives no zone, the
 labels the CAD places): the same the providers, SPARQL and ``cadkg validate`` use, taken for
 every wire when the cell was derived. A rules file overrides it for the plan only: its ``zones``
 replace the cell's, and ``label_not_in_cad = "robot"`` lets the label half through.
@@ -62,16 +62,16 @@ def scope_of(kg: Any, model: CellModel, rules: Rules) -> Scope:
     return Scope(stated or DEFAULT_ZONES, source, labels_judged)
 
 
-def scope_decision(scope: Scope, step: WireStep, zone: str | None) -> Decision | None:
-    """A person's decision when the wire (whose origin zone the list gives as ``zone``) is
+def scope_decision(scope: Scope, step: WireStep, zones: tuple[str | None, str | None]) -> Decision | None:
+    """A person's decision when the wire (whose ends' zones the list gives as ``zones``) is
     outside the robot's cabinet; None when it is inside."""
     if scope.override is None:
         reason = step.reason or None
     else:
-        reason = scope_reason(zone, (step.origin.label, step.destination.label), scope.zones, scope.override)
-    rule = scope_rule(zone)
+        reason = scope_reason(zones, (step.origin.label, step.destination.label), scope.zones, scope.override)
+    rule = scope_rule(zones)
     if reason is None or (rule == LABEL_RULE and not scope.labels_judged):
         return None
     if rule == LABEL_RULE:
         return Decision(Performer.HUMAN, rule, f"{reason}; the list gives the wire no zone")
-    return Decision(Performer.HUMAN, rule, f"origin {reason} ({scope.source})")
+    return Decision(Performer.HUMAN, rule, f"{reason} ({scope.source})")

@@ -85,12 +85,12 @@ def _wire(step: WireStep, facts: _Facts, rules: Rules) -> _Wire:
             missing_tool.append(f"{end} termination {termination or '(none given)'}")
         else:
             tools.append(str(tool))
-    judged = WireFacts(step.wire, step.position, facts.zones[0], (step.origin.label, step.destination.label))
+    judged = WireFacts(step.wire, step.position, facts.zones, (step.origin.label, step.destination.label))
     return _Wire(step, facts, judged, tuple(tools), tuple(missing_tool))
 
 
 def _scoped(scope: Scope, wire: _Wire) -> Decision | None:
-    return scope_decision(scope, wire.step, wire.facts.zones[0])
+    return scope_decision(scope, wire.step, wire.facts.zones)
 
 
 def _cross_section(rules: Rules, wire: _Wire) -> Decision | None:
@@ -187,6 +187,7 @@ def iema_problem(kg: Any, rules: Rules) -> Problem:
                 _point(step.destination),
                 step.iri,
                 where,
+                tuple(termination or "" for termination in step.terminations),
             )
         )
         decisions[key] = decision

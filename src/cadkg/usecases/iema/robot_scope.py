@@ -1,8 +1,9 @@
 """Which wires of a cabinet the robot is handed, and why the others go to people.
 
 A cabinet's connection list also names wires that are made off the mounting plate: the door's
-push-buttons (zone ``P``), the motors (zone ``B``). The cell's software keeps only the rows of
-the cabinet's own zones (``Q``, ``QE``); cadkg keeps every row and gives the others to a person,
+push-buttons (zone ``P``), the motors (zone ``B``). The cell's software keeps the rows whose
+origin is in the cabinet's own zones (``Q``, ``QE``); cadkg keeps every row and gives a person
+each wire one of whose ends is outside them (the robot reaches neither a door nor a motor),
 with the rule and the value that decided it, so the planner, ``full_cad_service``, SPARQL
 (``ck:assignmentReason`` in the derived graph) and ``cadkg validate`` all say the same thing.
 
@@ -45,36 +46,40 @@ LABEL_RULE = "label-not-in-cad"
 @dataclass(frozen=True, slots=True)
 class WireFacts:
     """What the cabinet rule judges a wire by: its number and list position (what it is
-    assigned by), the zone of its origin as the list writes it, its ends' component labels."""
+    assigned by), the zones of its origin and destination as the list writes them, its ends'
+    component labels."""
 
     number: str
     position: int
-    zone: str | None
+    zones: tuple[str | None, str | None]
     labels: tuple[str, str]
 
 
 def scope_reason(
-    zone: str | None, labels: Iterable[str], zones: Collection[str], known: Container[str]
+    ends: tuple[str | None, str | None], labels: Iterable[str], zones: Collection[str], known: Container[str]
 ) -> str | None:
     """Why a wire is outside the robot's cabinet, or None when it is inside.
 
-    ``zone`` is the zone of the wire's origin as the list writes it: the wire is inside when it
-    is one of ``zones``. A list without zones says nothing of them; then a wire is inside when
-    every end's label is a label of the CAD (``known``: the ID table's labels).
+    ``ends`` are the zones of the wire's origin and destination as the list writes them: the
+    wire is inside when each end the list gives a zone is in one of ``zones`` (the robot reaches
+    both ends; an end without a zone is not judged). A list without zones says nothing of them;
+    then a wire is inside when every end's label is a label of the CAD (``known``: the ID
+    table's labels).
     """
-    if zone:
-        if zone in zones:
-            return None
-        return f"zone {zone} is not among the robot zones {', '.join(zones)}"
+    if any(ends):
+        for end, zone in zip(("origin", "destination"), ends, strict=True):
+            if zone and zone not in zones:
+                return f"{end} zone {zone} is not among the robot zones {', '.join(zones)}"
+        return None
     for label in labels:
         if label not in known:
             return f"label {label} is not in the CAD (no ID table row)"
     return None
 
 
-def scope_rule(zone: str | None) -> str:
-    """The half of the cabinet rule :func:`scope_reason` judges a wire by, given its origin zone."""
-    return ZONE_RULE if zone else LABEL_RULE
+def scope_rule(ends: tuple[str | None, str | None]) -> str:
+    """The half of the cabinet rule :func:`scope_reason` judges a wire by, given its ends' zones."""
+    return ZONE_RULE if any(ends) else LABEL_RULE
 
 
 @dataclass(frozen=True, slots=True)
@@ -86,8 +91,8 @@ class CabinetRule:
     known: Container[str]
 
     def __call__(self, wire: WireFacts) -> Decision | None:
-        reason = scope_reason(wire.zone, wire.labels, self.zones, self.known)
-        return None if reason is None else Decision(Performer.HUMAN, scope_rule(wire.zone), reason)
+        reason = scope_reason(wire.zones, wire.labels, self.zones, self.known)
+        return None if reason is None else Decision(Performer.HUMAN, scope_rule(wire.zones), reason)
 
 
 def names_of(wire: WireFacts) -> tuple[tuple[str, str], ...]:

@@ -480,7 +480,9 @@ def _step(
         info = cell.pins[iri]
         ends.append(components[info.label].pins[pin_key(info)])
     origin, destination = ends
-    facts = scope.WireFacts(wire.number, wire.position, wire.zone, (origin.label, destination.label))
+    facts = scope.WireFacts(
+        wire.number, wire.position, (wire.zone, wire.destination_zone), (origin.label, destination.label)
+    )
     performer, reason = scope.cell_decision(facts, *decision_by)
     return WireStep(
         position=wire.position,

@@ -173,6 +173,7 @@ class InputCollector:
                 terminations=(record.origin_termination, record.destination_termination),
                 path=record.duct_text or ";".join(record.duct_path),
                 zone=record.origin_zone,
+                destination_zone=record.destination_zone,
             )
         )
         self._ducts.update(record.duct_path)

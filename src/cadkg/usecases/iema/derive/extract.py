@@ -79,9 +79,11 @@ class WireInfo:
     colour: str | None
     length_m: float | None
     terminations: tuple[str | None, str | None] = (None, None)
-    # The duct path as the list writes it, and the zone of the wire's origin (the list's 'Zona').
+    # The duct path as the list writes it, and the zones of the wire's origin and destination
+    # (the list's two 'Zona' columns).
     path: str = ""
     zone: str | None = None
+    destination_zone: str | None = None
 
 
 @dataclass
@@ -294,6 +296,7 @@ def _wires(tables: SourceTables) -> list[WireInfo]:
             "originTermination",
             "destinationTermination",
             "originZone",
+            "destinationZone",
         )
     ]
     paths = tables.values("sourcePath")
@@ -302,7 +305,7 @@ def _wires(tables: SourceTables) -> list[WireInfo]:
         key = (graph, wire)
         columns = [table.get(key, []) for table in required]
         columns += [table.get(key) or [None] for table in optional]
-        for number, idx, origin, destination, ducts, section, colour, length, t1, t2, zone in product(
+        for number, idx, origin, destination, ducts, section, colour, length, t1, t2, zone, far in product(
             *columns
         ):
             for path in paths.get(graph, ()):
@@ -322,6 +325,7 @@ def _wires(tables: SourceTables) -> list[WireInfo]:
                         terminations=(t1, t2),
                         path=ducts or "",
                         zone=zone,
+                        destination_zone=far,
                     )
                 )
     wires.sort(key=lambda w: (w.source, w.position))

@@ -5,7 +5,7 @@
 approach_distance = 0.15         # metres in front of a component for its target pose
 rail_pattern = "^RAIL"           # labels of DIN rails (a regular expression)
 cluster_tolerance = 0.005        # metres: pins this close in height / column form a cluster
-robot_zones = ["Q", "QE"]        # a wire whose origin zone ('Zona') is not one of these is a person's
+robot_zones = ["Q", "QE"]        # a wire with an end whose zone ('Zona') is not one of these is a person's
 ```
 """
 
