@@ -16,7 +16,7 @@ from cadkg.cli.common import err
 from cadkg.cli.graph_commands import build, export, kinds, push, queries, query, validate
 from cadkg.cli.plan_commands import plan
 from cadkg.cli.serve_commands import ros, serve
-from cadkg.cli.service_commands import assign, call_service, list_services
+from cadkg.cli.service_commands import assign, call_service, list_services, progress
 
 __all__ = ["cli", "main"]
 
@@ -48,6 +48,7 @@ for command in (
     call_service,
     list_services,
     assign,
+    progress,
     plan,
     kinds,
     serve,

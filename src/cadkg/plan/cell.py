@@ -13,6 +13,7 @@ import cadkg.registry as registry
 from cadkg.errors import QueryError
 from cadkg.plan.graph import StoredPlan, cell_base, read_plan, write_plan
 from cadkg.plan.order import Plan, make_plan
+from cadkg.plan.progress import by_task, plan_around, read_progress
 from cadkg.plan.rules import Rules, check_settings, load_rules, parse_rules
 from cadkg.store import cell_profile
 
@@ -57,7 +58,12 @@ def plan_cell(kg: Any, rules: Path | None = None, solver_budget: float = 0.0) ->
 def _planned(kg: Any, rules: Rules, solver_budget: float = 0.0) -> Plan:
     planner = registry.use_case(cell_profile(kg)).planner
     assert planner is not None  # rules_of raised otherwise
-    return make_plan(planner.tasks(kg, rules), solver_budget)
+    problem = planner.tasks(kg, rules)
+    reports = by_task(problem.tasks, read_progress(kg))
+    if not reports:
+        return make_plan(problem, solver_budget)
+    # Refreshed around what the cell has reported (docs/plan.md, Progress).
+    return plan_around(problem, reports, read_plan(kg, cell_base(kg)), solver_budget)
 
 
 def store_plan(kg: Any, rules: Path | None = None, solver_budget: float = 0.0) -> StoredPlan:

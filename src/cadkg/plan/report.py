@@ -4,10 +4,12 @@ where it is."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 from cadkg.plan.decision import Performer
 from cadkg.plan.graph import PlannedStep, StoredPlan
+from cadkg.plan.progress import STATUSES
 
 __all__ = ["CSV_COLUMNS", "as_json", "explain", "find", "rows", "summary"]
 
@@ -46,9 +48,21 @@ def summary(plan: StoredPlan) -> str:
     )
 
 
-def as_json(plan: StoredPlan) -> dict[str, Any]:
-    """The plan as JSON data: summary, steps (the CSV's fields, the file position and why the
-    step is where it is) and ``precedence: [{before, after, reason}]`` (kept edges)."""
+def as_json(plan: StoredPlan, status: Mapping[str, str] | None = None) -> dict[str, Any]:
+    """The plan as JSON data: summary, steps (the CSV's fields, the file position, why the
+    step is where it is and its ``status`` from ``status``, by task key, else ``pending``) and
+    ``precedence: [{before, after, reason}]`` (kept edges); the summary counts the statuses."""
+    data = _as_json(plan)
+    status = status or {}
+    counts = dict.fromkeys(STATUSES, 0)
+    for step in data["steps"]:
+        step["status"] = status.get(step["key"], "pending")
+        counts[step["status"]] += 1
+    data["summary"]["status"] = counts
+    return data
+
+
+def _as_json(plan: StoredPlan) -> dict[str, Any]:
     names = {"toolChanges", "filesToolChanges", "toolChangesLowerBound", "filesPrecedenceViolations"}
     return {
         "summary": {
