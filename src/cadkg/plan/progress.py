@@ -10,6 +10,7 @@ it now is by that identity, so a report stays on its wire when another revision 
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -155,7 +156,9 @@ def _matched(kg: Any, rows: list[dict[str, Any]]) -> dict[str, tuple[dict[str, A
             work = row["work"] or ""
             out[str(row["r"])] = (row, work if work and _exists(kg, work) else "")
     for name, reports in by_kind.items():
-        kind = kinds[name]
+        # By the kind's key, then its first match only (a wire renumbered, same ends): a wire
+        # with an end changed is other work, which the report does not speak of.
+        kind = dataclasses.replace(kinds[name], match=kinds[name].match[:1])
         old = [_as_thing(kind, str(r["r"]), json.loads(r["identity"])) for r in reports]
         pairs, _, _ = pair_things(kind, old, read_things(kg, kind))
         now = {a.iri: b.iri or "" for a, b in pairs}

@@ -105,27 +105,29 @@ def _task_of(kg: Any, task: str) -> tuple[str, str, str]:
     """(key, label, work IRI) of the task named ``task`` (as ``cadkg plan --explain`` takes it),
     in the stored plan, else in the cell's tasks.
 
-    Raises NotFound when there is none, QueryError when the cell makes no plans."""
+    Raises NotFound when there is none, QueryError when the name is a label several tasks share
+    or the cell makes no plans."""
     from cadkg.plan.cell import rules_of
     from cadkg.plan.graph import cell_base, read_plan
     from cadkg.plan.progress import no_task
-    from cadkg.plan.report import find
     from cadkg.registry import use_case
     from cadkg.store import cell_profile
 
     stored = read_plan(kg, cell_base(kg))
     if stored is not None:
-        step = find(stored, task)
-        if step is None:
-            raise no_task(task)
-        return step.key, step.label, step.work
-    planner = use_case(cell_profile(kg)).planner
-    rules = rules_of(kg)
-    assert planner is not None  # rules_of raised otherwise
-    found = next((t for t in planner.tasks(kg, rules).tasks if task in (t.key, t.label)), None)
-    if found is None:
+        named = [(s.key, s.label, s.work) for s in stored.steps]
+    else:
+        planner = use_case(cell_profile(kg)).planner
+        rules = rules_of(kg)
+        assert planner is not None  # rules_of raised otherwise
+        named = [(t.key, t.label, t.iri) for t in planner.tasks(kg, rules).tasks]
+    found = [n for n in named if n[0] == task] or [n for n in named if n[1] == task]
+    if not found:
         raise no_task(task)
-    return found.key, found.label, found.iri
+    if len(found) > 1:
+        keys = ", ".join(key for key, _, _ in found[:5]) + (" ..." if len(found) > 5 else "")
+        raise QueryError(f"progress: {task!r} names {len(found)} tasks ({keys}): give its key")
+    return found[0]
 
 
 def _replan(kg: Any) -> bool:
