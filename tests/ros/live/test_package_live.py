@@ -296,14 +296,18 @@ def test_assign_changes_what_the_provider_gives_at_once(ros: Any, cell2: _Node) 
 
 
 def test_report_progress_is_kept_and_the_provider_skips_what_is_done(ros: Any, cell2: _Node) -> None:
-    first = _call(ros, cell2, srv.GroupConnectionProvider, "group_connection_provider", client="progress-test")
+    first = _call(
+        ros, cell2, srv.GroupConnectionProvider, "group_connection_provider", client="progress-test"
+    )
     assert not first.end
     reset = _call(ros, cell2, srv.ResetConnectionList, "reset_connection_list", client="progress-test")
     assert reset.success
     done = _call(ros, cell2, srv.ReportProgress, "report_progress", task=first.wire, state="done", reason="")
     assert done.success and done.status == "done", done.message
     assert done.target.endswith(f"wire/{first.wire}") and "kept in the store" in done.message
-    after = _call(ros, cell2, srv.GroupConnectionProvider, "group_connection_provider", client="progress-test")
+    after = _call(
+        ros, cell2, srv.GroupConnectionProvider, "group_connection_provider", client="progress-test"
+    )
     assert after.wire != first.wire  # the wire done is skipped from the next call on
     for task, state in (("NO-SUCH-WIRE", "done"), (first.wire, "finished")):
         bad = _call(ros, cell2, srv.ReportProgress, "report_progress", task=task, state=state, reason="")
