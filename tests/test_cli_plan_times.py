@@ -193,3 +193,28 @@ def test_a_bad_time_is_one_line_naming_the_file_and_key_and_exit_2(
     assert result.returncode == 2
     assert result.stderr.strip().count("\n") == 0, result.stderr
     assert f"{rules}: " in result.stderr and words in result.stderr
+
+
+def test_a_task_the_cell_has_done_is_timed_first_and_a_balance_moves_another(tmp_path: Path) -> None:
+    """The three wires of the test above, R1 reported done: it keeps the robot's first 100 s,
+    and the balance, which may not move it, moves R2 instead (robot R1 and R3: 200 s, a person
+    R2: 150 s; makespan 300 s → 200 s)."""
+    store = tmp_path / "store"
+    built = run("build", _three_wires(tmp_path), "--store", store)
+    assert built.returncode == 0, built.stderr
+    rules = _rules(tmp_path, BALANCE_RULES)
+    r1 = str(next(s["key"] for s in _plan(store, "--rules", rules)["steps"] if s["task"] == "R1"))  # type: ignore[attr-defined]
+    assert run("progress", store, "R1", "done").returncode == 0
+    balanced = _plan(store, "--rules", rules, "--balance")
+    steps = _steps(balanced)
+    assert steps["R1"]["key"] == r1 and steps["R1"]["status"] == "done"
+    assert (steps["R1"]["step"], steps["R1"]["performer"], steps["R1"]["start_s"], steps["R1"]["end_s"]) == (
+        0,
+        "robot",
+        0.0,
+        100.0,
+    )
+    assert [t for t, s in steps.items() if s["rule"] == "balance"] == ["R2"]
+    summary = balanced["summary"]
+    assert (summary["makespan_s"], summary["unbalanced_makespan_s"]) == (200.0, 300.0)  # type: ignore[index]
+    assert summary["status"] == {"pending": 2, "started": 0, "done": 1, "failed": 0}  # type: ignore[index]

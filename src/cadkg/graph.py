@@ -222,7 +222,8 @@ class KnowledgeGraph(GraphStore):
         self.reports.append(data.report)
 
     def _keep_edits(self, directory: Path, base_iri: str) -> list[tuple[str, str]]:
-        """Carry the live generation's hand-edited assignments over; give (target, performer) pairs."""
+        """Carry the live generation's hand-edited assignments and progress over; give the
+        assignments as (target, performer) pairs."""
         # Assignments edited by hand live in their own graph; a rebuild from the
         # source files carries them over from the live generation.
         previous = read_pointer(directory)
@@ -233,7 +234,9 @@ class KnowledgeGraph(GraphStore):
             old = ox.Store.read_only(str(directory / previous))
         except OSError:
             return []
-        self._store.extend(list(old.quads_for_pattern(None, None, None, graph)))
+        # The cell's progress reports too, matched to the new revision's work when read.
+        for kept in (graph, ox.NamedNode(base_iri + "progress")):
+            self._store.extend(list(old.quads_for_pattern(None, None, None, kept)))
         del old
         rows = self.query(
             "SELECT ?g ?target ?who WHERE { GRAPH ?g { ?a ck:assignmentOf ?target ; ck:assignedTo ?who } }",

@@ -56,6 +56,7 @@ CALLS: dict[str, tuple[str, list[dict[str, str]]]] = {
     "label_frames": ("iema-switchgear", [{"label": "F1500.1"}, {}, {"label": "NO-SUCH"}]),
     "plan": ("iema-switchgear", [{}]),
     "assign": ("iema-switchgear", [{"kind": "wire", "id": "1500.51", "performer": "human"}]),
+    "progress": ("iema-switchgear", [{"task": "1500.52", "state": "failed", "reason": "would not seat"}]),
     "reload": ("iema-switchgear", [{}]),
 }
 KINDS = {"bool": bool, "str": str, "int": int, "float": float}
@@ -80,7 +81,7 @@ def sessions() -> dict[str, Session]:
 
 def test_every_other_profile_service_is_called_here() -> None:
     others = {s.name for s in SERVICES.values() if s.profile != "iema"}
-    assert {"assign", "plan", "label_frames", "reload"} <= others
+    assert {"assign", "progress", "plan", "label_frames", "reload"} <= others
     assert set(CALLS) == others
     assert not set(CALLS) & {s.name for s in services_for("iema")}
 

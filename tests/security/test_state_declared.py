@@ -51,6 +51,7 @@ IEMA_CALLS: dict[str, dict[str, str]] = {
     "reset_rail_scanner": {},
     # The operations every cell offers (the test makes the example's plan first).
     "assign": {"kind": "wire", "id": "1500.51", "performer": "human"},
+    "progress": {"task": "1500.51", "state": "done"},
     "plan": {},
     "label_frames": {"label": "F1500.1"},
     "reload": {},

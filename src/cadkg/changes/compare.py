@@ -19,7 +19,7 @@ from cadkg.changes.things import Thing, cell_profiles, read_things
 from cadkg.geometry.poses import Pose
 from cadkg.loading import paused_gc
 
-__all__ = ["Tolerances", "diff_graphs", "diff_things", "profiles_of"]
+__all__ = ["Tolerances", "diff_graphs", "diff_things", "pair_things", "profiles_of"]
 
 
 @dataclass(frozen=True)
@@ -99,9 +99,12 @@ def _pair_by(
     return pairs
 
 
-def diff_things(kind: ThingKind, old: list[Thing], new: list[Thing], tolerances: Tolerances) -> list[Change]:
-    """The changes of one kind: things matched, compared, and the rest added or removed."""
-    changes: list[Change] = []
+def pair_things(
+    kind: ThingKind, old: list[Thing], new: list[Thing]
+) -> tuple[list[tuple[Thing, Thing]], list[Thing], list[Thing]]:
+    """The things of two revisions that are the same thing (by the kind's key, then by each
+    ``match`` alternative where it is unique on both sides), and those left over in each."""
+    matched: list[tuple[Thing, Thing]] = []
     left_old, left_new = list(old), list(new)
     for number, names in enumerate((kind.key, *kind.match)):
         pairs = _pair_by(names, left_old, left_new, unique=number > 0)
@@ -109,10 +112,14 @@ def diff_things(kind: ThingKind, old: list[Thing], new: list[Thing], tolerances:
         matched_new = {id(b) for _, b in pairs}
         left_old = [t for t in left_old if id(t) not in matched_old]
         left_new = [t for t in left_new if id(t) not in matched_new]
-        for a, b in pairs:
-            change = _compare(a, b, tolerances)
-            if change is not None:
-                changes.append(change)
+        matched.extend(pairs)
+    return matched, left_old, left_new
+
+
+def diff_things(kind: ThingKind, old: list[Thing], new: list[Thing], tolerances: Tolerances) -> list[Change]:
+    """The changes of one kind: things matched, compared, and the rest added or removed."""
+    pairs, left_old, left_new = pair_things(kind, old, new)
+    changes = [change for a, b in pairs if (change := _compare(a, b, tolerances)) is not None]
     changes.extend(Change("removed", kind.name, t.id, old_iri=t.iri) for t in left_old)
     changes.extend(Change("added", kind.name, t.id, new_iri=t.iri) for t in left_new)
     return sorted(changes, key=_order)

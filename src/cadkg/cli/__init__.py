@@ -29,6 +29,7 @@ COMMANDS = {
     "call": "cadkg.cli.service_commands:call_service",
     "services": "cadkg.cli.service_commands:list_services",
     "assign": "cadkg.cli.service_commands:assign",
+    "progress": "cadkg.cli.service_commands:progress",
     "plan": "cadkg.cli.plan_commands:plan",
     "kinds": "cadkg.cli.graph_commands:kinds",
     "serve": "cadkg.cli.serve_commands:serve",

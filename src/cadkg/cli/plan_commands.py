@@ -69,6 +69,7 @@ def plan(
     """
     from cadkg.plan.cell import store_plan
     from cadkg.plan.graph import plan_graph
+    from cadkg.plan.progress import read_progress, statuses
     from cadkg.plan.report import CSV_COLUMNS, as_json, explain, rows, summary
 
     if budget > 0 and importlib.util.find_spec("ortools") is None:
@@ -87,7 +88,8 @@ def plan(
         if fmt == "ttl":
             text = kg.serialize("ttl", graphs=[plan_graph(_base(kg))]).decode("utf-8").rstrip("\n")
         elif fmt == "json":
-            text = json.dumps(as_json(stored), indent=1, ensure_ascii=False)
+            status = statuses(stored, read_progress(kg))
+            text = json.dumps(as_json(stored, status), indent=1, ensure_ascii=False)
         elif fmt == "csv":
             buffer = io.StringIO()
             writer = csv.writer(buffer, lineterminator="\n")

@@ -1,4 +1,4 @@
-"""The commands of the services: call, services, assign."""
+"""The commands of the services: call, services, assign, progress."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from cadkg.cli.cursor_file import resume_cursors, write_cursors
 from cadkg.graph import KnowledgeGraph
 from cadkg.plan.decision import Performer
 
-__all__ = ["assign", "call_service", "list_services"]
+__all__ = ["assign", "call_service", "list_services", "progress"]
 
 
 @click.command(name="call")
@@ -96,3 +96,26 @@ def assign(store_dir: str, kind: str, ident: str, performer: str) -> None:
     with KnowledgeGraph.open(store_dir, read_only=False) as kg:
         done = call(Session(None, kg=kg), "assign", {"kind": kind, "id": ident, "performer": performer})
     err.print(f"{kind} {ident} → {performer} ({done.target})")
+
+
+@click.command()
+@click.argument("store_dir", metavar="STORE", type=click.Path(exists=True, file_okay=False))
+@click.argument("task", metavar="TASK")
+@click.argument("state", metavar="started|done|failed")
+@click.option("--reason", default="", help="What happened (why it failed).")
+@click.option("--client", default="cli", show_default=True, help="Who reports it.")
+@guarded
+def progress(store_dir: str, task: str, state: str, reason: str, client: str) -> None:
+    """Report what the cell did with TASK (a wire number, an operation label or a task key).
+
+    Kept in the store as a new generation, across rebuilds; a failed robot task goes to a
+    person and a stored plan is refreshed around the tasks done. The same as ``cadkg call
+    STORE progress task=... state=... reason=...``.
+    """
+    from cadkg.services.session import Session
+    from cadkg.services.table import call
+
+    with KnowledgeGraph.open(store_dir, read_only=False) as kg:
+        params = {"task": task, "state": state, **({"reason": reason} if reason else {})}
+        done = call(Session(None, kg=kg), "progress", params, client=client)
+    err.print(done.message, markup=False)

@@ -30,15 +30,21 @@ def _timing(plan: Plan, model: TimeModel) -> tuple[Lanes, Timing]:
 
 
 def timed(
-    problem: Problem, plan: Plan, model: TimeModel, order: Callable[[Problem], Plan], balance: bool
+    problem: Problem,
+    plan: Plan,
+    model: TimeModel,
+    order: Callable[[Problem], Plan],
+    balance: bool,
+    taken: frozenset[str] = frozenset(),
 ) -> Plan:
     """``plan`` with its timing; with ``balance``, the balanced plan when it ends sooner
-    (``order`` makes a plan of a problem, as :func:`cadkg.plan.order.make_plan` does)."""
+    (``order`` makes a plan of a problem, as :func:`cadkg.plan.order.make_plan` does). The
+    tasks of ``taken`` (keys: the cell has started or done them) are not moved."""
     lanes, timing = _timing(plan, model)
     plan.timing = timing
     if not balance or timing.robot_s <= timing.person_s:
         return plan
-    moved = _moved(plan, lanes)
+    moved = _moved(plan, lanes, taken)
     if not moved:
         return plan
     decisions = {s.task.key: s.decision for s in plan.steps}
@@ -77,12 +83,13 @@ def _reason(step: Step, was: Decision, lanes: Lanes, figures: tuple[float, float
     return replace(step, decision=Decision(Performer.HUMAN, BALANCE, why))
 
 
-def _moved(plan: Plan, lanes: Lanes) -> list[int]:
+def _moved(plan: Plan, lanes: Lanes, taken: frozenset[str]) -> list[int]:
     """The positions, in the plan, of the robot's tasks to hand to a person (none when no split
     ends sooner on the plan's order)."""
     held = {key for e in plan.precedence if e.immediate for key in (e.before, e.after)}
     # A task another waits for stays the robot's: in a person's lane it would hold the robot up.
     held.update(e.before for e in plan.precedence)
+    held.update(taken)
     robot = [s.decision.performer is Performer.ROBOT for s in plan.steps]
     movable = [
         n

@@ -7,6 +7,7 @@ key the chosen file gives replacing the default's.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -16,7 +17,9 @@ from cadkg.errors import QueryError
 from cadkg.plan.balance import timed
 from cadkg.plan.graph import StoredPlan, cell_base, read_plan, write_plan
 from cadkg.plan.order import Plan, make_plan
+from cadkg.plan.progress import by_task, plan_around, read_progress
 from cadkg.plan.rules import Rules, check_settings, load_rules, parse_rules
+from cadkg.plan.tasks import Problem
 from cadkg.plan.times import TimeModel
 from cadkg.store import cell_profile
 
@@ -74,9 +77,17 @@ def _planned(kg: Any, rules: Rules, solver_budget: float = 0.0, balance: bool | 
     assert planner is not None  # rules_of raised otherwise
     problem = planner.tasks(kg, rules)
     model = time_model(kg, rules)
-    plan = make_plan(problem, solver_budget)
     chosen = model.balance if balance is None else balance
-    return timed(problem, plan, model, partial(make_plan, solver_budget=solver_budget), chosen)
+    reports = by_task(problem.tasks, read_progress(kg))
+    if not reports:
+        order: Callable[[Problem], Plan] = partial(make_plan, solver_budget=solver_budget)
+        return timed(problem, order(problem), model, order, chosen)
+    # Refreshed around what the cell has reported (docs/plan.md, Progress); what it has taken
+    # on stays where it is, balanced or not.
+    previous = read_plan(kg, cell_base(kg))
+    order = partial(plan_around, reports=reports, previous=previous, solver_budget=solver_budget)
+    taken = frozenset(k for k, r in reports.items() if r.state in ("done", "started"))
+    return timed(problem, order(problem), model, order, chosen, taken)
 
 
 def store_plan(

@@ -4,10 +4,12 @@ where it is."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 from cadkg.plan.decision import BALANCE, Performer
 from cadkg.plan.graph import PlannedStep, StoredPlan
+from cadkg.plan.progress import STATUSES
 
 __all__ = ["CSV_COLUMNS", "as_json", "explain", "find", "rows", "summary"]
 
@@ -72,10 +74,22 @@ _TIMES = {
 }
 
 
-def as_json(plan: StoredPlan) -> dict[str, Any]:
-    """The plan as JSON data: summary (with ``robot_time_s``, ``person_time_s``, ``makespan_s``),
-    steps (the CSV's fields, the file position, why the step is where it is, ``start_s`` and
-    ``end_s``) and ``precedence: [{before, after, reason}]`` (kept edges)."""
+def as_json(plan: StoredPlan, status: Mapping[str, str] | None = None) -> dict[str, Any]:
+    """The plan as JSON data: summary (with ``robot_time_s``, ``person_time_s``, ``makespan_s``
+    and the statuses counted), steps (the CSV's fields, the file position, why the step is where
+    it is, ``start_s`` and ``end_s``, and its ``status`` from ``status``, by task key, else
+    ``pending``) and ``precedence: [{before, after, reason}]`` (kept edges)."""
+    data = _as_json(plan)
+    status = status or {}
+    counts = dict.fromkeys(STATUSES, 0)
+    for step in data["steps"]:
+        step["status"] = status.get(step["key"], "pending")
+        counts[step["status"]] += 1
+    data["summary"]["status"] = counts
+    return data
+
+
+def _as_json(plan: StoredPlan) -> dict[str, Any]:
     names = {"toolChanges", "filesToolChanges", "toolChangesLowerBound", "filesPrecedenceViolations"}
     return {
         "summary": {

@@ -233,6 +233,7 @@ def test_a_namespace_moves_every_service(ros: Any, cell2: _Node) -> None:
         "sparql",
         "reload",
         "assign",
+        "report_progress",
         "label_frames",
     }
     while {s.rsplit("/", 1)[-1] for s in _services_of(ros, "/cell2/gearbox_handler/")} < expected:
@@ -292,3 +293,22 @@ def test_assign_changes_what_the_provider_gives_at_once(ros: Any, cell2: _Node) 
     assert undone.success
     bad = _call(ros, cell2, srv.Assign, "assign", kind="wire", id="NO-SUCH-WIRE", performer="human")
     assert not bad.success and "NO-SUCH-WIRE" in bad.message
+
+
+def test_report_progress_is_kept_and_the_provider_skips_what_is_done(ros: Any, cell2: _Node) -> None:
+    first = _call(
+        ros, cell2, srv.GroupConnectionProvider, "group_connection_provider", client="progress-test"
+    )
+    assert not first.end
+    reset = _call(ros, cell2, srv.ResetConnectionList, "reset_connection_list", client="progress-test")
+    assert reset.success
+    done = _call(ros, cell2, srv.ReportProgress, "report_progress", task=first.wire, state="done", reason="")
+    assert done.success and done.status == "done", done.message
+    assert done.target.endswith(f"wire/{first.wire}") and "kept in the store" in done.message
+    after = _call(
+        ros, cell2, srv.GroupConnectionProvider, "group_connection_provider", client="progress-test"
+    )
+    assert after.wire != first.wire  # the wire done is skipped from the next call on
+    for task, state in (("NO-SUCH-WIRE", "done"), (first.wire, "finished")):
+        bad = _call(ros, cell2, srv.ReportProgress, "report_progress", task=task, state=state, reason="")
+        assert not bad.success and (task if state == "done" else state) in bad.message

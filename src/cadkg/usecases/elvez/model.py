@@ -24,7 +24,17 @@ if TYPE_CHECKING:
     from cadkg.graph import KnowledgeGraph
     from cadkg.services.session import Session
 
-__all__ = ["PROFILE", "ROBOT_BASE", "Element", "ElvezModel", "build_model", "known", "model_of", "unresolved"]
+__all__ = [
+    "PROFILE",
+    "ROBOT_BASE",
+    "Element",
+    "ElvezModel",
+    "build_model",
+    "known",
+    "model_of",
+    "operation_iris",
+    "unresolved",
+]
 
 PROFILE = "elvez"
 
@@ -418,3 +428,11 @@ def unresolved(model: ElvezModel, step: SequenceStep) -> list[str]:
         elif spot.guide not in {g.couple for g in definition.guides}:
             notes.append(f"spot {spot.jig}.{spot.guide}: {spot.jig} has no guide {spot.guide}")
     return notes
+
+
+def operation_iris(kg: Any) -> dict[int, str]:
+    """The IRI of each operation of the sequence, by its line in the file."""
+    return {
+        int(row["line"]): row["op"]
+        for row in kg.query("SELECT ?op ?line WHERE { ?op ck:operationCode ?c ; ck:sourceLine ?line }")
+    }

@@ -29,7 +29,7 @@ from cadkg.query.validate import Finding
 from cadkg.usecases.elvez import DEFAULT_RULES
 from cadkg.usecases.elvez.files.harnesses import WiringHarness
 from cadkg.usecases.elvez.files.sequence import SequenceStep, SpotRef
-from cadkg.usecases.elvez.model import ElvezModel, build_model, unresolved
+from cadkg.usecases.elvez.model import ElvezModel, build_model, operation_iris, unresolved
 from cadkg.usecases.elvez.platform import key_centre
 
 __all__ = [
@@ -143,10 +143,7 @@ def elvez_problem(kg: Any, rules: Rules) -> Problem:
 
 def problem_of(kg: Any, model: ElvezModel, rules: Rules) -> Problem:
     """:func:`elvez_problem` of a model already built."""
-    iris = {
-        int(row["line"]): row["op"]
-        for row in kg.query("SELECT ?op ?line WHERE { ?op ck:operationCode ?c ; ck:sourceLine ?line }")
-    }
+    iris = operation_iris(kg)
     base = cell_base(kg)
     assigned = _assignments(kg, base, model)
     tasks, decisions = [], {}

@@ -15,12 +15,14 @@ the plan's order; operations are still named by their index in the sequence.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from cadkg.plan.graph import robot_positions
+from cadkg.plan.progress import finished_work
 from cadkg.services.session import Session, Work, cursor_done, cursor_rebase, follow
 from cadkg.usecase import Answer
 from cadkg.usecases.elvez.files.sequence import SequenceStep
-from cadkg.usecases.elvez.model import PROFILE, ElvezModel, model_of, unresolved
+from cadkg.usecases.elvez.model import PROFILE, ElvezModel, model_of, operation_iris, unresolved
 
 __all__ = [
     "AllOperationsResult",
@@ -109,9 +111,19 @@ def _describe(model: ElvezModel, position: int) -> str:
 def _order(session: Session, model: ElvezModel) -> list[int]:
     """The sequence indices the cursor walks: the stored plan's robot operations, else all."""
     planned = session.memo("elvez-plan-order", lambda: robot_positions(session.kg))
-    if planned is not None and all(0 <= p < len(model.sequence) for p in planned):
-        return planned
-    return list(range(len(model.sequence)))
+    if planned is None or not all(0 <= p < len(model.sequence) for p in planned):
+        planned = list(range(len(model.sequence)))
+    finished = session.memo("elvez-finished", lambda: _finished_positions(session.kg, model))
+    return [p for p in planned if p not in finished] if finished else planned
+
+
+def _finished_positions(kg: Any, model: ElvezModel) -> frozenset[int]:
+    """The sequence indices of the operations the cell reported done or failed (cadkg progress)."""
+    finished = finished_work(kg)
+    if not finished:
+        return frozenset()
+    lines = {line for line, iri in operation_iris(kg).items() if iri in finished}
+    return frozenset(n for n, step in enumerate(model.sequence) if step.line in lines)
 
 
 def _hand_out(

@@ -21,6 +21,7 @@ from decimal import Decimal, InvalidOperation
 from cadkg.geometry.poses import Pose, Vec3
 from cadkg.plan.decision import Performer
 from cadkg.plan.graph import robot_positions
+from cadkg.plan.progress import finished_work
 from cadkg.services.session import Session, Work, cursor_done, cursor_rebase, follow
 from cadkg.usecase import Answer
 from cadkg.usecases.iema.derive.cabinet import CadPin, CellModel, WireStep
@@ -114,13 +115,17 @@ class CursorState:
 class _Work:
     """The robot's share of a cabinet model, worked out once per session."""
 
-    def __init__(self, model: CellModel, planned: list[int] | None = None) -> None:
+    def __init__(
+        self, model: CellModel, planned: list[int] | None = None, finished: frozenset[str] = frozenset()
+    ) -> None:
         self.model = model
         # A stored plan (cadkg plan) gives the robot's wires and their order; else the lists do.
         if planned is not None and all(0 <= p < len(model.steps) for p in planned):
-            self.steps = [model.steps[p] for p in planned]
+            steps = [model.steps[p] for p in planned]
         else:
-            self.steps = [s for s in model.steps if s.performer is Performer.ROBOT]
+            steps = [s for s in model.steps if s.performer is Performer.ROBOT]
+        # Wires the cell reported done or failed (cadkg progress) are handed out no more.
+        self.steps = [s for s in steps if s.iri not in finished]
         # Per ``source`` argument of reset_to_connection_list: the first robot step of each
         # wire number and of each list position, built on first use.
         self.lookup: dict[str, tuple[dict[Decimal, int], dict[int, int]]] = {}
@@ -131,7 +136,9 @@ class _Work:
 
 
 def _work(session: Session) -> _Work:
-    return session.memo("iema-work", lambda: _Work(session.model, robot_positions(session.kg)))
+    return session.memo(
+        "iema-work", lambda: _Work(session.model, robot_positions(session.kg), finished_work(session.kg))
+    )
 
 
 def state(session: Session, client: str) -> CursorState:
