@@ -70,6 +70,7 @@ class KnowledgeGraph(GraphStore):
         # Whether the store is a generation being made, which no other reader sees yet.
         self._unpublished = False
         self._changing = False  # inside _change: a change within it is part of it
+        self._holding = False  # inside _writing: the writer lock is this object's already
         # The stages of the build that made this graph and their seconds (see build).
         self.stages: list[tuple[str, float]] = []
 
@@ -341,15 +342,20 @@ class KnowledgeGraph(GraphStore):
 
     @contextlib.contextmanager
     def _writing(self) -> Iterator[None]:
-        """Hold the store directory's writer lock, on its live generation (a build's)."""
-        if self.directory is None or self._generation is None:
+        """Hold the store directory's writer lock, on its live generation (a build's); inside a
+        change, which holds it already, on the change's generation."""
+        if self.directory is None or self._generation is None or self._holding:
             yield
-            return  # in memory: nothing to wait for
+            return  # in memory: nothing to wait for; in a change: part of it
         with writing(self.directory):
             live = current_generation(self.directory)
             if live != self._generation:
                 self._swap_store(open_writable(live), live)
-            yield
+            self._holding = True
+            try:
+                yield
+            finally:
+                self._holding = False
 
     def _swap_store(self, store: ox.Store, generation: Path) -> None:
         self._store, self._generation, self._files_dir = store, generation, generation / FILES
@@ -376,8 +382,12 @@ class KnowledgeGraph(GraphStore):
             del old  # closed before checkpoint() removes its files
             self._keep_model(self.cell_model())
 
-    def assign(self, kind: str, ident: str, performer: str) -> str:
+    def assign(
+        self, kind: str, ident: str, performer: str, also: Callable[[], Iterable[str]] | None = None
+    ) -> str:
         """Decide who makes a wire, handles a component or performs an operation; kept across rebuilds.
+        ``also`` gives the ids of ``kind`` the cell model does not list but its plan's tasks
+        are assigned by (an ELVEZ operation by its order in the sequence), asked only then.
 
         Raises
         ------
@@ -394,31 +404,33 @@ class KnowledgeGraph(GraphStore):
                 f"performer one of {', '.join(Performer)}"
             )
         with self._writing():  # after a build in progress, on what it made
-            return self._assign(kind, ident, performer)
-
-    def _assign(self, kind: str, ident: str, performer: str) -> str:
-        model = self.cell_model()
-        if not model.base:
-            raise StoreError("the store has no cell; build it from a manifest first")
-        known = {
-            "wire": {s.wire for s in model.steps},
-            "component": set(model.components),
-            "operation": {str(s.position) for s in model.steps},
-        }[kind]
-        if ident not in known:
-            raise NotFound(f"no {kind} {ident!r} in the graph")
-        target = node_iri(model.base, kind, ident)
-        node = node_iri(model.base, "assignment", kind, ident)
-        graph = f"{model.base}assignments"
-        with self._change():
-            # One update request: the old decision goes only if the new one lands.
-            self._store.update(
-                f"""DELETE WHERE {{ GRAPH <{graph}> {{ <{node}> ?p ?o }} }} ;
-                    INSERT DATA {{ GRAPH <{graph}> {{
-                      <{node}> a <{CK_NS}Assignment> ; <{CK_NS}assignmentOf> <{target}> ;
-                        <{CK_NS}assignedTo> <{CK_NS}{performer}> }} }}"""
-            )
-        return target
+            model = self.cell_model()
+            if not model.base:
+                raise StoreError("the store has no cell; build it from a manifest first")
+            known = {
+                "wire": {s.wire for s in model.steps},
+                "component": set(model.components),
+                "operation": {str(s.position) for s in model.steps},
+            }[kind]
+            if ident not in known and also is not None:
+                known = known | set(also())
+            if ident not in known:
+                raise NotFound(f"no {kind} {ident!r} in the graph")
+            target = node_iri(model.base, kind, ident)
+            node = node_iri(model.base, "assignment", kind, ident)
+            graph = f"{model.base}assignments"
+            with self._change():
+                # One update request: the old decision goes only if the new one lands.
+                self._store.update(
+                    f"""DELETE WHERE {{ GRAPH <{graph}> {{ <{node}> ?p ?o }} }} ;
+                        INSERT DATA {{ GRAPH <{graph}> {{
+                          <{node}> a <{CK_NS}Assignment> ; <{CK_NS}assignmentOf> <{target}> ;
+                            <{CK_NS}assignedTo> <{CK_NS}{performer}> }} }}"""
+                )
+                # The model read above holds the old performers: what else the change does (a plan
+                # made in it) must see the new one.
+                self._forget_model()
+            return target
 
     def replace_source(
         self,

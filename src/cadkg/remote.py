@@ -461,7 +461,7 @@ class RemoteGraph(KnowledgeGraph):
         self._model = None
         return self.cell_model()
 
-    def assign(self, kind: str, ident: str, performer: str) -> str:
+    def assign(self, kind: str, ident: str, performer: str, also: Any = None) -> str:
         raise StoreError(f"{self.endpoint}: {_READ_ONLY}; assign in the local store and push it again")
 
     def replace_source(self, *args: Any, **kwargs: Any) -> Any:

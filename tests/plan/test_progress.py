@@ -18,6 +18,7 @@ from cadkg.services.table import call
 from tests.changes.cells import MINI, copy_cell, edit
 from tests.cli import run
 from tests.conftest import ELVEZ, IEMA
+from tests.plan.stores import built, copied
 
 
 def _plan(store: Path) -> dict[str, Any]:
@@ -32,20 +33,11 @@ def _steps(plan: dict[str, Any]) -> dict[str, dict[str, Any]]:
 
 @pytest.fixture(scope="module")
 def iema_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    store = tmp_path_factory.mktemp("progress") / "iema"
-    KnowledgeGraph.build(IEMA, store).close()
-    return store
-
-
-def _copy(store: Path, target: Path) -> Path:
-    import shutil
-
-    shutil.copytree(store, target, symlinks=True)
-    return target
+    return built(IEMA, tmp_path_factory.mktemp("progress") / "iema")
 
 
 def test_reports_are_kept_counted_and_a_failure_goes_to_a_person(iema_store: Path, tmp_path: Path) -> None:
-    store = _copy(iema_store, tmp_path / "iema")
+    store = copied(iema_store, tmp_path / "iema")
     first = _plan(store)
     robot = [s["key"] for s in first["steps"] if s["performer"] == "robot"]
     assert first["summary"]["status"] == {"pending": 110, "started": 0, "done": 0, "failed": 0}
@@ -85,7 +77,7 @@ def test_reports_are_kept_counted_and_a_failure_goes_to_a_person(iema_store: Pat
 def test_a_done_after_a_failed_is_done_by_the_person_the_failure_gave_it_to(
     iema_store: Path, tmp_path: Path
 ) -> None:
-    store = _copy(iema_store, tmp_path / "iema")
+    store = copied(iema_store, tmp_path / "iema")
     task = next(s["key"] for s in _plan(store)["steps"] if s["performer"] == "robot")
     assert run("progress", store, task, "failed", "--reason", "would not seat").returncode == 0
     assert run("progress", store, task, "done", "--client", "bench-2").returncode == 0

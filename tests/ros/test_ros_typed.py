@@ -57,6 +57,7 @@ CALLS: dict[str, tuple[str, list[dict[str, str]]]] = {
     "plan": ("iema-switchgear", [{}]),
     "assign": ("iema-switchgear", [{"kind": "wire", "id": "1500.51", "performer": "human"}]),
     "progress": ("iema-switchgear", [{"task": "1500.52", "state": "failed", "reason": "would not seat"}]),
+    "replan": ("iema-switchgear", [{"task": "1500.53", "performer": "human"}]),
     "reload": ("iema-switchgear", [{}]),
 }
 KINDS = {"bool": bool, "str": str, "int": int, "float": float}
@@ -81,7 +82,7 @@ def sessions() -> dict[str, Session]:
 
 def test_every_other_profile_service_is_called_here() -> None:
     others = {s.name for s in SERVICES.values() if s.profile != "iema"}
-    assert {"assign", "progress", "plan", "label_frames", "reload"} <= others
+    assert {"assign", "progress", "plan", "replan", "label_frames", "reload"} <= others
     assert set(CALLS) == others
     assert not set(CALLS) & {s.name for s in services_for("iema")}
 

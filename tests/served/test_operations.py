@@ -22,12 +22,13 @@ from tests.conftest import EXAMPLES, IEMA
 def test_every_transport_serves_the_operations_with_the_use_case_services() -> None:
     for profile in ("iema", "elvez", "elimco", "vw", "enki"):
         names = [s.name for s in served_for(profile)]
-        assert names[:5] == ["assign", "plan", "progress", "label_frames", "reload"]
+        assert names[:6] == ["assign", "plan", "progress", "replan", "label_frames", "reload"]
         assert len(names) == len(set(names)) and all(n in SERVICES for n in names)
     assert {n: s.effect for n, s in OPERATIONS.items()} == {
         "assign": Effect.WRITES,
         "plan": Effect.READS,
         "progress": Effect.WRITES,
+        "replan": Effect.WRITES,
         "label_frames": Effect.READS,
         "reload": Effect.RELOADS,
     }

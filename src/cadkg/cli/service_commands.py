@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 import click
 from rich.table import Table
@@ -33,9 +34,8 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
     STORE/cursors.json, so successive calls walk the list; after a rebuild of the store each
     stays on its wire or operation (stderr says where it is, or why it starts afresh).
     """
-    from cadkg.services.service import Effect, to_jsonable
-    from cadkg.services.session import Session
-    from cadkg.services.table import call, find
+    from cadkg.services.service import Effect
+    from cadkg.services.table import find
     from cadkg.store import cell_profile
 
     store = Path(target) if Path(target).is_dir() else None
@@ -46,6 +46,28 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
         # A service that writes (assign) changes a store in a new generation, as cadkg assign does.
         kg.close()
         kg = open_target(target, writable=True)
+    try:
+        answer = _answer(kg, store, profile, service, params, client, declared)
+    finally:
+        kg.close()  # a refused call as well: one process may call again (a notebook, a test)
+    out.print_json(json.dumps(answer))
+    if isinstance(answer, dict) and answer.get("success") is False:
+        sys.exit(1)  # the service answered, and said it could not do it
+
+
+def _answer(
+    kg: KnowledgeGraph,
+    store: Path | None,
+    profile: str,
+    service: str,
+    params: tuple[str, ...],
+    client: str,
+    declared: Any,
+) -> Any:
+    from cadkg.services.service import Effect, to_jsonable
+    from cadkg.services.session import Session
+    from cadkg.services.table import call
+
     session = Session(kg.cell_model(), kg=kg, profile=profile)
     generation = kg.generation
     if store is not None:
@@ -55,10 +77,7 @@ def call_service(target: str, service: str, params: tuple[str, ...], client: str
     # Only a service declared to move a cursor writes the cursor file.
     if store is not None and declared is not None and declared.effect is Effect.CURSOR:
         write_cursors(store, generation, session)
-    answer = to_jsonable(result)
-    out.print_json(json.dumps(answer))
-    if isinstance(answer, dict) and answer.get("success") is False:
-        sys.exit(1)  # the service answered, and said it could not do it
+    return to_jsonable(result)
 
 
 @click.command(name="services")

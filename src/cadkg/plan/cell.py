@@ -23,7 +23,7 @@ from cadkg.plan.tasks import Problem
 from cadkg.plan.times import TimeModel
 from cadkg.store import cell_profile
 
-__all__ = ["cell_base", "cell_profile", "plan_cell", "rules_of", "store_plan", "time_model"]
+__all__ = ["assigned_by", "cell_base", "cell_profile", "plan_cell", "rules_of", "store_plan", "time_model"]
 
 
 def rules_of(kg: Any, rules: Path | None = None) -> Rules:
@@ -104,3 +104,14 @@ def store_plan(
     stored = read_plan(kg, base)
     assert stored is not None  # just written
     return stored
+
+
+def assigned_by(kg: Any, kind: str) -> set[str]:
+    """The ids of ``kind`` that the cell's plan tasks are assigned by (``Task.assign_as``): what
+    ``cadkg assign`` accepts besides what the cell model lists. Empty for a cell that makes no
+    plans."""
+    planner = registry.use_case(cell_profile(kg)).planner
+    if planner is None:
+        return set()
+    tasks = planner.tasks(kg, rules_of(kg)).tasks
+    return {t.assign_as[1] for t in tasks if t.assign_as and t.assign_as[0] == kind}

@@ -243,9 +243,9 @@ def record(kg: Any, key: str, label: str, work: str, state: str, reason: str = "
     return node[1:-1]
 
 
-def no_task(task: str) -> NotFound:
-    """The error of a report naming no task of the cell."""
-    return NotFound(f"progress: no task {task!r} in the plan (a wire number, an operation label or key)")
+def no_task(task: str, what: str = "progress") -> NotFound:
+    """The error of a report (or of ``what`` else names a task) naming no task of the cell."""
+    return NotFound(f"{what}: no task {task!r} in the plan (a wire number, an operation label or key)")
 
 
 def by_task(tasks: list[Task], reports: Mapping[str, Report]) -> dict[str, Report]:

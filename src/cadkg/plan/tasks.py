@@ -24,7 +24,8 @@ class Task:
     wire number, the operation's code and labels); ``tools`` the tools it needs in the order it
     uses them; ``start`` and ``end`` where the robot's tool is when it starts and ends it;
     ``classes`` what the time model times it by (a wire's ends' terminations; without any, its
-    ``kind``).
+    ``kind``); ``assign_as`` what ``cadkg assign`` names it by (``("wire", "1500.51")``,
+    ``("operation", "4")``), empty when it cannot be assigned.
     """
 
     key: str
@@ -37,6 +38,7 @@ class Task:
     iri: str = ""
     where: str = ""
     classes: tuple[str, ...] = ()
+    assign_as: tuple[str, str] | tuple[()] = ()
 
 
 @dataclass(frozen=True, slots=True)

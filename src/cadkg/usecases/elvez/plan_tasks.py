@@ -164,6 +164,7 @@ def problem_of(kg: Any, model: ElvezModel, rules: Rules) -> Problem:
                 end,
                 iris.get(step.line, ""),
                 where,
+                assign_as=("operation", str(step.order)),
             )
         )
         decisions[key] = decision

@@ -188,6 +188,8 @@ def iema_problem(kg: Any, rules: Rules) -> Problem:
                 step.iri,
                 where,
                 tuple(termination or "" for termination in step.terminations),
+                # A number several wires share names them all: one of them is its list position.
+                ("wire", step.wire) if numbers[step.wire] == 1 else ("operation", str(step.position)),
             )
         )
         decisions[key] = decision
