@@ -118,7 +118,7 @@ def test_graph_view_of_any_node(url: str) -> None:
 def test_info(url: str) -> None:
     data = httpx.get(f"{url}/api/info").json()
     assert f"{BASE}graph/lista-cablaggio.csv" in data["named_graphs"]
-    assert data["update"] is False
+    assert data["update"] is False and data["token"] is False
     assert data["limits"]["max_rows"] == 10_000
     assert data["generation"].startswith("memory-")
     assert data["changes"] is False  # an in-memory graph without the token cannot change

@@ -424,6 +424,9 @@ async def info(request: Request) -> Response:
                         "max_body_bytes": limits.max_body,
                     },
                     "update": endpoint.settings.allow_update,
+                    # Whether a bearer token unlocks changes: the workbench's review panel asks
+                    # for it only then.
+                    "token": bool(endpoint.settings.token),
                     # Whether the served graph can change (a store directory is rebuilt under it;
                     # with the token, /reload): the page follows /api/changes only then.
                     "changes": bool(endpoint.settings.token)

@@ -7,6 +7,7 @@
 import * as THREE from "three";
 import { getJson, postQuery } from "../api.js";
 import { prefixes } from "../prefixes.js";
+import { PlanReview } from "./review.js";
 import { pieces, taskThings } from "./tasks.js";
 
 const $ = (id) => document.getElementById(id);
@@ -19,6 +20,7 @@ export class PlanSteps {
     this.steps = null;
     this.tasks = new Map();
     this.index = 0;
+    this.review = new PlanReview(this);
     $("cell-plan-toggle").addEventListener("click", () => this.toggle());
     $("plan-prev").addEventListener("click", () => this.go(this.index - 1));
     $("plan-next").addEventListener("click", () => this.go(this.index + 1));
@@ -29,8 +31,10 @@ export class PlanSteps {
     const bar = $("plan-bar");
     if (!bar.hidden) {
       bar.hidden = true;
+      $("plan-review").hidden = true;
       $("cell-plan-toggle").classList.remove("active");
       this.view.markers.set("plan", []);
+      this.view.markers.set("progress", []);
       return;
     }
     bar.hidden = false;
@@ -45,12 +49,25 @@ export class PlanSteps {
         for (const step of plan.steps) if (this.tasks.has(step.key)) this.tasks.get(step.key).label = step.task;
         this.steps = plan.steps;
         this.summary = plan.summary;
+        await this.review.start();
       } catch (err) {
         this.steps = [];
         $("plan-task").textContent = `No plan in this graph: make one with cadkg plan STORE (${err.message})`;
         return;
       }
     }
+    this.review.show();
+    await this.go(this.index);
+  }
+
+  /** The plan a re-plan answered (/api/replan): its steps and summary, shown again. */
+  async replace(plan) {
+    const key = this.steps[this.index] ? this.steps[this.index].key : null;
+    this.steps = plan.steps;
+    this.summary = plan.summary;
+    const index = this.steps.findIndex((s) => s.key === key);
+    this.index = index < 0 ? 0 : index;
+    this.review.show();
     await this.go(this.index);
   }
 
@@ -82,6 +99,7 @@ export class PlanSteps {
     this.view.container.dataset.planNext = next.map((t) => t.iri || t.label).join(" ");
     this.view.container.dataset.planParts = current ? pieces(current).map((t) => t.label).join("|") : "";
     this.view.markers.set("plan", next.filter((t) => t !== current).map((thing) => ({ thing, colour: DIM })));
+    this.review.current(step);
     if (current) {
       await this.view.select(current);
     } else {

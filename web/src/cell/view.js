@@ -382,6 +382,7 @@ export class CellView {
 
   async select(what) {
     const panel = $("cell-pick");
+    if (this.plan) this.plan.review.showPick(what);
     if (!what) {
       this.picked = null;
       panel.hidden = true;
