@@ -115,10 +115,10 @@ def _(record: Connection, w: TripleWriter, source_slug: str) -> None:
         f'{wire} {_SEQUENCE_INDEX} "{record.index}"^^{INTEGER} .\n'
         f'{wire} {SOURCE_LINE} "{record.line}"^^{INTEGER} .\n'
     ]
-    if record.section_mm2 is not None:
-        parts.append(f"{wire} {_SECTION} {w.typed(record.section_mm2)} .\n")
-    if record.length_m is not None:
-        parts.append(f"{wire} {_LENGTH} {w.typed(record.length_m)} .\n")
+    measures = ((_SECTION, record.section_mm2), (_LENGTH, record.length_m))
+    parts.extend(
+        f"{wire} {predicate} {w.typed(value)} .\n" for predicate, value in measures if value is not None
+    )
     parts.extend(
         [
             f"{wire} {predicate} {literal(value)} .\n"

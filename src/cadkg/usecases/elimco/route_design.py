@@ -134,33 +134,27 @@ def read_pin_info(path: str | Path) -> list[BenchPinSpec]:
         kind = doc.choice(attrs.get("type", "simple"), ("simple", "double"), "type", name, line)
         x = doc.number(attrs["x"], "x", name, line)
         y = doc.number(attrs["y"], "y", name, line)
-        double_distance = None
-        if kind == "double":
-            if "double_distance" not in attrs:
-                raise doc.error(
-                    f"double pin {name!r} without double_distance",
-                    line,
-                    expected="the distance between its two pins",
-                )
-            double_distance = doc.length(
-                attrs["double_distance"], "double_distance", name, line, positive=True
+        if kind == "double" and "double_distance" not in attrs:
+            raise doc.error(
+                f"double pin {name!r} without double_distance",
+                line,
+                expected="the distance between its two pins",
             )
-        elif "double_distance" in attrs:
+        if kind == "simple" and "double_distance" in attrs:
             raise doc.error(
                 f"double_distance on simple pin {name!r}",
                 line,
                 found=attrs["double_distance"],
                 expected='type="double", or no double_distance',
             )
-        connector = None
-        if "connector_distance" in attrs:
-            if role == "intermediate":
-                raise doc.error(
-                    f"connector_distance on intermediate pin {name!r}",
-                    line,
-                    expected="it only on initial and final pins, which stand at a connector",
-                )
-            connector = doc.length(attrs["connector_distance"], "connector_distance", name, line)
+        double_distance = doc.optional_length(attrs, "double_distance", name, line, positive=True)
+        if role == "intermediate" and "connector_distance" in attrs:
+            raise doc.error(
+                f"connector_distance on intermediate pin {name!r}",
+                line,
+                expected="it only on initial and final pins, which stand at a connector",
+            )
+        connector = doc.optional_length(attrs, "connector_distance", name, line)
         pins.append(
             BenchPinSpec(
                 name=name,
@@ -207,9 +201,7 @@ def read_cable_info(path: str | Path) -> list[RouteCable]:
                 found=attrs["initial"],
                 expected="two different connectors",
             )
-        length = None
-        if "length" in attrs:
-            length = doc.length(attrs["length"], "length", name, line, positive=True)
+        length = doc.optional_length(attrs, "length", name, line, positive=True)
         cables.append(RouteCable(name, attrs["initial"], attrs["final"], length, line))
     return cables
 
@@ -271,9 +263,7 @@ def read_path_info(path: str | Path) -> list[RoutePathSpec]:
                     f"path {index} visits pin {pin!r} twice", line, expected="each pin once along a route"
                 )
         lengths = _check_segments(doc, index, pins, segments)
-        total = None
-        if "total_length" in attrs:
-            total = doc.length(attrs["total_length"], "total_length", f"path {index}", line, positive=True)
+        total = doc.optional_length(attrs, "total_length", f"path {index}", line, positive=True)
         if lengths:
             added = sum(lengths, Decimal(0))
             if total is not None and abs(added - total) > _SUM_TOLERANCE_M:
@@ -285,11 +275,7 @@ def read_path_info(path: str | Path) -> list[RoutePathSpec]:
                     expected=f"{_text(added / doc.scale)} (the sum of the segment lengths)",
                 )
             total = total if total is not None else added
-        cable_length = None
-        if "cable_length" in attrs:
-            cable_length = doc.length(
-                attrs["cable_length"], "cable_length", f"path {index}", line, positive=True
-            )
+        cable_length = doc.optional_length(attrs, "cable_length", f"path {index}", line, positive=True)
         paths.append(
             RoutePathSpec(
                 index=index,
@@ -466,3 +452,9 @@ class _Document:
                 expected=f"a {'positive' if positive else 'non-negative'} number of {self.units}",
             )
         return (value * self.scale).normalize()
+
+    def optional_length(
+        self, attrs: dict[str, str], key: str, name: str, line: int, *, positive: bool = False
+    ) -> Decimal | None:
+        """The length attribute ``key`` in metres, None where the element leaves it out."""
+        return self.length(attrs[key], key, name, line, positive=positive) if key in attrs else None

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import networkx as nx
 
+from cadkg.errors import IngestError
 from cadkg.ingest.harness.records import (
     Harness,
     HarnessCable,
@@ -157,12 +158,7 @@ class _Parser(StatementReader):
         for name, s in h.connectors.items():
             node = s.options.get("at", name)
             if node not in h.nodes:
-                raise self.error(
-                    f"connector {name} is at an unknown node",
-                    s.line,
-                    found=node,
-                    expected=self.known(h.nodes),
-                )
+                raise self.unknown(f"connector {name} is at an unknown node", s, node, h.nodes)
             located[name] = node
         segments = {name: self.segment(h, s) for name, s in h.segments.items()}
         graph = nx.Graph()
@@ -175,12 +171,7 @@ class _Parser(StatementReader):
         for name, s in h.wires.items():
             cable = s.options.get("cable")
             if cable is not None and cable not in h.cables:
-                raise self.error(
-                    f"wire {name} is a core of an unknown cable",
-                    s.line,
-                    found=cable,
-                    expected=self.known(h.cables),
-                )
+                raise self.unknown(f"wire {name} is a core of an unknown cable", s, cable, h.cables)
         records: list[HarnessRecord] = [Harness(h.name, h.description, FILE_FORMAT, h.line)]
         records.extend(
             HarnessConnector(
@@ -225,11 +216,12 @@ class _Parser(StatementReader):
             )
         return records
 
-    @staticmethod
-    def known(table: Iterable[str]) -> str:
+    def unknown(self, reason: str, s: Statement, name: str, table: Iterable[str]) -> IngestError:
+        """The error of ``s`` naming ``name``, which ``table`` does not declare: it shows what does."""
         names = sorted(table)
         shown = ", ".join(names[:12]) + (" ..." if len(names) > 12 else "")
-        return f"one of: {shown}" if names else "a declared name (none is declared)"
+        expected = f"one of: {shown}" if names else "a declared name (none is declared)"
+        return self.error(reason, s.line, found=name, expected=expected)
 
     def diameter(self, s: Statement) -> float | None:
         value = self.length(s, "diameter")
@@ -239,12 +231,7 @@ class _Parser(StatementReader):
         name, start, end = s.words
         for node in (start, end):
             if node not in h.nodes:
-                raise self.error(
-                    f"segment {name} leads to an unknown node",
-                    s.line,
-                    found=node,
-                    expected=self.known(h.nodes),
-                )
+                raise self.unknown(f"segment {name} leads to an unknown node", s, node, h.nodes)
         if start == end:
             raise self.error(
                 f"segment {name} starts and ends at the same node", s.line, found=start, expected="two nodes"
@@ -271,12 +258,7 @@ class _Parser(StatementReader):
                 expected="CONNECTOR:CAVITY, e.g. X1:3",
             )
         if connector not in cavities:
-            raise self.error(
-                f"wire {s.words[0]} ends at an unknown connector",
-                s.line,
-                found=connector,
-                expected=self.known(cavities),
-            )
+            raise self.unknown(f"wire {s.words[0]} ends at an unknown connector", s, connector, cavities)
         if cavity not in cavities[connector]:
             raise self.error(
                 f"wire {s.words[0]} ends in a cavity connector {connector} does not have",
@@ -304,11 +286,8 @@ class _Parser(StatementReader):
             for segment_name in route:
                 segment = segments.get(segment_name)
                 if segment is None:
-                    raise self.error(
-                        f"route of wire {name} names an unknown segment",
-                        s.line,
-                        found=segment_name,
-                        expected=self.known(segments),
+                    raise self.unknown(
+                        f"route of wire {name} names an unknown segment", s, segment_name, segments
                     )
                 if at not in (segment.start, segment.end):
                     raise self.error(
@@ -370,10 +349,6 @@ class _Parser(StatementReader):
                 on_segments.append(name)
             else:
                 what = "node or segment" if allow_nodes else "segment"
-                raise self.error(
-                    f"{s.keyword} {s.words[0]} is on an unknown {what}",
-                    s.line,
-                    found=name,
-                    expected=self.known({**(h.nodes if allow_nodes else {}), **h.segments}),
-                )
+                declared = {**(h.nodes if allow_nodes else {}), **h.segments}
+                raise self.unknown(f"{s.keyword} {s.words[0]} is on an unknown {what}", s, name, declared)
         return tuple(dict.fromkeys(nodes)), tuple(dict.fromkeys(on_segments))
