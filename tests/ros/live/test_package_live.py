@@ -10,6 +10,7 @@ file is checked against the node's parameters.
 from __future__ import annotations
 
 import ast
+import math
 import os
 import shutil
 import signal
@@ -234,6 +235,7 @@ def test_a_namespace_moves_every_service(ros: Any, cell2: _Node) -> None:
         "reload",
         "assign",
         "report_progress",
+        "replan",
         "label_frames",
     }
     while {s.rsplit("/", 1)[-1] for s in _services_of(ros, "/cell2/gearbox_handler/")} < expected:
@@ -312,3 +314,23 @@ def test_report_progress_is_kept_and_the_provider_skips_what_is_done(ros: Any, c
     for task, state in (("NO-SUCH-WIRE", "done"), (first.wire, "finished")):
         bad = _call(ros, cell2, srv.ReportProgress, "report_progress", task=task, state=state, reason="")
         assert not bad.success and (task if state == "done" else state) in bad.message
+
+
+def test_replan_gives_a_wire_to_a_person_with_the_times_before_and_after(ros: Any, cell2: _Node) -> None:
+    first = _call(ros, cell2, srv.GroupConnectionProvider, "group_connection_provider", client="replan-test")
+    assert not first.end
+    answer = _call(ros, cell2, srv.Replan, "replan", task=first.wire, performer="human")
+    assert answer.success, answer.message
+    moved = [(m.task, m.before, m.after) for m in answer.moved]
+    assert (first.wire, "robot", "human") in moved, moved
+    assert answer.person_time_s > answer.person_time_s_before or math.isnan(answer.person_time_s_before)
+    step = next(s for s in answer.steps if s.task == first.wire)
+    assert (step.performer, step.status) == ("human", "pending") and step.end_s > step.start_s
+    reset = _call(ros, cell2, srv.ResetConnectionList, "reset_connection_list", client="replan-test")
+    assert reset.success
+    after = _call(ros, cell2, srv.GroupConnectionProvider, "group_connection_provider", client="replan-test")
+    assert after.wire != first.wire  # a person's now: the provider skips it
+    bad = _call(ros, cell2, srv.Replan, "replan", task="NO-SUCH-WIRE", performer="human")
+    assert not bad.success and "NO-SUCH-WIRE" in bad.message
+    back = _call(ros, cell2, srv.Replan, "replan", task=first.wire, performer="robot")
+    assert back.success and [(m.task, m.after) for m in back.moved] == [(first.wire, "robot")]
