@@ -119,3 +119,13 @@ def test_replan_over_http_needs_post_and_the_token(planned: Path, tmp_path: Path
         assert [m["key"] for m in done.json()["moved"]] == ["1500.53"]
         plan = httpx.get(f"{base}/api/plan", timeout=60).json()
         assert next(s for s in plan["steps"] if s["key"] == "1500.53")["performer"] == "human"
+
+
+def test_a_store_without_a_plan_is_measured_against_the_plan_of_the_cell_as_it_stood(tmp_path: Path) -> None:
+    store = built(IEMA, tmp_path / "iema")
+    planned = json.loads(run("plan", store, "--format", "json").stdout)
+    wire = next(s for s in planned["steps"] if s["performer"] == "robot")
+    fresh = built(IEMA, tmp_path / "fresh")
+    answer = _call(fresh, f"task={wire['task']}", "performer=human")
+    assert answer["makespan_s_before"] == planned["summary"]["makespan_s"]
+    assert [(m["key"], m["before"], m["after"]) for m in answer["moved"]] == [(wire["key"], "robot", "human")]

@@ -48,8 +48,9 @@ class Progressed(Answer):
 @dataclass(frozen=True)
 class Replanned(PlanDocument):
     """The plan made again: the new plan as :class:`PlanDocument`, the times of the plan it
-    replaced (``*_before``; NaN when the store held none) and the tasks whose performer changed
-    (``moved``: ``{key, task, before, after, reason}``, ``before`` empty for a new task)."""
+    replaced (``*_before``: of the plan the store held, else of the plan of the cell as it stood)
+    and the tasks whose performer changed (``moved``: ``{key, task, before, after, reason}``,
+    ``before`` empty for a new task)."""
 
     robot_time_s: float
     person_time_s: float
@@ -195,16 +196,21 @@ def _replan(session: Session, client: str = "default", task: str = "", performer
     if task:
         _task_of(kg, task, "replan")  # an unknown task changes nothing, not even a generation
     previous = _document(kg)
+    if previous is None:
+        # What the switch is measured against: the plan as the cell stands, stored as cadkg
+        # plan stores it.
+        from cadkg.plan.cell import store_plan
+
+        store_plan(kg)
+        previous = _document(kg)
+        assert previous is not None  # just stored
     with kg.change():
         key = _switch(kg, task, performer) if task else ""
-        if not _stored_again(kg):
-            from cadkg.plan.cell import store_plan
-
-            store_plan(kg)
+        _stored_again(kg)
     found = _document(kg)
     assert found is not None  # just stored
-    (data, line), (old, _) = found, previous or ({"summary": {}, "steps": []}, "")
-    moved = _moved(old["steps"], data["steps"]) if previous is not None else []
+    (data, line), (old, _) = found, previous
+    moved = _moved(old["steps"], data["steps"])
     switched = f"{key} → {performer}; " if key else ""
     message = f"replanned{_kept(kg)}: {switched}{len(moved)} task(s) changed performer; {line}"
     (robot, person, makespan), (robot_was, person_was, makespan_was) = (
