@@ -242,8 +242,7 @@ async def call_service(
 
             return job
 
-        answer, generation = await endpoint.run(make_job, None, deadline, local=True)
-        return endpoint.respond(answer, generation)
+        return await endpoint.answer(make_job, None, deadline, local=True)
     except CadkgError as err:
         return _error(err)
 
@@ -284,8 +283,7 @@ async def named(request: Request) -> Response:
             return query_job(endpoint.settings, served, spec)
 
         key = ("named", name, tuple(sorted(params.items())), results_fmt.name)
-        answer, generation = await endpoint.run(make_job, key, deadline)
-        return endpoint.respond(answer, generation)
+        return await endpoint.answer(make_job, key, deadline)
     except CadkgError as err:
         return fail(err, text, endpoint.settings.retry_after)
 
@@ -384,8 +382,7 @@ async def graph_view(request: Request) -> Response:
 
             return job
 
-        answer, generation = await endpoint.run(make_job, ("graph", label, iri), deadline, local=True)
-        return endpoint.respond(answer, generation)
+        return await endpoint.answer(make_job, ("graph", label, iri), deadline, local=True)
     except CadkgError as err:
         return _error(err)
 
@@ -444,8 +441,7 @@ async def info(request: Request) -> Response:
 
             return job
 
-        answer, generation = await endpoint.run(make_job, None, deadline, local=True)
-        return endpoint.respond(answer, generation)
+        return await endpoint.answer(make_job, None, deadline, local=True)
     except CadkgError as err:
         return _error(err)
 

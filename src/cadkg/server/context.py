@@ -381,7 +381,18 @@ class Endpoint:
             return job
 
         # Built here, in a thread: the query workers answer SPARQL, not Python callables.
-        answer, generation = await self.run(make_job, key, deadline, local=True)
+        return await self.answer(make_job, key, deadline, local=True)
+
+    async def answer(
+        self,
+        make_job: Callable[[Served], Callable[[Deadline], Answer]],
+        key: Hashable | None,
+        deadline: Deadline,
+        *,
+        local: bool = False,
+    ) -> Response:
+        """:meth:`run`'s answer as the response, naming the generation it came from."""
+        answer, generation = await self.run(make_job, key, deadline, local=local)
         return self.respond(answer, generation)
 
     def respond(self, answer: Answer, generation: str) -> Response:

@@ -201,8 +201,7 @@ async def sparql(request: Request) -> Response:
             return query_job(endpoint.settings, served, spec)
 
         key = ("sparql", op.text, op.default_graphs, op.named_graphs, str(results_fmt), str(graph_fmt))
-        answer, generation = await endpoint.run(make_job, key, deadline)
-        return endpoint.respond(answer, generation)
+        return await endpoint.answer(make_job, key, deadline)
     except CadkgError as err:
         return fail(err, text, endpoint.settings.retry_after)
 
@@ -299,8 +298,7 @@ async def _read_graph(
 
         return job
 
-    answer, generation = await endpoint.run(make_job, ("graph-store", graph_iri, fmt.name), deadline)
-    return endpoint.respond(answer, generation)
+    return await endpoint.answer(make_job, ("graph-store", graph_iri, fmt.name), deadline)
 
 
 async def _write_graph(
