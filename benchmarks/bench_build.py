@@ -79,7 +79,7 @@ from synthetic import write_cabinet, write_cell
 
 CHILD_FLAG = "--child-job"
 TARGET_RATIO = 5.0
-TARGET_BULK_RATIO = 1.5
+TARGET_BULK_RATIO = 1.0  # the goal of issue 43; 1.5 before, when the build was far inside it
 TARGET_MEMORY_MIB = 24 * 1024
 # "100k wires built in ≤ 10 s" was withdrawn: the build is within a few tenths of its store's
 # own bulk load of the same quads, and that ratio is what is kept (benchmarks/README.md).

@@ -38,6 +38,39 @@ def test_background_loader_loads_each_chunk_into_its_graph(tmp_path: Path, bulk:
     assert triples_of(store, G2) == {(f"https://example.org/s/{i}", f"two {i}") for i in range(5, 10)}
 
 
+def test_bulk_chunks_are_gathered_per_graph_and_loaded_by_two_threads(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    store = ox.Store(str(tmp_path / "store"))
+    loads: list[tuple[str, int]] = []
+
+    class Counted:  # pyoxigraph's Store cannot be patched: its bulk loads, counted
+        def bulk_load(self, data: bytes, *args: object, to_graph: ox.NamedNode, **kwargs: object) -> None:
+            loads.append((to_graph.value, data.count(b"\n")))
+            store.bulk_load(data, *args, to_graph=to_graph, **kwargs)
+
+    # A gathered chunk is sent once it holds three of these 40-line chunks.
+    monkeypatch.setattr("cadkg.loading.BULK_CHUNK_BYTES", 3 * len(lines(G1, 0, 40)) - 1)
+    with BackgroundLoader(Counted(), bulk=True) as loader:  # type: ignore[arg-type]
+        for first in range(0, 400, 40):
+            loader.put(G1, lines(G1, first, 40))
+        loader.put(G2, lines(G2, 0, 40))
+        loader.put(G1, lines(G1, 400, 40))
+    assert len(loader._threads) == 2
+    assert sorted(loads) == sorted([(G1, 120)] * 3 + [(G1, 40), (G2, 40), (G1, 40)])
+    assert triples_of(store, G1) == {(f"https://example.org/s/{i}", f"one {i}") for i in range(440)}
+    assert len(triples_of(store, G2)) == 40
+
+
+def test_a_bulk_load_error_is_raised_in_the_producer(tmp_path: Path) -> None:
+    loader = BackgroundLoader(ox.Store(str(tmp_path / "store")), bulk=True)
+    loader.put(G1, lines(G1, 0, 3))
+    loader.put(G2, b"<broken\n")
+    with pytest.raises(SyntaxError):
+        loader.close()
+    assert not any(thread.is_alive() for thread in loader._threads)
+
+
 def test_a_load_error_is_raised_in_the_producer() -> None:
     loader = BackgroundLoader(ox.Store(), bulk=False)
     loader.put(G1, b"<broken\n")
@@ -49,7 +82,7 @@ def test_a_producer_failure_stops_the_loading_thread() -> None:
     with pytest.raises(RuntimeError, match="row 7"), BackgroundLoader(ox.Store(), bulk=False) as loader:
         loader.put(G1, lines(G1, 0, 10))
         raise RuntimeError("row 7 is bad")
-    assert not loader._thread.is_alive()
+    assert not any(thread.is_alive() for thread in loader._threads)
 
 
 def test_paused_gc_restores_the_collector_and_leaves_the_build_in_the_oldest_generation() -> None:

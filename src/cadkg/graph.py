@@ -196,14 +196,14 @@ class KnowledgeGraph(GraphStore):
         edits: Iterable[tuple[str, str]] = (),
     ) -> list[SourceReport]:
         """Load every source, derive the cell model and load its graph; the store ends complete."""
-        # A failure anywhere discards the whole store being built, so chunks of a file may be
-        # loaded while the rest of it is still being mapped. On disk, one bulk load per file:
-        # bulk-loading many chunks writes many small tables that cost more to merge.
+        # A failure anywhere discards the whole store being built, so chunks of a file, and of
+        # the derived graph, are loaded while the rest of it is still being written; on disk
+        # the loader gathers them into large bulk loads (see BackgroundLoader).
         with BackgroundLoader(self._store, bulk=bulk) as loader:
             model = write_graphs(
                 manifest,
                 loader.put,
-                stream=not bulk,
+                stream=True,
                 on_source=on_source,
                 on_graph=self._took,
                 edits=edits,
