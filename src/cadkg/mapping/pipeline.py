@@ -145,13 +145,18 @@ class _Mapped:
     files: dict[str, bytes]
 
 
+_CHILD_CHUNK_LINES = 16_000
+
+
 def _mapped(read: Callable[[Path], Iterable[object]], source: _Source) -> Iterator[object]:
     """In the child: the N-Triples of ``source`` in chunks (``bytes``), the records its ``keep``
     takes, then a :class:`_Mapped`."""
     writer = TripleWriter(source.base_iri)
     writer.root_frame = source.frame
     chunks: list[bytes] = []
-    writer.stream_to(chunks.append)
+    # Small chunks: what the child holds stays near the file's own size (the loader in the
+    # calling process gathers them into large bulk loads).
+    writer.stream_to(chunks.append, most=_CHILD_CHUNK_LINES)
     slug = Path(source.rel_path).stem
     keep = source.keep
     records = iter(read(source.path))

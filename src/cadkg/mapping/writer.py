@@ -127,6 +127,7 @@ class TripleWriter:
         self.components: dict[str, str] = {}
         self._flushed = 0
         self._chunk = _FIRST_CHUNK_LINES
+        self._most = _CHUNK_LINES
         # Lines held in multi-line entries of ``lines`` beyond one each (see add_block).
         self._extra = 0
         self._sink: Callable[[bytes], None] | None = None
@@ -134,10 +135,13 @@ class TripleWriter:
         # as a string in a list, and the graph of a big file is held whole until it is loaded.
         self._held: list[bytes] = []
 
-    def stream_to(self, sink: Callable[[bytes], None]) -> None:
-        """Hand the lines to ``sink`` in chunks while mapping, so a store can load one chunk
-        while the next is mapped; :meth:`data` then gives only what was not handed yet."""
+    def stream_to(self, sink: Callable[[bytes], None], most: int = _CHUNK_LINES) -> None:
+        """Hand the lines to ``sink`` in chunks of at most ``most`` lines while mapping, so a
+        store can load one chunk while the next is mapped; :meth:`data` then gives only what
+        was not handed yet."""
         self._sink = sink
+        self._most = most
+        self._chunk = min(self._chunk, most)
 
     def maybe_flush(self) -> None:
         if len(self.lines) + self._extra >= self._chunk:
@@ -149,7 +153,7 @@ class TripleWriter:
             self._flushed += len(self.lines) + self._extra
             self.lines = []
             self._extra = 0
-            self._chunk = min(2 * self._chunk, _CHUNK_LINES)
+            self._chunk = min(2 * self._chunk, self._most)
 
     @property
     def triples(self) -> int:
