@@ -52,6 +52,7 @@ IEMA_CALLS: dict[str, dict[str, str]] = {
     # The operations every cell offers (the test makes the example's plan first).
     "assign": {"kind": "wire", "id": "1500.51", "performer": "human"},
     "progress": {"task": "1500.51", "state": "done"},
+    "replan": {"task": "1500.53", "performer": "human"},
     "plan": {},
     "label_frames": {"label": "F1500.1"},
     "reload": {},
