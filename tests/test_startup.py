@@ -100,7 +100,8 @@ def test_one_call_imports_only_its_own_use_case_and_command(tmp_path: Path) -> N
         "with contextlib.redirect_stdout(out):\n"
         f"    cli.main(['call', {str(store)!r}, 'cad_service', 'label=K1'], standalone_mode=False)\n"
         "print(json.dumps({'answer': json.loads(out.getvalue()),\n"
-        "    'modules': sorted(m for m in sys.modules if m.startswith(('cadkg.usecases.', 'cadkg.cli.')))}))"
+        "    'modules': sorted(m for m in sys.modules if m.startswith(('cadkg.usecases.', 'cadkg.cli.'))),\n"
+        "    'planner': 'cadkg.plan.order' in sys.modules, 'numpy': 'numpy' in sys.modules}))"
     )
     assert isinstance(found, dict)
     assert found["answer"]["success"] is True
@@ -111,6 +112,8 @@ def test_one_call_imports_only_its_own_use_case_and_command(tmp_path: Path) -> N
     assert others == []
     commands = {f"cadkg.cli.{name}_commands" for name in ("graph", "change", "plan", "serve")}
     assert not commands & set(modules), sorted(commands & set(modules))
+    # The cursors read the cell's progress reports; the planner (and numpy) only a re-plan needs.
+    assert (found["planner"], found["numpy"]) == (False, False)
 
 
 def test_every_use_case_service_is_listed_when_all_are_asked_for() -> None:

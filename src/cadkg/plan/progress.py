@@ -15,7 +15,7 @@ import json
 from collections.abc import Mapping
 from dataclasses import dataclass
 from datetime import UTC, datetime
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pyoxigraph as ox
 
@@ -27,9 +27,10 @@ from cadkg.mapping.writer import TripleWriter
 from cadkg.ontology.terms import CK_NS
 from cadkg.plan.decision import Decision, Performer
 from cadkg.plan.graph import StoredPlan, cell_base
-from cadkg.plan.measure import lower_bound, measure
-from cadkg.plan.order import Plan, Step, make_plan
 from cadkg.plan.tasks import Problem, Task
+
+if TYPE_CHECKING:
+    from cadkg.plan.order import Plan
 
 __all__ = [
     "FAILED",
@@ -285,6 +286,10 @@ def plan_around(
     robot task goes to a person; the tasks done, then those started, come first, in their order in
     the ``previous`` plan (else as reported), each as it was planned there; the rest is planned
     after them (:func:`cadkg.plan.order.make_plan`)."""
+    # Only here: the cursors read the reports on every call, and ordering imports numpy.
+    from cadkg.plan.measure import lower_bound, measure
+    from cadkg.plan.order import Plan, Step, make_plan
+
     decisions = dict(problem.decisions)
     for key, report in reports.items():
         if report.state == FAILED:
