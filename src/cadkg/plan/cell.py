@@ -7,7 +7,7 @@ key the chosen file gives replacing the default's.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -19,11 +19,20 @@ from cadkg.plan.graph import StoredPlan, cell_base, read_plan, write_plan
 from cadkg.plan.order import Plan, make_plan
 from cadkg.plan.progress import by_task, plan_around, read_progress
 from cadkg.plan.rules import Rules, check_settings, load_rules, parse_rules
-from cadkg.plan.tasks import Problem
+from cadkg.plan.tasks import Problem, Task
 from cadkg.plan.times import TimeModel
 from cadkg.store import cell_profile
 
-__all__ = ["assigned_by", "cell_base", "cell_profile", "plan_cell", "rules_of", "store_plan", "time_model"]
+__all__ = [
+    "assign_ids",
+    "assigned_by",
+    "cell_base",
+    "cell_profile",
+    "plan_cell",
+    "rules_of",
+    "store_plan",
+    "time_model",
+]
 
 
 def rules_of(kg: Any, rules: Path | None = None) -> Rules:
@@ -113,5 +122,9 @@ def assigned_by(kg: Any, kind: str) -> set[str]:
     planner = registry.use_case(cell_profile(kg)).planner
     if planner is None:
         return set()
-    tasks = planner.tasks(kg, rules_of(kg)).tasks
+    return assign_ids(planner.tasks(kg, rules_of(kg)).tasks, kind)
+
+
+def assign_ids(tasks: Iterable[Task], kind: str) -> set[str]:
+    """The ids of ``kind`` that ``tasks`` are assigned by."""
     return {t.assign_as[1] for t in tasks if t.assign_as and t.assign_as[0] == kind}

@@ -154,17 +154,16 @@ def _stored_again(kg: Any) -> bool:
     return True
 
 
-def _switch(kg: Any, task: str, performer: str) -> str:
-    """Assign the task named ``task`` to ``performer`` as ``cadkg assign`` would; its key."""
-    key, _, _ = _task_of(kg, task, "replan")
-    named = next((t.assign_as for t in _tasks(kg) if t.key == key), ())
+def _switch(kg: Any, key: str, performer: str) -> None:
+    """Assign the task ``key`` to ``performer`` as ``cadkg assign`` would."""
+    from cadkg.plan.cell import assign_ids
+
+    tasks = _tasks(kg)
+    named = next((t.assign_as for t in tasks if t.key == key), ())
     if not named:
         raise QueryError(f"replan: task {key} cannot be assigned (cadkg assign names no such work)")
-    from cadkg.plan.cell import assigned_by
-
     kind, ident = named
-    kg.assign(kind, ident, performer, partial(assigned_by, kg, kind))
-    return key
+    kg.assign(kind, ident, performer, partial(assign_ids, tasks, kind))
 
 
 def _times(summary: dict[str, Any]) -> tuple[float, float, float]:
@@ -193,8 +192,8 @@ def _replan(session: Session, client: str = "default", task: str = "", performer
     if performer and performer not in tuple(Performer):
         raise QueryError(f"replan: unknown performer {performer!r}; expected robot or human")
     kg = _writable(session)
-    if task:
-        _task_of(kg, task, "replan")  # an unknown task changes nothing, not even a generation
+    # An unknown task changes nothing, not even a generation.
+    key = _task_of(kg, task, "replan")[0] if task else ""
     previous = _document(kg)
     if previous is None:
         # What the switch is measured against: the plan as the cell stands, stored as cadkg
@@ -205,7 +204,8 @@ def _replan(session: Session, client: str = "default", task: str = "", performer
         previous = _document(kg)
         assert previous is not None  # just stored
     with kg.change():
-        key = _switch(kg, task, performer) if task else ""
+        if key:
+            _switch(kg, key, performer)
         _stored_again(kg)
     found = _document(kg)
     assert found is not None  # just stored
