@@ -81,6 +81,12 @@ export class PlanReview {
   /** The whole panel from the plan's steps and summary. */
   show() {
     const { steps, summary } = this.plan;
+    // What each drawn thing is the task of, asked per pick and per mark: found once here.
+    this.byThing = new Map();
+    for (const step of steps) {
+      const thing = this.plan.thingOf(step);
+      if (thing && !this.byThing.has(thing)) this.byThing.set(thing, step);
+    }
     $("plan-review").hidden = false;
     $("plan-times").textContent = `robot ${seconds(summary.robot_time_s)}, person ${seconds(summary.person_time_s)}, `
       + `makespan ${seconds(summary.makespan_s)} side by side`;
@@ -134,18 +140,12 @@ export class PlanReview {
   /** Done, failed and started tasks marked in the 3D view in their colours. */
   colour() {
     const marks = [];
-    for (const step of this.plan.steps) {
+    for (const [thing, step] of this.byThing) {
       const colour = STATUS_COLOURS[step.status];
-      const thing = colour ? this.plan.thingOf(step) : null;
-      if (thing) marks.push({ thing, colour });
+      if (colour) marks.push({ thing, colour, status: step.status });
     }
     this.plan.view.markers.set("progress", marks);
-    this.plan.view.container.dataset.progress = marks.map((m) => `${m.thing.iri || m.thing.label}=${this.statusOf(m.thing)}`).join(" ");
-  }
-
-  statusOf(thing) {
-    const step = this.stepOf(thing);
-    return step ? step.status : "";
+    this.plan.view.container.dataset.progress = marks.map((m) => `${m.thing.iri || m.thing.label}=${m.status}`).join(" ");
   }
 
   /** The current step outlined in the table and the lanes. */
@@ -161,8 +161,7 @@ export class PlanReview {
 
   /** The step whose task is the thing picked in the 3D view, or null. */
   stepOf(thing) {
-    if (!thing || !this.plan.steps) return null;
-    return this.plan.steps.find((s) => this.plan.thingOf(s) === thing) || null;
+    return (thing && this.byThing && this.byThing.get(thing)) || null;
   }
 
   /** The pick panel's switch button, for a picked thing that is a task of the plan. */
