@@ -133,6 +133,7 @@ OPEN = "import sys, time; import pyoxigraph as ox; store = ox.Store(sys.argv[1])
     "print('open', flush=True); time.sleep(float(sys.argv[2]))"  # fmt: skip
 
 
+@pytest.mark.slow
 def test_a_change_waits_for_the_process_that_holds_the_live_database(tmp_path: Path) -> None:
     """A build keeps the generation it published open until its command ends; a change started
     right after it opens the store once it is let go, not with an error."""

@@ -233,6 +233,7 @@ def _imported_top_modules() -> set[str]:
     return found
 
 
+@pytest.mark.slow
 def test_every_runtime_dependency_is_imported_by_the_package() -> None:
     import re
     import tomllib

@@ -157,6 +157,7 @@ def test_failed_build_leaves_the_previous_store_unchanged(tmp_path: Path) -> Non
         assert len(kg) == count
 
 
+@pytest.mark.slow
 def test_failed_first_build_leaves_nothing_behind(tmp_path: Path) -> None:
     # A failure at the first source, while the new store is still busy in the background:
     # the generation used to come back after its removal, and the retry was refused.

@@ -5,9 +5,12 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
+
 from tests.conftest import ROOT
 
 
+@pytest.mark.slow
 def test_bench_startup_prints_a_row_per_command() -> None:
     result = subprocess.run(
         [sys.executable, str(ROOT / "benchmarks" / "bench_startup.py"), "--runs", "1"],

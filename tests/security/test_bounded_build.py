@@ -68,6 +68,7 @@ def test_the_default_ratio_is_documented_and_counts_the_file() -> None:
     assert "CADKG_READ_RATIO" in text and f"is {DEFAULT_READ_RATIO} bytes" in text
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("what", "ratio"),
     [

@@ -19,6 +19,7 @@ import threading
 from pathlib import Path
 
 import httpx
+import pytest
 
 import cadkg
 from cadkg.confined import OutsideRootError, file_name, open_inside, write_files
@@ -206,6 +207,7 @@ def test_load_files_takes_a_list_and_a_comma_is_part_of_a_name(tmp_path: Path) -
         assert listed.status_code == 400 and "not a list" in listed.text
 
 
+@pytest.mark.slow
 def test_load_files_reads_inside_its_root_while_a_folder_is_swapped_for_a_link(tmp_path: Path) -> None:
     root, outside = tmp_path / "root", tmp_path / "outside"
     _pins(root / "bench", "55000")

@@ -115,6 +115,7 @@ def server(store: Path) -> Iterator[tuple[str, int]]:
         yield base, process.pid
 
 
+@pytest.mark.slow
 @SLOW
 @given(bomb=bombs())
 def test_the_endpoint_stops_the_query_and_answers_the_next(server: tuple[str, int], bomb: str) -> None:

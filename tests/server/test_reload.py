@@ -25,6 +25,7 @@ def store(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return directory
 
 
+@pytest.mark.slow
 def test_rebuild_while_serving_loses_no_request(store: Path) -> None:
     settings = Settings(limits=Limits(timeout=30), cache_bytes=0, watch_seconds=0.1)
     answers: list[tuple[int, str, str]] = []

@@ -4,6 +4,7 @@ the SPARQL 1.1 Protocol (here a second cadkg endpoint serving the IEMA example).
 from __future__ import annotations
 
 import httpx
+import pytest
 
 import cadkg
 from cadkg.remote import RemoteGraph
@@ -13,6 +14,7 @@ SRJ = "application/sparql-results+json"
 WIRES = "SELECT (COUNT(DISTINCT ?w) AS ?n) WHERE { ?w a ck:Wire }"
 
 
+@pytest.mark.slow
 def test_serving_a_remote_store(iema: cadkg.KnowledgeGraph) -> None:
     with serving(iema) as upstream, serving(lambda: RemoteGraph(f"{upstream}/sparql")) as base:
         count = httpx.get(f"{base}/sparql", params={"query": WIRES}, headers={"Accept": SRJ}, timeout=60)

@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 
 import httpx
+import pytest
 
 from tests.conftest import IEMA
 from tests.server.serving import cadkg_serve_process
@@ -37,6 +38,7 @@ def cpu_seconds(group: int) -> float:
     return total / TICK
 
 
+@pytest.mark.slow
 def test_runaway_queries_are_stopped_and_the_endpoint_answers() -> None:
     with cadkg_serve_process(str(IEMA), "--timeout", "3", "--workers", "4") as (base, process):
         answers: list[tuple[int, float, str]] = []

@@ -34,6 +34,7 @@ def _client_descriptors() -> None:
     own_descriptors()
 
 
+@pytest.mark.slow
 def test_slow_clients_are_closed_and_the_cell_answers(tmp_path: Path) -> None:
     log = tmp_path / "serve.log"
     timeout = 4.0
@@ -75,6 +76,7 @@ def test_slow_clients_are_closed_and_the_cell_answers(tmp_path: Path) -> None:
     assert all(c.received.startswith(b"HTTP/1.1 200") for c in timed_out if c.kind == "pipelined")
 
 
+@pytest.mark.slow
 def test_past_the_bound_a_request_gets_503_and_the_cell_recovers(tmp_path: Path) -> None:
     log = tmp_path / "serve.log"
     bound = DESCRIPTORS - RESERVE
