@@ -70,12 +70,13 @@ done
 
 build_package() {
   local name=$1 src="$ROOT/ros2/$1" dir="$BUILD/$1"
+  shift
   rm -rf "$dir"
   # The bootstrapper .pth of the wheels sets LD_LIBRARY_PATH by re-executing Python; the
   # generators run inside cmake, so give them the path directly.
   AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" \
     cmake -S "$src" -B "$dir" -DCMAKE_INSTALL_PREFIX="$PREFIX" -DCMAKE_PREFIX_PATH="$PREFIX;$VENV" \
-    -DPython3_EXECUTABLE="$PY" -DPython3_FIND_STRATEGY=LOCATION -DBUILD_TESTING=OFF \
+    -DPython3_EXECUTABLE="$PY" -DPython3_FIND_STRATEGY=LOCATION -DBUILD_TESTING=OFF "$@" \
     >>"$LOG" 2>&1 || fail "cmake configure of $name" "$LOG"
   AMENT_PREFIX_PATH="$PREFIX:$VENV" cmake --build "$dir" -j "$(nproc)" >>"$LOG" 2>&1 \
     || fail "build of $name" "$LOG"
@@ -83,7 +84,8 @@ build_package() {
 }
 export PATH="$VENV/bin:$PATH"
 build_package tf2_msgs
-build_package cadkg_interfaces
+# rclpy is the only client here: no C++ type supports (ros2/cadkg_interfaces/CMakeLists.txt).
+build_package cadkg_interfaces -DCADKG_INTERFACES_PYTHON_ONLY=ON
 
 # Make the built packages importable and their libraries loadable by .venv-ros/bin/python alone:
 # this .pth sorts before the wheels' bootstrapper, which re-executes Python with LD_LIBRARY_PATH.
