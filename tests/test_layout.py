@@ -6,6 +6,7 @@ no module outside them importing one, and only the ROS adapter importing rclpy."
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import networkx as nx
@@ -15,6 +16,16 @@ from tests.conftest import ROOT
 
 PACKAGE = ROOT / "src" / "cadkg"
 USE_CASES = ("iema", "elimco", "elvez", "vw", "enki")
+
+
+@functools.cache
+def _parsed(source: str) -> tuple[ast.AST, ...]:
+    # Every rule walks every module: parse each source once for the whole module's tests.
+    return tuple(ast.walk(ast.parse(source)))
+
+
+def _nodes(path: Path) -> tuple[ast.AST, ...]:
+    return _parsed(path.read_text(encoding="utf-8"))
 
 
 def _modules() -> dict[str, Path]:
@@ -31,7 +42,7 @@ def _imports(name: str, path: Path, known: set[str]) -> set[str]:
     """The modules of the package that ``name`` imports, wherever the import statement stands."""
     targets: set[str] = set()
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+    for node in _nodes(path):
         if isinstance(node, ast.Import):
             targets.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom):
@@ -216,7 +227,7 @@ def test_only_the_ros_adapter_imports_rclpy() -> None:
             and any(
                 (getattr(node, "module", None) or alias.name).split(".")[0] == "rclpy" for alias in node.names
             )
-            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+            for node in _nodes(path)
         )
     }
     assert importers and all(name.startswith("cadkg.ros_adapter") for name in importers)
@@ -225,7 +236,7 @@ def test_only_the_ros_adapter_imports_rclpy() -> None:
 def _imported_top_modules() -> set[str]:
     found: set[str] = set()
     for path in PACKAGE.rglob("*.py"):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in _nodes(path):
             if isinstance(node, ast.Import):
                 found.update(alias.name.partition(".")[0] for alias in node.names)
             elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
@@ -233,7 +244,6 @@ def _imported_top_modules() -> set[str]:
     return found
 
 
-@pytest.mark.slow
 def test_every_runtime_dependency_is_imported_by_the_package() -> None:
     import re
     import tomllib
@@ -242,9 +252,7 @@ def test_every_runtime_dependency_is_imported_by_the_package() -> None:
     project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
     declared = {re.split(r"[<>=~!;\[ ]", dep, maxsplit=1)[0].lower() for dep in project["dependencies"]}
     # The distribution each imported top-level module comes from (python-calamine: python_calamine).
-    imported = {
-        dist.lower()
-        for module in _imported_top_modules()
-        for dist in packages_distributions().get(module, ())
-    }
+    # One scan of the installed distributions: it takes seconds, so not one for each module.
+    providers = packages_distributions()
+    imported = {dist.lower() for module in _imported_top_modules() for dist in providers.get(module, ())}
     assert declared - imported == set()
