@@ -14,7 +14,7 @@ from __future__ import annotations
 from cadkg.ingest.eplan.bill_of_materials import BomInfo, BomLine
 from cadkg.ingest.eplan.parts import PartPins
 from cadkg.mapping.dispatch import map_record
-from cadkg.mapping.nodes import component_node, model_frame, model_node, texts
+from cadkg.mapping.nodes import component_node, model_frame, model_node, model_pin, texts
 from cadkg.mapping.writer import TripleWriter, term, write_pose
 
 __all__: list[str] = []
@@ -28,11 +28,7 @@ def _(record: PartPins, w: TripleWriter, source_slug: str) -> None:
     frame = model_frame(w, model, record.part)
     w.add(model, t("sourceLine"), w.typed(record.line))
     for point in record.points:
-        pin = w.iri("model", record.part, "point", point.name)
-        w.add(model, t("definesConnectionPoint"), pin)
-        w.add(pin, t("type"), t("ModelPin"))
-        w.add(pin, t("pinName"), w.text(point.name))
-        w.add(pin, t("sourceLine"), w.typed(point.line))
+        pin = model_pin(w, model, record.part, "point", point.name, point.line)
         pose = w.iri("model", record.part, "point", point.name, "hole")
         w.add(pin, t("holePose"), write_pose(w, pose, point.position, point.orientation, frame))
         w.add(pose, t("sourceLine"), w.typed(point.line))

@@ -24,6 +24,7 @@ __all__ = [
     "mesh_node",
     "model_frame",
     "model_node",
+    "model_pin",
     "named_node",
     "pin_iri",
     "pin_node",
@@ -137,6 +138,23 @@ def model_frame(w: TripleWriter, model: str, key: str) -> str:
     w.add(frame, term("label"), w.text(f"model {key}"))
     w.add(model, term("hasFrame"), frame)
     return frame
+
+
+# A component model's couples and a part's connection points stay apart (see
+# cadkg.mapping.eplan), each linked from its model by its own term.
+_DEFINES = {"pin": term("definesPin"), "point": term("definesConnectionPoint")}
+
+
+def model_pin(w: TripleWriter, model: str, key: str, kind: str, name: str, line: int) -> str:
+    """The pin ``name`` that the commercial model ``key`` (node ``model``) defines, with its line:
+    a couple of its component model (``kind`` ``"pin"``, ``model/KEY/pin/NAME``) or a
+    connection point of its part (``kind`` ``"point"``, ``model/KEY/point/NAME``)."""
+    pin = w.iri("model", key, kind, name)
+    w.add(model, _DEFINES[kind], pin)
+    w.add(pin, TYPE, term("ModelPin"))
+    w.add(pin, term("pinName"), w.text(name))
+    w.add(pin, term("sourceLine"), w.typed(line))
+    return pin
 
 
 def dimensions(w: TripleWriter, node: str, sizes: Sequence[float | Decimal]) -> None:

@@ -16,6 +16,7 @@ from cadkg.mapping.nodes import (
     frame_node,
     model_frame,
     model_node,
+    model_pin,
     pin_node,
     placement_pose,
     texts,
@@ -44,11 +45,7 @@ def _map_model(w: TripleWriter, model: ComponentModel) -> str:
         dimensions(w, node, model.dimensions)
     frame = model_frame(w, node, model.key)
     for couple in model.couples:
-        pin = w.iri("model", model.key, "pin", couple.name)
-        w.add(node, t("definesPin"), pin)
-        w.add(pin, t("type"), t("ModelPin"))
-        w.add(pin, t("pinName"), w.text(couple.name))
-        w.add(pin, t("sourceLine"), w.typed(couple.line))
+        pin = model_pin(w, node, model.key, "pin", couple.name, couple.line)
         for kind, placement in (("screw", couple.screw), ("hole", couple.hole)):
             if placement is not None:
                 pose = w.iri("model", model.key, "pin", couple.name, kind)
