@@ -33,7 +33,7 @@ from starlette.responses import Response
 from cadkg.errors import CadkgError, NotFound, QueryError
 from cadkg.query.named import coerce_params, named_queries
 from cadkg.served.holder import Served
-from cadkg.server.context import Answer, Endpoint, ProtocolError, json_response, status_of
+from cadkg.server.context import Answer, Endpoint, Job, ProtocolError, json_response, status_of
 from cadkg.server.evaluation import QuerySpec, embedded, query_job
 from cadkg.server.files_root import confine, files_root
 from cadkg.server.limits import Deadline
@@ -222,7 +222,7 @@ async def call_service(
             files_root(endpoint.settings.files_root)
         checked = {k: params[k] if isinstance(params[k], Paths) else CONVERT[Paths](params[k]) for k in files}
 
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+        def make_job(served: Served) -> Job:
             def job(_: Deadline) -> Answer:
                 with served.lock, contextlib.ExitStack() as stack:  # cursors move one call at a time
                     scratch = []
@@ -279,7 +279,7 @@ async def named(request: Request) -> Response:
         not_graph = NotAcceptableError("a named query answers with results")
         spec = QuerySpec(text, results_fmt, not_graph, endpoint.limits.max_rows, bindings)
 
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+        def make_job(served: Served) -> Job:
             return query_job(endpoint.settings, served, spec)
 
         key = ("named", name, tuple(sorted(params.items())), results_fmt.name)
@@ -375,7 +375,7 @@ async def graph_view(request: Request) -> Response:
         if bool(label) == bool(iri):
             raise ProtocolError(400, "give component=LABEL or node=IRI")
 
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+        def make_job(served: Served) -> Job:
             def job(_: Deadline) -> Answer:
                 data = component_graph(served.graph, label) if label else node_graph(served.graph, iri or "")
                 return Answer(json.dumps(data, default=str).encode(), "application/json")
@@ -408,7 +408,7 @@ async def info(request: Request) -> Response:
     limits = endpoint.limits
     try:
 
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+        def make_job(served: Served) -> Job:
             def job(_: Deadline) -> Answer:
                 data = {
                     "generation": served.generation,

@@ -24,6 +24,8 @@ __all__ = [
     "Answer",
     "AnswerCache",
     "Endpoint",
+    "Job",
+    "JobMaker",
     "ProtocolError",
     "Settings",
     "error_response",
@@ -82,6 +84,12 @@ class Answer:
     media_type: str
     status: int = 200
     headers: tuple[tuple[str, str], ...] = ()
+
+
+Job = Callable[[Deadline], Answer]
+"""What answers one request within its deadline, in a query worker or on a thread here."""
+JobMaker = Callable[[Served], Job]
+"""What makes a request's job on a served graph; kept, to make it again on a reloaded one."""
 
 
 class AnswerCache:
@@ -220,9 +228,7 @@ class Endpoint:
         self.requests = 0
         self.retried = 0
         # How each cached answer is computed, to compute it again on a reloaded graph.
-        self._jobs: OrderedDict[Hashable, tuple[Callable[[Served], Callable[[Deadline], Answer]], bool]] = (
-            OrderedDict()
-        )
+        self._jobs: OrderedDict[Hashable, tuple[JobMaker, bool]] = OrderedDict()
         self._reloading = asyncio.Lock()
         # The loop the endpoint runs on (set as it starts): the reload service, called in a
         # thread, reloads through it.
@@ -248,7 +254,7 @@ class Endpoint:
     async def _once(
         self,
         served: Served,
-        make_job: Callable[[Served], Callable[[Deadline], Answer]],
+        make_job: JobMaker,
         key: Hashable | None,
         deadline: Deadline,
         local: bool,
@@ -271,7 +277,7 @@ class Endpoint:
 
     async def run(
         self,
-        make_job: Callable[[Served], Callable[[Deadline], Answer]],
+        make_job: JobMaker,
         key: Hashable | None,
         deadline: Deadline,
         *,
@@ -369,7 +375,7 @@ class Endpoint:
             As ``build`` raises it, or on the time limit.
         """
 
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+        def make_job(served: Served) -> Job:
             def job(_: Deadline) -> Answer:
                 if locked:
                     with served.lock:
@@ -385,7 +391,7 @@ class Endpoint:
 
     async def answer(
         self,
-        make_job: Callable[[Served], Callable[[Deadline], Answer]],
+        make_job: JobMaker,
         key: Hashable | None,
         deadline: Deadline,
         *,

@@ -20,7 +20,7 @@ import pyoxigraph as ox
 from cadkg.query.workers import WorkerPool
 from cadkg.served.holder import Served
 from cadkg.server.columns import with_star_order
-from cadkg.server.context import TRUNCATED_HEADER, Answer, ProtocolError, Settings
+from cadkg.server.context import TRUNCATED_HEADER, Answer, Job, ProtocolError, Settings
 from cadkg.server.limits import Deadline
 from cadkg.server.results import (
     Format,
@@ -146,7 +146,7 @@ def pool_maker(settings: Settings) -> Callable[[Any], WorkerPool | None]:
     return make
 
 
-def query_job(settings: Settings, served: Served, spec: QuerySpec) -> Callable[[Deadline], Answer]:
+def query_job(settings: Settings, served: Served, spec: QuerySpec) -> Job:
     """The job answering ``spec`` on ``served``: in one of its workers, or here for a remote store."""
     make = pool_maker(settings)
 

@@ -12,7 +12,7 @@ comes from ``Accept`` or a ``format`` parameter (``json xml csv tsv`` for result
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from urllib.parse import parse_qsl
 
@@ -26,6 +26,7 @@ from cadkg.served.holder import Served
 from cadkg.server.context import (
     Answer,
     Endpoint,
+    Job,
     ProtocolError,
     error_response,
     status_of,
@@ -197,7 +198,7 @@ async def sparql(request: Request) -> Response:
             named_graphs=op.named_graphs,
         )
 
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+        def make_job(served: Served) -> Job:
             return query_job(endpoint.settings, served, spec)
 
         key = ("sparql", op.text, op.default_graphs, op.named_graphs, str(results_fmt), str(graph_fmt))
@@ -211,7 +212,7 @@ async def _update(endpoint: Endpoint, request: Request, op: Operation, deadline:
     if op.has_dataset:
         raise ProtocolError(400, "an update takes no default-graph-uri or named-graph-uri; use WITH or USING")
 
-    def make_job(served: Served) -> Callable[[Deadline], Answer]:
+    def make_job(served: Served) -> Job:
         def job(_: Deadline) -> Answer:
             if not embedded(served.graph):
                 raise ProtocolError(501, "updates are not supported on a remote store; use cadkg push")
@@ -288,7 +289,7 @@ async def _read_graph(
     text = f"CONSTRUCT {{ ?s ?p ?o }} WHERE {{ {inner} }}"
     spec = QuerySpec(text, fmt, fmt, endpoint.limits.max_rows, {})
 
-    def make_job(served: Served) -> Callable[[Deadline], Answer]:
+    def make_job(served: Served) -> Job:
         answer = query_job(endpoint.settings, served, spec)
 
         def job(d: Deadline) -> Answer:

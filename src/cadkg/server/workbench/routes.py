@@ -24,7 +24,7 @@ from cadkg import registry
 from cadkg.errors import CadkgError, NotFound
 from cadkg.query.named import NamedQuery, coerce_params, named_queries
 from cadkg.served.holder import Served
-from cadkg.server.context import Answer, Endpoint, json_response, status_of
+from cadkg.server.context import Answer, Endpoint, Job, json_response, status_of
 from cadkg.server.limits import Deadline
 from cadkg.server.workbench.scene import cell_scene, mesh_bytes
 from cadkg.server.workbench.terms import completion_terms
@@ -141,7 +141,7 @@ async def mesh(request: Request) -> Response:
     rel = request.path_params["path"]
     try:
 
-        def make_job(served: Served) -> Callable[[Deadline], Answer]:
+        def make_job(served: Served) -> Job:
             def job(_: Deadline) -> Answer:
                 data = mesh_bytes(served.graph.files_dir, rel)
                 if data is None:
