@@ -23,9 +23,10 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 mkdir -p "$(dirname "$LOG")"
 : >"$LOG"
-export DEBIAN_FRONTEND=noninteractive
-apt-get update >>"$LOG" 2>&1 || fail "apt-get update" "$LOG"
-apt-get install -y --no-install-recommends chromium chromium-driver fonts-dejavu-core >>"$LOG" 2>&1 \
+# shellcheck source=scripts/apt.sh
+source scripts/apt.sh
+apt_get update >>"$LOG" 2>&1 || fail "apt-get update" "$LOG"
+apt_get install -y --no-install-recommends chromium chromium-driver fonts-dejavu-core >>"$LOG" 2>&1 \
   || fail "apt-get install chromium chromium-driver" "$LOG"
 [ -x /usr/bin/chromium ] || fail "apt-get installed chromium but /usr/bin/chromium is missing" "$LOG"
 [ -x /usr/bin/chromedriver ] || fail "apt-get installed chromium-driver but /usr/bin/chromedriver is missing" "$LOG"

@@ -42,7 +42,9 @@ if [ ${#missing[@]} -gt 0 ]; then
   if [ "$(id -u)" -ne 0 ] || ! command -v apt-get >/dev/null; then
     fail "needs ${missing[*]}; install them (apt-get install ${missing[*]}) and run again"
   fi
-  { apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"; } \
+  # shellcheck source=scripts/apt.sh
+  source scripts/apt.sh
+  { apt_get update && apt_get install -y --no-install-recommends "${missing[@]}"; } \
     >>"$LOG" 2>&1 || fail "apt-get install ${missing[*]}" "$LOG"
 fi
 
@@ -54,7 +56,10 @@ PY="$VENV/bin/python"
 "$PY" -m pip install --quiet --upgrade pip >>"$LOG" 2>&1 || fail "pip upgrade" "$LOG"
 "$PY" -m pip install --quiet -r ros2/requirements.txt >>"$LOG" 2>&1 \
   || fail "pip install of the pinned ros-jazzy wheels (ros2/requirements.txt)" "$LOG"
-"$PY" -m pip install --quiet -e . pytest pytest-xdist >>"$LOG" 2>&1 || fail "pip install -e . into $VENV" "$LOG"
+# scripts/setup.sh installs this checkout into .venv at the same time: one editable install at
+# a time, since both write src/cadkg.egg-info.
+flock "$ROOT/build/editable-install.lock" "$PY" -m pip install --quiet -e . pytest pytest-xdist >>"$LOG" 2>&1 \
+  || fail "pip install -e . into $VENV" "$LOG"
 
 # The wheels' exported CMake files name the wheel builder's include directories; point them
 # at this venv's Python headers and numpy.

@@ -11,17 +11,29 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python3}
+if [ "${1:-}" = "--test" ]; then
+  # Each installs what is missing and says in one line why it cannot; the tests that need
+  # it then skip (a machine that cannot install it) or fail (anything else), naming the reason.
+  # They run beside the rest of the set-up: the ROS one mostly compiles, the other two mostly
+  # download (their apt-get calls take turns, scripts/apt.sh). What each says comes at the end.
+  mkdir -p build
+  bash scripts/ros-setup.sh >build/ros-setup.out 2>&1 &
+  ros=$!
+  { bash scripts/browser-setup.sh || true; bash scripts/virtuoso.sh install || true; } >build/apt-setups.out 2>&1 &
+  others=$!
+fi
 if [ ! -x .venv/bin/python ]; then
   "$PYTHON" -m venv .venv
 fi
 .venv/bin/python -m pip install --quiet --upgrade pip
-.venv/bin/python -m pip install --quiet -e '.[dev]'
+# The ROS set-up installs this checkout into .venv-ros too: one editable install at a time,
+# since both write src/cadkg.egg-info.
+mkdir -p build
+flock build/editable-install.lock .venv/bin/python -m pip install --quiet -e '.[dev]'
 bash scripts/build-web.sh
 
 if [ "${1:-}" = "--test" ]; then
-  # Each installs what is missing and says in one line why it cannot; the tests that need
-  # it then skip (a machine that cannot install it) or fail (anything else), naming the reason.
-  bash scripts/ros-setup.sh || true
-  bash scripts/browser-setup.sh || true
-  bash scripts/virtuoso.sh install || true
+  wait "$ros" || true
+  wait "$others"
+  cat build/ros-setup.out build/apt-setups.out
 fi

@@ -33,7 +33,8 @@ install_virtuoso() {
     exit 3
   fi
   echo "virtuoso.sh: installing virtuoso-opensource with apt-get" >&2
-  export DEBIAN_FRONTEND=noninteractive
+  # shellcheck source=scripts/apt.sh
+  source "$(dirname "${BASH_SOURCE[0]}")/apt.sh"
   # The package would start its own system-wide server (ports 8890/1111) and ask for a DBA
   # password; we run private instances, so the system one is kept from starting for the
   # install (a policy-rc.d already present is left as it is) and debconf asks nothing.
@@ -44,9 +45,9 @@ install_virtuoso() {
   local log
   log=$(mktemp)
   local status=0
-  if ! apt-get install -y -q --no-install-recommends virtuoso-opensource >"$log" 2>&1; then
+  if ! apt_get install -y -q --no-install-recommends virtuoso-opensource >"$log" 2>&1; then
     # Package lists may be missing or stale on a fresh machine.
-    { apt-get update -q && apt-get install -y -q --no-install-recommends virtuoso-opensource; } \
+    { apt_get update -q && apt_get install -y -q --no-install-recommends virtuoso-opensource; } \
       >"$log" 2>&1 || status=$?
   fi
   [ -n "$placed" ] && rm -f "$policy"
