@@ -26,10 +26,14 @@ if [ ! -x .venv/bin/python ]; then
   "$PYTHON" -m venv .venv
 fi
 .venv/bin/python -m pip install --quiet --upgrade pip
-# The ROS set-up installs this checkout into .venv-ros too: one editable install at a time,
-# since both write src/cadkg.egg-info.
-mkdir -p build
-flock build/editable-install.lock .venv/bin/python -m pip install --quiet -e '.[dev]'
+install=(.venv/bin/python -m pip install --quiet -e '.[dev]')
+if [ "${1:-}" = "--test" ]; then
+  # The ROS set-up, running meanwhile, installs this checkout into .venv-ros too: one editable
+  # install at a time, since both write src/cadkg.egg-info.
+  flock build/editable-install.lock "${install[@]}"
+else
+  "${install[@]}"
+fi
 bash scripts/build-web.sh
 
 if [ "${1:-}" = "--test" ]; then
