@@ -11,7 +11,18 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python3}
-if [ "${1:-}" = "--test" ]; then
+for_tests=false
+[ "${1:-}" = "--test" ] && for_tests=true
+
+finish_background() {
+  # Also when a step below fails: the background set-ups are waited for and what they said is
+  # shown, rather than left running with their output unread.
+  wait "$ros" || true
+  wait "$others" || true
+  cat build/ros-setup.out build/apt-setups.out
+}
+
+if $for_tests; then
   # Each installs what is missing and says in one line why it cannot; the tests that need
   # it then skip (a machine that cannot install it) or fail (anything else), naming the reason.
   # They run beside the rest of the set-up: the ROS one mostly compiles, the other two mostly
@@ -21,13 +32,14 @@ if [ "${1:-}" = "--test" ]; then
   ros=$!
   { bash scripts/browser-setup.sh || true; bash scripts/virtuoso.sh install || true; } >build/apt-setups.out 2>&1 &
   others=$!
+  trap finish_background EXIT
 fi
 if [ ! -x .venv/bin/python ]; then
   "$PYTHON" -m venv .venv
 fi
 .venv/bin/python -m pip install --quiet --upgrade pip
 install=(.venv/bin/python -m pip install --quiet -e '.[dev]')
-if [ "${1:-}" = "--test" ]; then
+if $for_tests; then
   # The ROS set-up, running meanwhile, installs this checkout into .venv-ros too: one editable
   # install at a time, since both write src/cadkg.egg-info.
   flock build/editable-install.lock "${install[@]}"
@@ -35,9 +47,3 @@ else
   "${install[@]}"
 fi
 bash scripts/build-web.sh
-
-if [ "${1:-}" = "--test" ]; then
-  wait "$ros" || true
-  wait "$others"
-  cat build/ros-setup.out build/apt-setups.out
-fi

@@ -30,6 +30,18 @@ MINI = ROOT / "tests" / "data" / "cells" / "mini"
 NAMESPACE = "/gearbox_handler"
 
 
+def underlay_environment() -> dict[str, str]:
+    """The environment of a colcon build whose underlay is this venv's ROS wheels, as a ROS
+    workspace has its distribution sourced."""
+    venv = Path(sys.prefix)
+    return {
+        **os.environ,
+        "PATH": f"{venv / 'bin'}:{os.environ.get('PATH', '')}",
+        "AMENT_PREFIX_PATH": str(venv),
+        "CMAKE_PREFIX_PATH": str(venv),
+    }
+
+
 class Server:
     def __init__(
         self,

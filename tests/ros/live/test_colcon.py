@@ -14,7 +14,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from tests.ros.live.conftest import ROOT
+from tests.ros.live.conftest import ROOT, underlay_environment
 
 VENV = Path(sys.prefix)
 PACKAGE = ROOT / "ros2" / "cadkg_interfaces"
@@ -23,15 +23,6 @@ CPP_TYPE_SUPPORTS = (
     "cadkg_interfaces__rosidl_typesupport_fastrtps_cpp",
     "cadkg_interfaces__rosidl_typesupport_introspection_cpp",
 )
-
-
-def _environment() -> dict[str, str]:
-    return {
-        **os.environ,
-        "PATH": f"{VENV / 'bin'}:{os.environ.get('PATH', '')}",
-        "AMENT_PREFIX_PATH": str(VENV),
-        "CMAKE_PREFIX_PATH": str(VENV),
-    }
 
 
 CMAKE_ARGS = (
@@ -44,7 +35,7 @@ CMAKE_ARGS = (
 def test_colcon_builds_the_interface_package(tmp_path: Path) -> None:
     (tmp_path / "src").mkdir()
     (tmp_path / "src" / "cadkg_interfaces").symlink_to(PACKAGE)
-    env = _environment()
+    env = underlay_environment()
     build = subprocess.run(
         [str(VENV / "bin" / "colcon"), "build", "--packages-select", "cadkg_interfaces",
          "--event-handlers", "console_direct-",
@@ -72,7 +63,7 @@ def test_colcon_builds_the_interface_package(tmp_path: Path) -> None:
 
 
 def test_the_default_build_has_the_cpp_type_supports_and_their_headers(tmp_path: Path) -> None:
-    env = _environment()
+    env = underlay_environment()
     configured = subprocess.run(
         ["cmake", "-S", str(PACKAGE), "-B", str(tmp_path), *CMAKE_ARGS],
         env=env, capture_output=True, text=True, timeout=600, check=False,

@@ -26,7 +26,7 @@ from cadkg_interfaces import srv
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from visualization_msgs.msg import MarkerArray
 
-from tests.ros.live.conftest import MINI, ROOT, call_service, wait_for
+from tests.ros.live.conftest import MINI, ROOT, call_service, underlay_environment, wait_for
 
 PACKAGE = ROOT / "ros2" / "cadkg_ros"
 LAUNCH = PACKAGE / "launch" / "cadkg.launch.py"
@@ -68,15 +68,9 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> Path:
     workspace = tmp_path_factory.mktemp("ws")
     (workspace / "src").mkdir()
     (workspace / "src" / "cadkg_ros").symlink_to(PACKAGE)
-    venv = Path(sys.prefix)
-    env = {
-        **os.environ,
-        "PATH": f"{venv / 'bin'}:{os.environ.get('PATH', '')}",
-        "AMENT_PREFIX_PATH": str(venv),
-    }
     build = subprocess.run(
         [
-            str(venv / "bin" / "colcon"),
+            str(Path(sys.prefix) / "bin" / "colcon"),
             "build",
             "--packages-select",
             "cadkg_ros",
@@ -84,7 +78,7 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> Path:
             "console_direct-",
         ],
         cwd=workspace,
-        env=env,
+        env=underlay_environment(),
         capture_output=True,
         text=True,
         timeout=600,
