@@ -28,7 +28,7 @@ def _(record: PartPins, w: TripleWriter, source_slug: str) -> None:
     frame = model_frame(w, model, record.part)
     w.add(model, t("sourceLine"), w.typed(record.line))
     for point in record.points:
-        pin = model_pin(w, model, record.part, "point", point.name, point.line)
+        pin = model_pin(w, model, record.part, "point", t("definesConnectionPoint"), point.name, point.line)
         pose = w.iri("model", record.part, "point", point.name, "hole")
         w.add(pin, t("holePose"), write_pose(w, pose, point.position, point.orientation, frame))
         w.add(pose, t("sourceLine"), w.typed(point.line))

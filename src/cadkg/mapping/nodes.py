@@ -142,15 +142,12 @@ def model_frame(w: TripleWriter, model: str, key: str) -> str:
 
 # A component model's couples and a part's connection points stay apart (see
 # cadkg.mapping.eplan), each linked from its model by its own term.
-_DEFINES = {"pin": term("definesPin"), "point": term("definesConnectionPoint")}
-
-
-def model_pin(w: TripleWriter, model: str, key: str, kind: str, name: str, line: int) -> str:
-    """The pin ``name`` that the commercial model ``key`` (node ``model``) defines, with its line:
-    a couple of its component model (``kind`` ``"pin"``, ``model/KEY/pin/NAME``) or a
-    connection point of its part (``kind`` ``"point"``, ``model/KEY/point/NAME``)."""
-    pin = w.iri("model", key, kind, name)
-    w.add(model, _DEFINES[kind], pin)
+def model_pin(w: TripleWriter, model: str, key: str, segment: str, defines: str, name: str, line: int) -> str:
+    """The pin ``name`` that the commercial model ``key`` (node ``model``) defines through the
+    predicate ``defines``, at ``model/KEY/SEGMENT/NAME``, with its line: a couple of its
+    component model or a connection point of its part."""
+    pin = w.iri("model", key, segment, name)
+    w.add(model, defines, pin)
     w.add(pin, TYPE, term("ModelPin"))
     w.add(pin, term("pinName"), w.text(name))
     w.add(pin, term("sourceLine"), w.typed(line))

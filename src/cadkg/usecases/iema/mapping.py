@@ -45,7 +45,7 @@ def _map_model(w: TripleWriter, model: ComponentModel) -> str:
         dimensions(w, node, model.dimensions)
     frame = model_frame(w, node, model.key)
     for couple in model.couples:
-        pin = model_pin(w, node, model.key, "pin", couple.name, couple.line)
+        pin = model_pin(w, node, model.key, "pin", t("definesPin"), couple.name, couple.line)
         for kind, placement in (("screw", couple.screw), ("hole", couple.hole)):
             if placement is not None:
                 pose = w.iri("model", model.key, "pin", couple.name, kind)
