@@ -3,9 +3,10 @@ line naming the file, and its memory and CPU time per byte stay under a bound of
 
 The variants are those of :mod:`tests.security.reader_attacks`, read as a build reads them
 (in the limited child, from a fresh process). The fast tier reads them at 32 KiB, the slow one
-at 1 MiB. The bounds are about three times the worst measured on a 2-core machine at either
-size (docs/server.md, "Bounded memory on input files"), so a loaded machine passes and a
-reader that starts to build much more per byte does not; a small allowance on top absorbs
+at 1 MiB. The bounds are about three times the worst measured on a loaded 2-core machine at
+either size (docs/server.md, "Bounded memory on input files"): a process sharing a core with
+others takes two to three times the CPU seconds it takes alone. So a loaded machine passes and
+a reader that starts to build much more per byte does not; a small allowance on top absorbs
 what a file of a few KiB cannot show per byte (a page more or less, a scheduler tick).
 """
 
@@ -25,35 +26,35 @@ _SLACK_BYTES = 2 << 20
 _SLACK_SECONDS = 0.25
 
 # reader kind: (peak bytes of memory a byte of file, CPU seconds a MiB of file), about three
-# times the worst of any family at 32 KiB or 1 MiB (docs/server.md has the measurements).
+# times the worst of any family at 32 KiB or 1 MiB on a loaded machine (docs/server.md).
 BOUNDS: dict[str, tuple[float, float]] = {
-    "assignments": (140, 2),
-    "bill-of-materials": (6300, 90),
+    "assignments": (140, 3),
+    "bill-of-materials": (6300, 100),
     "cable-info": (150, 2),
     "component-list": (30, 2),
-    "component-model": (130, 2),
-    "connection-list": (7200, 50),
-    "elimco-cable-list": (2200, 60),
+    "component-model": (130, 3),
+    "connection-list": (7200, 70),
+    "elimco-cable-list": (2200, 70),
     "elvez-components": (50, 2),
     "elvez-definitions": (120, 2),
     "elvez-harnesses": (110, 4),
-    "elvez-ids": (140, 3),
+    "elvez-ids": (140, 6),
     "elvez-mesh": (30, 30),
-    "elvez-scene": (2300, 7),
-    "elvez-sequence": (210, 3),
-    "harness-text": (90, 2),
-    "hose": (150, 3),
+    "elvez-scene": (180, 7),
+    "elvez-sequence": (210, 6),
+    "harness-text": (90, 3),
+    "hose": (150, 7),
     "kbl": (90, 2),
-    "marker-table": (930, 70),
+    "marker-table": (930, 110),
     "parts-management": (90, 2),
     "path-info": (140, 2),
     "pin-info": (140, 2),
-    "terminal-diagram": (3100, 70),
-    "terminal-schema": (3100, 90),
+    "terminal-diagram": (3100, 80),
+    "terminal-schema": (3100, 100),
     "vec": (90, 2),
-    "vrml": (260, 5),
-    "wri": (170, 2),
-    "x3d": (160, 4),
+    "vrml": (260, 12),
+    "wri": (170, 4),
+    "x3d": (160, 5),
 }
 
 CASES = [(kind, family) for kind in sorted(FAMILIES) for family in FAMILIES[kind]]
