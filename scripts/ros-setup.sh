@@ -89,8 +89,20 @@ build_package() {
 }
 export PATH="$VENV/bin:$PATH"
 build_package tf2_msgs
-# rclpy is the only client here: no C++ type supports (ros2/cadkg_interfaces/CMakeLists.txt).
-build_package cadkg_interfaces -DCADKG_INTERFACES_PYTHON_ONLY=ON
+# cadkg_interfaces is built as a ROS workspace builds it, with colcon (pinned in
+# ros2/requirements.txt) and the wheels as underlay, merged into the same prefix;
+# tests/ros/live/test_colcon.py checks this build. rclpy is the only client here: no C++ type
+# supports (ros2/cadkg_interfaces/CMakeLists.txt).
+ws="$BUILD/ws"
+rm -rf "$ws" "$BUILD/colcon-build" "$BUILD/colcon-log"
+mkdir -p "$ws/src"
+ln -s "$ROOT/ros2/cadkg_interfaces" "$ws/src/cadkg_interfaces"
+(cd "$ws" && AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" colcon \
+  --log-base "$BUILD/colcon-log" build --merge-install --install-base "$PREFIX" \
+  --build-base "$BUILD/colcon-build" --packages-select cadkg_interfaces \
+  --event-handlers console_direct- --cmake-args -DPython3_EXECUTABLE="$PY" \
+  -DPython3_FIND_STRATEGY=LOCATION -DBUILD_TESTING=OFF -DCADKG_INTERFACES_PYTHON_ONLY=ON) \
+  >>"$LOG" 2>&1 || fail "colcon build of cadkg_interfaces" "$LOG"
 
 # Make the built packages importable and their libraries loadable by .venv-ros/bin/python alone:
 # this .pth sorts before the wheels' bootstrapper, which re-executes Python with LD_LIBRARY_PATH.
