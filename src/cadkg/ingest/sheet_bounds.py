@@ -392,11 +392,11 @@ def check_ods_extent(path: str | Path) -> None:
                 rows = last = width = 0
                 element.clear()
                 continue
-            repeated = _count(_named(element), "number-rows-repeated")
+            repeated = _count(_by_local_name(element)[0], "number-rows-repeated")
             columns = filled = text = 0
             for cell in element:
                 if _local(cell.tag) in _CELLS:
-                    named, value = _cell_attributes(cell)
+                    named, value = _by_local_name(cell)
                     times = _count(named, "number-columns-repeated")
                     columns += times
                     if named.get("value-type") or len(cell):
@@ -418,23 +418,13 @@ def check_ods_extent(path: str | Path) -> None:
             element.clear()
 
 
-def _named(element: etree._Element) -> dict[str, str]:
-    """An element's attributes by local name: the unprefixed one if there is one, else the
-    first in document order (as :func:`_attribute` picks)."""
-    named: dict[str, str] = {}
-    for key, value in attributes_of(element).items():
-        local = _local(key)
-        if local not in named or key == local:
-            named[local] = value
-    return named
-
-
-def _cell_attributes(cell: etree._Element) -> tuple[dict[str, str], int]:
-    """A cell's attributes by local name, and the characters of those whose local name ends in
-    ``value`` (a string or date given there), in one pass over them."""
+def _by_local_name(element: etree._Element) -> tuple[dict[str, str], int]:
+    """An element's attributes by local name (the unprefixed one if there is one, else the
+    first in document order, as :func:`_attribute` picks), and the characters of those whose
+    local name ends in ``value`` (a cell's string or date given there), in one pass."""
     named: dict[str, str] = {}
     size = 0
-    for key, value in attributes_of(cell).items():
+    for key, value in attributes_of(element).items():
         local = _local(key)
         if local not in named or key == local:
             named[local] = value
