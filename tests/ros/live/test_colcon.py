@@ -38,7 +38,8 @@ def test_colcon_builds_the_interface_package() -> None:
     # colcon's own records of the set-up's build: a merged install, and the package's build
     # finished with return code 0 (a failed or skipped build leaves another code, or none).
     assert (PREFIX / ".colcon_install_layout").read_text(encoding="utf-8").strip() == "merged"
-    events = (ROOT / "build" / "ros" / "colcon-log" / "latest_build" / "events.log").read_text(encoding="utf-8")
+    log = ROOT / "build" / "ros" / "colcon-log" / "latest_build" / "events.log"
+    events = log.read_text(encoding="utf-8")
     finished = [line for line in events.splitlines() if "JobEnded" in line and "cadkg_interfaces" in line]
     assert finished and "'rc': 0" in finished[-1], events[-3000:]
     assert (PREFIX / "share" / "ament_index" / "resource_index" / "packages" / "cadkg_interfaces").is_file()
