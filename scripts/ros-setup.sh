@@ -73,6 +73,10 @@ for f in "$VENV"/share/*/cmake/*.cmake; do
   fi
 done
 
+# What every package here is configured with, by cmake or by colcon: this venv's Python and
+# no tests of the interfaces' own.
+cmake_args=(-DPython3_EXECUTABLE="$PY" -DPython3_FIND_STRATEGY=LOCATION -DBUILD_TESTING=OFF)
+
 build_package() {
   local name=$1 src="$ROOT/ros2/$1" dir="$BUILD/$1"
   shift
@@ -81,7 +85,7 @@ build_package() {
   # generators run inside cmake, so give them the path directly.
   AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" \
     cmake -S "$src" -B "$dir" -DCMAKE_INSTALL_PREFIX="$PREFIX" -DCMAKE_PREFIX_PATH="$PREFIX;$VENV" \
-    -DPython3_EXECUTABLE="$PY" -DPython3_FIND_STRATEGY=LOCATION -DBUILD_TESTING=OFF "$@" \
+    "${cmake_args[@]}" "$@" \
     >>"$LOG" 2>&1 || fail "cmake configure of $name" "$LOG"
   AMENT_PREFIX_PATH="$PREFIX:$VENV" cmake --build "$dir" -j "$(nproc)" >>"$LOG" 2>&1 \
     || fail "build of $name" "$LOG"
@@ -100,8 +104,7 @@ ln -s "$ROOT/ros2/cadkg_interfaces" "$ws/src/cadkg_interfaces"
 (cd "$ws" && AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" colcon \
   --log-base "$BUILD/colcon-log" build --merge-install --install-base "$PREFIX" \
   --build-base "$BUILD/colcon-build" --packages-select cadkg_interfaces \
-  --event-handlers console_direct- --cmake-args -DPython3_EXECUTABLE="$PY" \
-  -DPython3_FIND_STRATEGY=LOCATION -DBUILD_TESTING=OFF -DCADKG_INTERFACES_PYTHON_ONLY=ON) \
+  --event-handlers console_direct- --cmake-args "${cmake_args[@]}" -DCADKG_INTERFACES_PYTHON_ONLY=ON) \
   >>"$LOG" 2>&1 || fail "colcon build of cadkg_interfaces" "$LOG"
 
 # Make the built packages importable and their libraries loadable by .venv-ros/bin/python alone:

@@ -12,6 +12,7 @@ live run, so the default is configured and its C++ headers generated, not compil
 
 from __future__ import annotations
 
+import ast
 import subprocess
 import sys
 from pathlib import Path
@@ -27,21 +28,26 @@ CPP_TYPE_SUPPORTS = (
 )
 
 
-CMAKE_ARGS = (
-    f"-DPython3_EXECUTABLE={sys.executable}",
-    "-DPython3_FIND_STRATEGY=LOCATION",
-    "-DBUILD_TESTING=OFF",
-)
+BUILT = ROOT / "build" / "ros" / "colcon-build" / "cadkg_interfaces"
+LOG = ROOT / "build" / "ros" / "colcon-log" / "latest_build" / "logger_all.log"
+PYTHON_ONLY = "-DCADKG_INTERFACES_PYTHON_ONLY=ON"
+
+
+def _setup_cmake_args() -> list[str]:
+    """The arguments scripts/ros-setup.sh gave cmake, as colcon recorded them for the package."""
+    recorded = ast.literal_eval((BUILT / "cmake_args.last").read_text(encoding="utf-8"))
+    assert isinstance(recorded, list) and all(isinstance(arg, str) for arg in recorded), recorded
+    return recorded
 
 
 def test_colcon_builds_the_interface_package() -> None:
-    # colcon's own records of the set-up's build: a merged install, and the package's build
-    # finished with return code 0 (a failed or skipped build leaves another code, or none).
+    # colcon's own records of the set-up's build: a merged install, the Python-only build, and
+    # the return code colcon keeps for each package it built (what
+    # --packages-select-build-failed reads): 0, as a failed build leaves another.
     assert (PREFIX / ".colcon_install_layout").read_text(encoding="utf-8").strip() == "merged"
-    log = ROOT / "build" / "ros" / "colcon-log" / "latest_build" / "events.log"
-    events = log.read_text(encoding="utf-8")
-    finished = [line for line in events.splitlines() if "JobEnded" in line and "cadkg_interfaces" in line]
-    assert finished and "'rc': 0" in finished[-1], events[-3000:]
+    assert PYTHON_ONLY in _setup_cmake_args()
+    rc = (BUILT / "colcon_build.rc").read_text(encoding="utf-8").strip()
+    assert rc == "0", LOG.read_text(encoding="utf-8")[-3000:]
     assert (PREFIX / "share" / "ament_index" / "resource_index" / "packages" / "cadkg_interfaces").is_file()
     probe = (
         "import cadkg_interfaces.srv as s; print(s.__file__);"
@@ -62,8 +68,9 @@ def test_colcon_builds_the_interface_package() -> None:
 
 def test_the_default_build_has_the_cpp_type_supports_and_their_headers(tmp_path: Path) -> None:
     env = underlay_environment()
+    default = [arg for arg in _setup_cmake_args() if arg != PYTHON_ONLY]
     configured = subprocess.run(
-        ["cmake", "-S", str(PACKAGE), "-B", str(tmp_path), *CMAKE_ARGS],
+        ["cmake", "-S", str(PACKAGE), "-B", str(tmp_path), *default],
         env=env, capture_output=True, text=True, timeout=600, check=False,
     )  # fmt: skip
     assert configured.returncode == 0, (configured.stdout + configured.stderr)[-4000:]
