@@ -14,6 +14,7 @@ from typing import Any
 import uvicorn
 
 from cadkg.server import Limits, Settings, create_app
+from cadkg.server.closing import ClosingServer
 
 
 def free_port() -> int:
@@ -37,7 +38,7 @@ def serving_app(app: Any) -> Iterator[str]:
     """Serve an app of :func:`cadkg.server.create_app` until the block ends; yields the base URL."""
     port = free_port()
     config = uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning", access_log=False)
-    server = uvicorn.Server(config)
+    server = ClosingServer(config)
     thread = threading.Thread(target=server.run, daemon=True)
     thread.start()
     deadline = time.monotonic() + 20

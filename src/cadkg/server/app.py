@@ -39,8 +39,8 @@ from cadkg.server.caching import HttpCaching
 from cadkg.server.connections import ACCEPT_BURST, bounded_protocol, connection_bound
 from cadkg.server.context import Endpoint, Settings
 from cadkg.server.evaluation import pool_maker
+from cadkg.server.feed import Streams, server_feed
 from cadkg.server.feed import changes as changes_feed
-from cadkg.server.feed import server_feed
 from cadkg.server.protocol import graph_store, sparql
 
 __all__ = ["STATIC", "create_app", "is_loopback", "serve"]
@@ -86,8 +86,15 @@ class _Guard:
     origin than the endpoint's own and the ``cors`` ones; adds the security headers, and the
     CORS headers for a ``cors`` origin."""
 
-    def __init__(self, app: ASGIApp, loopback_hosts_only: bool, cors: tuple[str, ...] = ()) -> None:
+    def __init__(
+        self,
+        app: ASGIApp,
+        loopback_hosts_only: bool,
+        cors: tuple[str, ...] = (),
+        streams: Streams | None = None,
+    ) -> None:
         self.app = app
+        self.streams = streams  # the event streams ClosingServer ends when told to stop
         self.loopback_hosts_only = loopback_hosts_only
         self.cors = {origin.rstrip("/") for origin in cors}
 
@@ -251,7 +258,8 @@ def create_app(
     )
     app.state.endpoint = endpoint
     app.state.feed = feed
-    return _Guard(app, loopback_hosts_only, settings.cors)
+    app.state.streams = Streams()
+    return _Guard(app, loopback_hosts_only, settings.cors, app.state.streams)
 
 
 def serve(
@@ -271,6 +279,8 @@ def serve(
         when ``settings.limits.max_connections`` leaves too few descriptors for the rest.
     """
     import uvicorn
+
+    from cadkg.server.closing import GRACE_SECONDS, ClosingServer
 
     loopback = is_loopback(host)
     if not loopback and not allow_non_loopback:
@@ -300,14 +310,16 @@ def serve(
         file=sys.stderr,
         flush=True,
     )
-    uvicorn.run(
+    config = uvicorn.Config(
         app,
         host=host,
         port=port,
         log_level="warning",
         access_log=False,
         timeout_keep_alive=30,
+        timeout_graceful_shutdown=GRACE_SECONDS,
         http=bounded_protocol(limits.header_timeout, bound),
         backlog=ACCEPT_BURST,
         loop="asyncio",  # whose accepting ACCEPT_BURST bounds (not uvloop's, were it installed)
     )
+    ClosingServer(config).run()

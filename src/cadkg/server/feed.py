@@ -23,10 +23,33 @@ from cadkg.changes.feed import ChangeFeed
 from cadkg.served.feed import CellFeed
 from cadkg.served.holder import GraphHolder
 
-__all__ = ["changes", "server_feed"]
+__all__ = ["Streams", "changes", "server_feed"]
 
 # A comment line this often keeps proxies and clients from closing an idle stream.
 KEEPALIVE_SECONDS = 15.0
+
+
+class Streams:
+    """The event streams open on the server's loop; each ends at the ``None`` put in its queue
+    (:class:`cadkg.server.closing.ClosingServer` closes them when told to stop)."""
+
+    def __init__(self) -> None:
+        self._queues: set[asyncio.Queue[Any]] = set()
+        self.closed = False
+
+    def open(self, queue: asyncio.Queue[Any]) -> None:
+        if self.closed:
+            queue.put_nowait(None)
+        self._queues.add(queue)
+
+    def done(self, queue: asyncio.Queue[Any]) -> None:
+        self._queues.discard(queue)
+
+    def close(self) -> None:
+        """End every stream, and every one opened from now on (called on the server's loop)."""
+        self.closed = True
+        for queue in self._queues:
+            queue.put_nowait(None)
 
 
 def server_feed(holder: GraphHolder) -> CellFeed:
@@ -47,13 +70,15 @@ async def changes(request: Request) -> Response:
     """``GET /api/changes``: Server-Sent Events, one ``changes`` event per change set."""
     feed: ChangeFeed = request.app.state.feed.feed
     loop = asyncio.get_running_loop()
-    queue: asyncio.Queue[tuple[ChangeSet, int]] = asyncio.Queue()
+    queue: asyncio.Queue[tuple[ChangeSet, int] | None] = asyncio.Queue()
 
     def heard(changes: ChangeSet) -> None:
         loop.call_soon_threadsafe(queue.put_nowait, (changes, feed.published))
 
     stop = feed.listen(heard)
     latest = feed.latest
+    streams: Streams = request.app.state.streams
+    streams.open(queue)
 
     async def stream() -> AsyncIterator[bytes]:
         try:
@@ -68,8 +93,11 @@ async def changes(request: Request) -> Response:
                         return
                     yield b": keepalive\n\n"
                     continue
+                if item is None:  # the server is stopping
+                    return
                 yield _event(*item)
         finally:
+            streams.done(queue)
             stop()
 
     headers = {"Cache-Control": "no-store", "X-Accel-Buffering": "no"}
