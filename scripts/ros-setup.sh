@@ -21,7 +21,7 @@ fail() {
   exit 1
 }
 
-key=$(cat scripts/ros-setup.sh ros2/requirements.txt pyproject.toml \
+key=$(cat scripts/ros-setup.sh scripts/uv.sh ros2/requirements.txt pyproject.toml \
   ros2/cadkg_interfaces/package.xml ros2/cadkg_interfaces/CMakeLists.txt \
   ros2/cadkg_interfaces/msg/*.msg ros2/cadkg_interfaces/srv/*.srv \
   ros2/tf2_msgs/package.xml ros2/tf2_msgs/CMakeLists.txt ros2/tf2_msgs/msg/*.msg | sha256sum | cut -d' ' -f1)
@@ -53,12 +53,13 @@ if [ ! -x "$VENV/bin/python" ]; then
   "$PYTHON" -m venv "$VENV" >>"$LOG" 2>&1 || fail "cannot create $VENV" "$LOG"
 fi
 PY="$VENV/bin/python"
-"$PY" -m pip install --quiet --upgrade pip >>"$LOG" 2>&1 || fail "pip upgrade" "$LOG"
-"$PY" -m pip install --quiet -r ros2/requirements.txt >>"$LOG" 2>&1 \
+# shellcheck source=scripts/uv.sh
+source "$ROOT/scripts/uv.sh"
+venv_install "$VENV" -r ros2/requirements.txt >>"$LOG" 2>&1 \
   || fail "pip install of the pinned ros-jazzy wheels (ros2/requirements.txt)" "$LOG"
 # scripts/setup.sh installs this checkout into .venv at the same time: one editable install at
 # a time, since both write src/cadkg.egg-info.
-flock "$ROOT/build/editable-install.lock" "$PY" -m pip install --quiet -e . pytest pytest-xdist >>"$LOG" 2>&1 \
+{ flock 9 && venv_install "$VENV" -e . pytest pytest-xdist; } 9>"$ROOT/build/editable-install.lock" >>"$LOG" 2>&1 \
   || fail "pip install -e . into $VENV" "$LOG"
 
 # The wheels' exported CMake files name the wheel builder's include directories; point them

@@ -37,13 +37,13 @@ fi
 if [ ! -x .venv/bin/python ]; then
   "$PYTHON" -m venv .venv
 fi
-.venv/bin/python -m pip install --quiet --upgrade pip
-install=(.venv/bin/python -m pip install --quiet -e '.[dev]')
+# shellcheck source=scripts/uv.sh
+source scripts/uv.sh
 if $for_tests; then
   # The ROS set-up, running meanwhile, installs this checkout into .venv-ros too: one editable
   # install at a time, since both write src/cadkg.egg-info.
-  flock build/editable-install.lock "${install[@]}"
+  { flock 9 && venv_install .venv -e '.[dev]'; } 9>build/editable-install.lock
 else
-  "${install[@]}"
+  venv_install .venv -e '.[dev]'
 fi
 bash scripts/build-web.sh
