@@ -45,7 +45,7 @@ on Linux also counts the parent's pages at exec), so one build does not inflate 
 Usage::
 
     python benchmarks/bench_build.py [--sizes 1000,10000,100000] [--reps 50] [--no-rdflib] [--runs 3]
-    python benchmarks/bench_build.py --quick       # 1000 wires, 5 repetitions: a smoke test
+    python benchmarks/bench_build.py --quick       # 1000 wires, 2 repetitions: a smoke test
     python benchmarks/bench_build.py --cabinet     # the complete cabinet, derived graph included
 """
 
@@ -970,14 +970,14 @@ def parse_args(argv: Sequence[str] | None) -> Options:
         "--budget", type=float, default=15.0, help="seconds of repetitions per query and engine (default 15)"
     )
     parser.add_argument(
-        "--quick", action="store_true", help="smoke test: 1000 wires, 5 repetitions, 5 s timeout, 2 s budget"
+        "--quick", action="store_true", help="smoke test: 1000 wires, 2 repetitions, 1 s timeout, 0.5 s budget"
     )
     parser.add_argument(
         "--runs", type=int, default=1, help="measure each size this many times (queries in the first only)"
     )
     args = parser.parse_args(argv)
     if args.quick:
-        args.sizes, args.reps, args.timeout, args.budget = "1000", 5, 5.0, 2.0
+        args.sizes, args.reps, args.timeout, args.budget = "1000", 2, 1.0, 0.5
     return Options(
         sizes=tuple(int(s.replace("_", "")) for s in args.sizes.split(",") if s.strip()),
         plan=QueryPlan(max(1, args.reps), args.budget, args.timeout),
