@@ -970,7 +970,7 @@ def parse_args(argv: Sequence[str] | None) -> Options:
         "--budget", type=float, default=15.0, help="seconds of repetitions per query and engine (default 15)"
     )
     parser.add_argument(
-        "--quick", action="store_true", help="smoke test: 1000 wires, 2 repetitions, 1 s timeout, 0.5 s budget"
+        "--quick", action="store_true", help="smoke test: 1000 wires, 2 reps, 1 s timeout, 0.5 s budget"
     )
     parser.add_argument(
         "--runs", type=int, default=1, help="measure each size this many times (queries in the first only)"
