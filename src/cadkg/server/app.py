@@ -88,15 +88,19 @@ class _Guard:
 
     def __init__(
         self,
-        app: ASGIApp,
+        app: Starlette,
         loopback_hosts_only: bool,
         cors: tuple[str, ...] = (),
-        streams: Streams | None = None,
     ) -> None:
         self.app = app
-        self.streams = streams  # the event streams ClosingServer ends when told to stop
         self.loopback_hosts_only = loopback_hosts_only
         self.cors = {origin.rstrip("/") for origin in cors}
+
+    @property
+    def streams(self) -> Streams:
+        """The app's event streams, which :class:`cadkg.server.closing.ClosingServer` ends."""
+        streams: Streams = self.app.state.streams
+        return streams
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
@@ -259,7 +263,7 @@ def create_app(
     app.state.endpoint = endpoint
     app.state.feed = feed
     app.state.streams = Streams()
-    return _Guard(app, loopback_hosts_only, settings.cors, app.state.streams)
+    return _Guard(app, loopback_hosts_only, settings.cors)
 
 
 def serve(

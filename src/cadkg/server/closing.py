@@ -25,11 +25,8 @@ GRACE_SECONDS = 30
 class ClosingServer(uvicorn.Server):
     """uvicorn's server that ends the app's event streams (its ``streams``) when told to stop."""
 
-    def __init__(self, config: uvicorn.Config) -> None:
-        super().__init__(config)
-        self.streams: Streams | None = getattr(config.app, "streams", None)
-
     async def shutdown(self, sockets: list[socket.socket] | None = None) -> None:
-        if self.streams is not None:
-            self.streams.close()
+        streams: Streams | None = getattr(self.config.app, "streams", None)
+        if streams is not None:
+            streams.close()
         await super().shutdown(sockets)

@@ -75,13 +75,15 @@ async def changes(request: Request) -> Response:
     def heard(changes: ChangeSet) -> None:
         loop.call_soon_threadsafe(queue.put_nowait, (changes, feed.published))
 
-    stop = feed.listen(heard)
-    latest = feed.latest
     streams: Streams = request.app.state.streams
-    streams.open(queue)
 
     async def stream() -> AsyncIterator[bytes]:
+        # Registered here, where the finally that unregisters runs: a client gone before the
+        # response starts streaming leaves nothing behind.
+        stop = feed.listen(heard)
+        streams.open(queue)
         try:
+            latest = feed.latest
             yield b"retry: 3000\n\n"
             if latest is not None:
                 yield _event(latest, feed.published)
