@@ -748,6 +748,7 @@ def case(kind, path):
     os.waitpid(pid, 0)
     return json.loads(text)
 
+reference_seconds()  # the loop warmed here once: every case's fork starts warm
 for kind, path, warm in json.loads(sys.argv[1]):
     if warm is not None:  # the reader's modules imported before the forks, as a build has them by then
         for module in warm:

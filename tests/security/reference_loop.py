@@ -11,6 +11,7 @@ parsed, XML parsed and walked, a record made per row.
 from __future__ import annotations
 
 import csv
+import functools
 import io
 import time
 
@@ -37,9 +38,14 @@ def _once() -> int:
     return len(records)
 
 
+@functools.cache
+def _warm() -> None:
+    _once()  # the first run in a process pays for what a read's seed already paid
+
+
 def reference_seconds() -> float:
     """CPU seconds this process takes for the loop now (about 10 ms on a quiet machine)."""
-    _once()  # warm: the first call pays for what a read's seed already paid
+    _warm()
     started = time.process_time()
     for _ in range(_REPEATS):
         _once()

@@ -13,6 +13,7 @@ live run, so the default is configured and its C++ headers generated, not compil
 from __future__ import annotations
 
 import ast
+import functools
 import subprocess
 import sys
 from pathlib import Path
@@ -33,11 +34,12 @@ LOG = ROOT / "build" / "ros" / "colcon-log" / "latest_build" / "logger_all.log"
 PYTHON_ONLY = "-DCADKG_INTERFACES_PYTHON_ONLY=ON"
 
 
-def _setup_cmake_args() -> list[str]:
+@functools.cache
+def _setup_cmake_args() -> tuple[str, ...]:
     """The arguments scripts/ros-setup.sh gave cmake, as colcon recorded them for the package."""
     recorded = ast.literal_eval((BUILT / "cmake_args.last").read_text(encoding="utf-8"))
     assert isinstance(recorded, list) and all(isinstance(arg, str) for arg in recorded), recorded
-    return recorded
+    return tuple(recorded)
 
 
 def test_colcon_builds_the_interface_package() -> None:
