@@ -61,6 +61,7 @@ venv_install "$VENV" -r ros2/requirements.txt >>"$LOG" 2>&1 \
 # a time, since both write src/cadkg.egg-info.
 { flock 9 && venv_install "$VENV" -e . pytest pytest-xdist; } 9>"$ROOT/build/editable-install.lock" >>"$LOG" 2>&1 \
   || fail "pip install -e . into $VENV" "$LOG"
+compile_sources "$VENV" >>"$LOG" 2>&1 || fail "compiling cadkg's modules for $VENV" "$LOG"
 
 # The wheels' exported CMake files name the wheel builder's include directories; point them
 # at this venv's Python headers and numpy.
@@ -102,7 +103,10 @@ ws="$BUILD/ws"
 rm -rf "$ws" "$BUILD/colcon-build" "$BUILD/colcon-log"
 mkdir -p "$ws/src"
 ln -s "$ROOT/ros2/cadkg_interfaces" "$ws/src/cadkg_interfaces"
-(cd "$ws" && AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" colcon \
+# MAKEFLAGS: as many jobs as cores, whatever the load. colcon's default adds -l (no new job
+# while the load average is above the core count), which the set-ups running beside this one
+# push it over; even on a quiet 2-core machine the build took 160 s with it, 144 s without.
+(cd "$ws" && MAKEFLAGS="-j$(nproc)" AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" colcon \
   --log-base "$BUILD/colcon-log" build --merge-install --install-base "$PREFIX" \
   --build-base "$BUILD/colcon-build" --packages-select cadkg_interfaces \
   --event-handlers console_direct- --cmake-args "${cmake_args[@]}" -DCADKG_INTERFACES_PYTHON_ONLY=ON) \

@@ -46,4 +46,5 @@ if $for_tests; then
 else
   venv_install .venv -e '.[dev]'
 fi
+compile_sources .venv
 bash scripts/build-web.sh

@@ -122,3 +122,35 @@ def test_every_use_case_service_is_listed_when_all_are_asked_for() -> None:
     listed = services()
     assert {s.profile for s in listed.values()} == {c.name for c in use_cases() if c.services}
     assert {"cad_service", "guide_info", "pin_frames", "hose_info"} <= set(listed)
+
+
+# In a fresh interpreter: the installed modules that the command line and the endpoint import
+# whose .pyc is missing or not that of the source (its header: flags, source mtime and size).
+_STALE = """
+import json, os, sys, sysconfig
+from importlib.util import cache_from_source
+import cadkg.cli, cadkg.server.app, cadkg.server.workbench.routes, starlette.routing
+
+def fresh(path):
+    source = os.stat(path)
+    try:
+        with open(cache_from_source(path), "rb") as cached:
+            header = cached.read(16)
+    except OSError:
+        return False
+    mtime, size = (int.from_bytes(header[at : at + 4], "little") for at in (8, 12))
+    return header[4:8] == bytes(4) and (mtime, size) == (
+        int(source.st_mtime) & 0xFFFFFFFF, source.st_size & 0xFFFFFFFF
+    )
+
+installed = sysconfig.get_paths()["purelib"]
+paths = [getattr(module, "__file__", None) or "" for module in list(sys.modules.values())]
+print(json.dumps(sorted(p for p in paths if p.startswith(installed) and p.endswith(".py") and not fresh(p))))
+"""
+
+
+def test_the_modules_a_process_imports_were_compiled_by_the_set_up() -> None:
+    # Where PYTHONDONTWRITEBYTECODE is set (containers, CI), a module without its .pyc is
+    # compiled anew by every process; scripts/uv.sh compiles the venv's at set-up (and cadkg's,
+    # which a developer's edits then leave stale: the installed ones are checked).
+    assert _fresh(_STALE) == []
