@@ -94,7 +94,10 @@ build_package() {
   cmake --install "$dir" >>"$LOG" 2>&1 || fail "install of $name" "$LOG"
 }
 export PATH="$VENV/bin:$PATH"
-build_package tf2_msgs
+# tf2_msgs, which cadkg_interfaces does not depend on, builds beside it (its own log): its
+# configure is a slow single process, and the colcon build leaves a core part idle.
+(LOG="$BUILD/tf2_msgs.log" && : >"$LOG" && build_package tf2_msgs) &
+tf2=$!
 # cadkg_interfaces is built as a ROS workspace builds it, with colcon (pinned in
 # ros2/requirements.txt) and the wheels as underlay, merged into the same prefix;
 # tests/ros/live/test_colcon.py checks this build. rclpy is the only client here: no C++ type
@@ -110,7 +113,8 @@ ln -s "$ROOT/ros2/cadkg_interfaces" "$ws/src/cadkg_interfaces"
   --log-base "$BUILD/colcon-log" build --merge-install --install-base "$PREFIX" \
   --build-base "$BUILD/colcon-build" --packages-select cadkg_interfaces \
   --event-handlers console_direct- --cmake-args "${cmake_args[@]}" -DCADKG_INTERFACES_PYTHON_ONLY=ON) \
-  >>"$LOG" 2>&1 || fail "colcon build of cadkg_interfaces" "$LOG"
+  >>"$LOG" 2>&1 || { wait "$tf2" || true; fail "colcon build of cadkg_interfaces" "$LOG"; }
+wait "$tf2" || exit 1  # its own fail() has said why
 
 # Make the built packages importable and their libraries loadable by .venv-ros/bin/python alone:
 # this .pth sorts before the wheels' bootstrapper, which re-executes Python with LD_LIBRARY_PATH.
