@@ -37,8 +37,8 @@ fi
 if [ ! -x .venv/bin/python ]; then
   "$PYTHON" -m venv .venv
 fi
-# shellcheck source=scripts/uv.sh
-source scripts/uv.sh
+# shellcheck source=scripts/venv.sh
+source scripts/venv.sh
 if $for_tests; then
   # The ROS set-up, running meanwhile, installs this checkout into .venv-ros too: one editable
   # install at a time, since both write src/cadkg.egg-info.

@@ -151,6 +151,6 @@ print(json.dumps(sorted(p for p in paths if p.startswith(installed) and p.endswi
 
 def test_the_modules_a_process_imports_were_compiled_by_the_set_up() -> None:
     # Where PYTHONDONTWRITEBYTECODE is set (containers, CI), a module without its .pyc is
-    # compiled anew by every process; scripts/uv.sh compiles the venv's at set-up (and cadkg's,
+    # compiled anew by every process; scripts/venv.sh compiles the venv's at set-up (and cadkg's,
     # which a developer's edits then leave stale: the installed ones are checked).
     assert _fresh(_STALE) == []
