@@ -27,7 +27,7 @@ def _request(feed: ChangeFeed, streams: Streams) -> Any:
 
 
 def _registered(feed: ChangeFeed, streams: Streams) -> tuple[int, int]:
-    return len(feed._listeners), len(streams._queues)
+    return feed.listening, streams.running
 
 
 def test_an_answer_never_streamed_registers_nothing() -> None:

@@ -51,6 +51,12 @@ class ChangeFeed:
 
         return stop
 
+    @property
+    def listening(self) -> int:
+        """How many listeners are registered now."""
+        with self._lock:
+            return len(self._listeners)
+
     def observe(
         self,
         graph: Any,

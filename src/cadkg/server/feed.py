@@ -45,6 +45,11 @@ class Streams:
     def done(self, queue: asyncio.Queue[Any]) -> None:
         self._queues.discard(queue)
 
+    @property
+    def running(self) -> int:
+        """How many streams are open now."""
+        return len(self._queues)
+
     def close(self) -> None:
         """End every stream, and every one opened from now on (called on the server's loop)."""
         self.closed = True
