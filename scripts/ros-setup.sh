@@ -21,7 +21,7 @@ fail() {
   exit 1
 }
 
-key=$(cat scripts/ros-setup.sh scripts/uv.sh ros2/requirements.txt pyproject.toml \
+key=$(cat scripts/ros-setup.sh scripts/venv.sh ros2/requirements.txt pyproject.toml \
   ros2/cadkg_interfaces/package.xml ros2/cadkg_interfaces/CMakeLists.txt \
   ros2/cadkg_interfaces/msg/*.msg ros2/cadkg_interfaces/srv/*.srv \
   ros2/tf2_msgs/package.xml ros2/tf2_msgs/CMakeLists.txt ros2/tf2_msgs/msg/*.msg | sha256sum | cut -d' ' -f1)
@@ -53,8 +53,8 @@ if [ ! -x "$VENV/bin/python" ]; then
   "$PYTHON" -m venv "$VENV" >>"$LOG" 2>&1 || fail "cannot create $VENV" "$LOG"
 fi
 PY="$VENV/bin/python"
-# shellcheck source=scripts/uv.sh
-source "$ROOT/scripts/uv.sh"
+# shellcheck source=scripts/venv.sh
+source "$ROOT/scripts/venv.sh"
 venv_install "$VENV" -r ros2/requirements.txt >>"$LOG" 2>&1 \
   || fail "pip install of the pinned ros-jazzy wheels (ros2/requirements.txt)" "$LOG"
 # scripts/setup.sh installs this checkout into .venv at the same time: one editable install at
@@ -94,27 +94,45 @@ build_package() {
   cmake --install "$dir" >>"$LOG" 2>&1 || fail "install of $name" "$LOG"
 }
 export PATH="$VENV/bin:$PATH"
-# tf2_msgs, which cadkg_interfaces does not depend on, builds beside it (its own log): its
-# configure is a slow single process, and the colcon build leaves a core part idle.
-(LOG="$BUILD/tf2_msgs.log" && : >"$LOG" && build_package tf2_msgs) &
-tf2=$!
+
+build_tf2_msgs() {
+  local LOG="$BUILD/tf2_msgs.log"
+  : >"$LOG"
+  build_package tf2_msgs
+}
+
 # cadkg_interfaces is built as a ROS workspace builds it, with colcon (pinned in
 # ros2/requirements.txt) and the wheels as underlay, merged into the same prefix;
 # tests/ros/live/test_colcon.py checks this build. rclpy is the only client here: no C++ type
 # supports (ros2/cadkg_interfaces/CMakeLists.txt).
-ws="$BUILD/ws"
-rm -rf "$ws" "$BUILD/colcon-build" "$BUILD/colcon-log"
-mkdir -p "$ws/src"
-ln -s "$ROOT/ros2/cadkg_interfaces" "$ws/src/cadkg_interfaces"
-# MAKEFLAGS: as many jobs as cores, whatever the load. colcon's default adds -l (no new job
-# while the load average is above the core count), which the set-ups running beside this one
-# push it over; even on a quiet 2-core machine the build took 160 s with it, 144 s without.
-(cd "$ws" && MAKEFLAGS="-j$(nproc)" AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" colcon \
-  --log-base "$BUILD/colcon-log" build --merge-install --install-base "$PREFIX" \
-  --build-base "$BUILD/colcon-build" --packages-select cadkg_interfaces \
-  --event-handlers console_direct- --cmake-args "${cmake_args[@]}" -DCADKG_INTERFACES_PYTHON_ONLY=ON) \
-  >>"$LOG" 2>&1 || { wait "$tf2" || true; fail "colcon build of cadkg_interfaces" "$LOG"; }
-wait "$tf2" || exit 1  # its own fail() has said why
+build_cadkg_interfaces() {
+  local ws="$BUILD/ws"
+  rm -rf "$ws" "$BUILD/colcon-build" "$BUILD/colcon-log"
+  mkdir -p "$ws/src"
+  ln -s "$ROOT/ros2/cadkg_interfaces" "$ws/src/cadkg_interfaces"
+  # MAKEFLAGS: as many jobs as cores, whatever the load. colcon's default adds -l (no new job
+  # while the load average is above the core count), which the set-ups running beside this one
+  # push it over; even on a quiet 2-core machine the build took 160 s with it, 144 s without.
+  (cd "$ws" && MAKEFLAGS="-j$(nproc)" AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" colcon \
+    --log-base "$BUILD/colcon-log" build --merge-install --install-base "$PREFIX" \
+    --build-base "$BUILD/colcon-build" --packages-select cadkg_interfaces \
+    --event-handlers console_direct- --cmake-args "${cmake_args[@]}" -DCADKG_INTERFACES_PYTHON_ONLY=ON) \
+    >>"$LOG" 2>&1 || fail "colcon build of cadkg_interfaces" "$LOG"
+}
+
+# tf2_msgs, which cadkg_interfaces does not depend on, builds beside it (its own log): its
+# configure is a slow single process, and the colcon build leaves a core part idle.
+# shellcheck source=scripts/jobs.sh
+source "$ROOT/scripts/jobs.sh"
+background build_tf2_msgs
+tf2=$!
+background build_cadkg_interfaces
+interfaces=$!
+# Each job's fail() has said why it failed; both are waited for, so neither is left running.
+ok=0
+wait "$interfaces" || ok=1
+wait "$tf2" || ok=1
+[ "$ok" = 0 ] || exit 1
 
 # Make the built packages importable and their libraries loadable by .venv-ros/bin/python alone:
 # this .pth sorts before the wheels' bootstrapper, which re-executes Python with LD_LIBRARY_PATH.
