@@ -45,7 +45,7 @@ on Linux also counts the parent's pages at exec), so one build does not inflate 
 Usage::
 
     python benchmarks/bench_build.py [--sizes 1000,10000,100000] [--reps 50] [--no-rdflib] [--runs 3]
-    python benchmarks/bench_build.py --quick       # 1000 wires, 2 repetitions: a smoke test
+    python benchmarks/bench_build.py --quick       # a smoke test (its settings: --help)
     python benchmarks/bench_build.py --cabinet     # the complete cabinet, derived graph included
 """
 
@@ -75,6 +75,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from baselines import job_bulk_load, job_rdflib_terms
 from medians import spread, verdict
+from quick import add_quick, parse
 from synthetic import write_cabinet, write_cell
 
 CHILD_FLAG = "--child-job"
@@ -970,14 +971,10 @@ def parse_args(argv: Sequence[str] | None) -> Options:
         "--budget", type=float, default=15.0, help="seconds of repetitions per query and engine (default 15)"
     )
     parser.add_argument(
-        "--quick", action="store_true", help="smoke test: 1000 wires, 2 reps, 1 s timeout, 0.5 s budget"
-    )
-    parser.add_argument(
         "--runs", type=int, default=1, help="measure each size this many times (queries in the first only)"
     )
-    args = parser.parse_args(argv)
-    if args.quick:
-        args.sizes, args.reps, args.timeout, args.budget = "1000", 2, 1.0, 0.5
+    add_quick(parser, sizes="1000", reps=2, timeout=1.0, budget=0.5)
+    args = parse(parser, argv)
     return Options(
         sizes=tuple(int(s.replace("_", "")) for s in args.sizes.split(",") if s.strip()),
         plan=QueryPlan(max(1, args.reps), args.budget, args.timeout),

@@ -16,7 +16,7 @@ medians with the lowest and highest, and the verdict on the median.
 Usage::
 
     python benchmarks/bench_diff.py [--wires 10000] [--runs 3]
-    python benchmarks/bench_diff.py --quick    # 300 wires, one run
+    python benchmarks/bench_diff.py --quick    # a smoke test (its settings: --help)
 """
 
 from __future__ import annotations
@@ -37,6 +37,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_build import peak_rss_mib, reference_loop_seconds
 from medians import spread, verdict
+from quick import add_quick, parse
 from synthetic import write_cabinet
 
 CHILD_FLAG = "--child-job"
@@ -139,9 +140,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--wires", type=int, default=10_000)
     parser.add_argument("--runs", type=int, default=1)
-    parser.add_argument("--quick", action="store_true", help="300 wires, one run")
-    args = parser.parse_args(argv)
-    wires, runs = (300, 1) if args.quick else (args.wires, args.runs)
+    add_quick(parser, wires=300, runs=1)
+    args = parse(parser, argv)
+    wires, runs = args.wires, args.runs
     reference = reference_loop_seconds()
     with tempfile.TemporaryDirectory(prefix="cadkg-bench-diff-") as folder:
         old = Path(write_cabinet(Path(folder) / "old", wires))

@@ -20,7 +20,7 @@ in at most half the build time of the same harness (medians). Nothing is asserte
 Usage::
 
     python benchmarks/bench_graphml.py [--sizes 10000,100000] [--reps 3] [--seed 0] [--no-networkx]
-    python benchmarks/bench_graphml.py --quick    # 2000 wires, 3 repetitions: a smoke test
+    python benchmarks/bench_graphml.py --quick    # a smoke test (its settings: --help)
 """
 
 from __future__ import annotations
@@ -43,6 +43,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from cadkg.graph import KnowledgeGraph
 from cadkg.usecases.vw.graphml import VIEWS, harness_view, write_harness_graphml
 from cadkg.usecases.vw.views import networkx_graph
+from quick import add_quick, parse
 from synthetic_harness import write_harness
 
 TARGET_BOTH_SECONDS = 5.0
@@ -190,9 +191,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--reps", type=int, default=3, help="repetitions of each build and export (>= 3)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--no-networkx", action="store_true", help="leave out the networkx baseline")
-    parser.add_argument("--quick", action="store_true", help="2000 wires, 3 repetitions")
-    args = parser.parse_args(argv)
-    sizes = [2000] if args.quick else [int(s) for s in args.sizes.split(",") if s]
+    add_quick(parser, sizes="2000")
+    args = parse(parser, argv)
+    sizes = [int(s) for s in args.sizes.split(",") if s]
     reps = max(3, args.reps)
     results = []
     with tempfile.TemporaryDirectory(prefix="cadkg-graphml-") as tmp:

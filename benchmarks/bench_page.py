@@ -25,7 +25,7 @@ Figures are medians of ``--runs`` page loads with their spread (min–max). Noth
 Usage::
 
     python benchmarks/bench_page.py [--wires 10000] [--runs 3] [--store DIR]
-    python benchmarks/bench_page.py --quick     # 300 wires, one run: a smoke test
+    python benchmarks/bench_page.py --quick     # a smoke test (its settings: --help)
 """
 
 from __future__ import annotations
@@ -50,6 +50,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import synthetic  # noqa: E402
+from quick import add_quick, parse  # noqa: E402
 from tests.server.browser import chromium, open_page, settled, wait  # noqa: E402
 from tests.server.serving import cadkg_serve  # noqa: E402
 
@@ -170,10 +171,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--wires", type=int, default=10000)
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--store", type=Path, help="an existing store to serve instead of building one")
-    parser.add_argument("--quick", action="store_true", help="300 wires, one run")
-    args = parser.parse_args(argv)
-    if args.quick:
-        args.wires, args.runs = 300, 1
+    add_quick(parser, wires=300, runs=1)
+    args = parse(parser, argv)
     machine = platform.processor() or platform.machine()
     print(f"machine: {machine}, {os.cpu_count()} cores, Python {platform.python_version()}")
     scratch = Path(tempfile.mkdtemp(prefix="bench-page-"))

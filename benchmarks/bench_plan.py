@@ -21,7 +21,7 @@ balanced plan of 1k wires in at most 1 s).
 Usage::
 
     python benchmarks/bench_plan.py [--sizes 1000,10000] [--runs 3]
-    python benchmarks/bench_plan.py --quick    # 300 wires
+    python benchmarks/bench_plan.py --quick    # a smoke test (its settings: --help)
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_build import peak_rss_mib, reference_loop_seconds
 from medians import spread, verdict
+from quick import add_quick, parse
 from synthetic import write_cabinet
 
 CHILD_FLAG = "--child-job"
@@ -212,9 +213,9 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
     parser.add_argument("--sizes", default="1000,10000", help="wires per cabinet, comma separated")
     parser.add_argument("--runs", type=int, default=1, help="plan each size this many times")
-    parser.add_argument("--quick", action="store_true", help="smoke test: 300 wires")
-    args = parser.parse_args()
-    sizes = [300] if args.quick else [int(size) for size in args.sizes.split(",")]
+    add_quick(parser, sizes="300")
+    args = parse(parser)
+    sizes = [int(size) for size in args.sizes.split(",")]
     import pyoxigraph
 
     import cadkg

@@ -19,7 +19,7 @@ ROS / in-process p50, and the target (round trip p50 ≤ 2 ms). Nothing is asser
 Usage::
 
     .venv-ros/bin/python benchmarks/bench_ros.py [--calls 1000]
-    .venv-ros/bin/python benchmarks/bench_ros.py --quick     # 100 calls: a smoke test
+    .venv-ros/bin/python benchmarks/bench_ros.py --quick     # a smoke test (its settings: --help)
 """
 
 from __future__ import annotations
@@ -49,6 +49,7 @@ from cadkg.ros_adapter import convert  # noqa: E402
 from cadkg.ros_adapter.node import default_namespace, srv_type  # noqa: E402
 from cadkg.services.session import Session  # noqa: E402
 from cadkg.services.table import call  # noqa: E402
+from quick import add_quick, parse  # noqa: E402
 
 TARGET_US = 2000.0
 
@@ -163,9 +164,9 @@ def main(argv: list[str] | None = None) -> int:
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     parser.add_argument("--calls", type=int, default=1000, help="calls per way (default 1000)")
-    parser.add_argument("--quick", action="store_true", help="100 calls: a smoke test")
-    args = parser.parse_args(argv)
-    calls = 100 if args.quick else args.calls
+    add_quick(parser, calls=100)
+    args = parse(parser, argv)
+    calls = args.calls
     print(f"# cadkg ROS 2 service round trip ({platform.python_version()}, {os.cpu_count()} cores)\n")
     print(f"{calls} calls per way, one after the other, after one first call each.\n")
     print(

@@ -32,7 +32,7 @@ Usage::
 
     python benchmarks/bench_services.py [--sizes 1000,10000,100000] [--calls 2000]
                                         [--baseline-calls 200] [--budget 10] [--seed 0]
-    python benchmarks/bench_services.py --quick    # 300 wires, 200 calls: a smoke test
+    python benchmarks/bench_services.py --quick    # a smoke test (its settings: --help)
 """
 
 from __future__ import annotations
@@ -64,6 +64,7 @@ from cadkg.services.session import Session
 from cadkg.services.table import call, services_for
 from cadkg.usecases.iema import answers as iema
 from cadkg.usecases.iema.derive.cabinet import CellModel
+from quick import add_quick, parse
 from synthetic import CabinetFiles, write_cabinet_files
 
 TARGET_P50_US = 250.0
@@ -1002,12 +1003,8 @@ def parse_args(argv: Sequence[str] | None) -> Options:
     parser.add_argument(
         "--seed", type=int, default=0, help="seed of the cabinet and of the parameters (default 0)"
     )
-    parser.add_argument(
-        "--quick", action="store_true", help="smoke test: 300 wires, 200 calls, 20 baseline calls"
-    )
-    args = parser.parse_args(argv)
-    if args.quick:
-        args.sizes, args.calls, args.baseline_calls, args.budget = "300", 200, 20, 2.0
+    add_quick(parser, sizes="300", calls=200, baseline_calls=20, budget=2.0)
+    args = parse(parser, argv)
     return Options(
         sizes=tuple(int(s.replace("_", "")) for s in args.sizes.split(",") if s.strip()),
         calls=max(1, args.calls),

@@ -26,7 +26,7 @@ Usage::
 
     python benchmarks/bench_validate.py [--sizes 1000,5000,10000] [--cabinet] [--runs 3]
                                         [--rdflib-max-wires 1000] [--pyshacl-max-wires 10000]
-    python benchmarks/bench_validate.py --quick    # 300 wires
+    python benchmarks/bench_validate.py --quick    # a smoke test (its settings: --help)
 """
 
 from __future__ import annotations
@@ -45,6 +45,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_build import peak_rss_mib, reference_loop_seconds
 from medians import spread, verdict
+from quick import add_quick, parse
 from synthetic import write_cabinet, write_cell
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -181,9 +182,9 @@ def main() -> int:
     parser.add_argument(
         "--pyshacl-max-wires", type=int, default=10_000, help="leave pySHACL out above this size"
     )
-    parser.add_argument("--quick", action="store_true", help="smoke test: 300 wires")
-    args = parser.parse_args()
-    sizes = [300] if args.quick else [int(size) for size in args.sizes.split(",")]
+    add_quick(parser, sizes="300")
+    args = parse(parser)
+    sizes = [int(size) for size in args.sizes.split(",")]
     import pyoxigraph
     import pyshacl
     import rdflib

@@ -27,7 +27,7 @@ Usage::
 
     python benchmarks/load_http.py [--wires 100000] [--clients 50] [--seconds 30] [--reload-at 15]
                                    [--workers 4] [--timeout 60] [--cache-mb 64 | --no-cache]
-    python benchmarks/load_http.py --quick     # 1000 wires, 10 clients, 4 s
+    python benchmarks/load_http.py --quick     # a smoke test (its settings: --help)
 """
 
 from __future__ import annotations
@@ -55,6 +55,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_build import query_params
 from cadkg.query.named import named_queries
+from quick import add_quick, parse
 from synthetic import write_cell_files
 
 SRJ = "application/sparql-results+json"
@@ -379,16 +380,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--timeout", type=float, default=60.0, help="the server's time limit")
     parser.add_argument("--cache-mb", type=int, default=64)
     parser.add_argument("--no-cache", action="store_true", help="serve without the answer cache")
-    parser.add_argument("--quick", action="store_true", help="1000 wires, 10 clients, 4 s")
+    add_quick(parser, wires=1000, clients=10, seconds=4.0)
     parser.add_argument(
         "--store",
         type=Path,
         default=None,
         help="copy this store (built from the synthetic cell of --wires, seed 0) instead of building",
     )
-    args = parser.parse_args(argv)
-    if args.quick:
-        args.wires, args.clients, args.seconds = 1000, 10, 4.0
+    args = parse(parser, argv)
     if args.reload_at is None:
         args.reload_at = args.seconds / 2
     if not 0 < args.reload_at < args.seconds or args.clients < 1 or args.wires < 10:
