@@ -116,7 +116,8 @@ build_cadkg_interfaces() {
   (cd "$ws" && MAKEFLAGS="-j$(nproc)" AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" colcon \
     --log-base "$BUILD/colcon-log" build --merge-install --install-base "$PREFIX" \
     --build-base "$BUILD/colcon-build" --packages-select cadkg_interfaces \
-    --event-handlers console_direct- --cmake-args "${cmake_args[@]}" -DCADKG_INTERFACES_PYTHON_ONLY=ON) \
+    --event-handlers console_direct- --cmake-args "${cmake_args[@]}" -DCADKG_INTERFACES_PYTHON_ONLY=ON \
+    -DCADKG_INTERFACES_UNITY=ON) \
     >>"$LOG" 2>&1 || fail "colcon build of cadkg_interfaces" "$LOG"
 }
 

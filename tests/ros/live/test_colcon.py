@@ -32,6 +32,14 @@ CPP_TYPE_SUPPORTS = (
 BUILT = ROOT / "build" / "ros" / "colcon-build" / "cadkg_interfaces"
 LOG = ROOT / "build" / "ros" / "colcon-log" / "latest_build" / "logger_all.log"
 PYTHON_ONLY = "-DCADKG_INTERFACES_PYTHON_ONLY=ON"
+UNITY = "-DCADKG_INTERFACES_UNITY=ON"
+# What the unity build compiles as batches, each one object of a Unity/ folder of its target.
+UNITY_TARGETS = (
+    "cadkg_interfaces__rosidl_typesupport_c",
+    "cadkg_interfaces__rosidl_typesupport_fastrtps_c",
+    "cadkg_interfaces__rosidl_typesupport_introspection_c",
+    "cadkg_interfaces__rosidl_generator_py",
+)
 
 
 @functools.cache
@@ -47,7 +55,10 @@ def test_colcon_builds_the_interface_package() -> None:
     # the return code colcon keeps for each package it built (what
     # --packages-select-build-failed reads): 0, as a failed build leaves another.
     assert (PREFIX / ".colcon_install_layout").read_text(encoding="utf-8").strip() == "merged"
-    assert PYTHON_ONLY in _setup_cmake_args()
+    assert PYTHON_ONLY in _setup_cmake_args() and UNITY in _setup_cmake_args()
+    for target in UNITY_TARGETS:
+        assert list((BUILT / "CMakeFiles" / f"{target}.dir" / "Unity").glob("unity_*.o")), target
+    assert not (BUILT / "CMakeFiles" / "cadkg_interfaces__rosidl_generator_c.dir" / "Unity").exists()
     rc = (BUILT / "colcon_build.rc").read_text(encoding="utf-8").strip()
     assert rc == "0", LOG.read_text(encoding="utf-8")[-3000:]
     assert (PREFIX / "share" / "ament_index" / "resource_index" / "packages" / "cadkg_interfaces").is_file()
@@ -70,7 +81,7 @@ def test_colcon_builds_the_interface_package() -> None:
 
 def test_the_default_build_has_the_cpp_type_supports_and_their_headers(tmp_path: Path) -> None:
     env = underlay_environment()
-    default = [arg for arg in _setup_cmake_args() if arg != PYTHON_ONLY]
+    default = [arg for arg in _setup_cmake_args() if arg not in (PYTHON_ONLY, UNITY)]
     configured = subprocess.run(
         ["cmake", "-S", str(PACKAGE), "-B", str(tmp_path), *default],
         env=env, capture_output=True, text=True, timeout=600, check=False,
