@@ -10,6 +10,7 @@ from typing import Any
 import pytest
 
 import cadkg
+from tests.ros import nested
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
@@ -60,7 +61,18 @@ LIVE_FIXTURES = frozenset({"browser", "virtuoso"})
 # The modules that take longest, longest first: run first, each in a worker of its own while the
 # other worker takes the many short ones, so that no long module is left running alone at the
 # end of a run on both cores (measured on a loaded 2-core machine, docs/testing.md).
+# The nested ROS run, when the session started it beside its workers, is read last instead: by
+# then it is over (tests/ros/nested.py).
 LONGEST = ("tests/ros/test_live.py", "tests/test_demo.py")
+NESTED = "tests/ros/test_live.py"
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    nested.start_beside(config)
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    nested.stop_beside(config)
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
@@ -68,6 +80,8 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
         if LIVE_FIXTURES.intersection(getattr(item, "fixturenames", ())):
             item.add_marker(pytest.mark.live)
     rank = {name: place for place, name in enumerate(LONGEST)}
+    if nested.RUN in os.environ:
+        rank = {name: place for name, place in rank.items() if name != NESTED} | {NESTED: len(rank) + 1}
     # A stable sort keeps each module's tests together and in their order.
     items.sort(key=lambda item: rank.get(item.nodeid.partition("::")[0], len(rank)))
 

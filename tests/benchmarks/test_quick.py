@@ -10,7 +10,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 
-from quick import add_quick, parse  # noqa: E402
+from quick import add_quick, parse
 
 
 def _parser() -> argparse.ArgumentParser:

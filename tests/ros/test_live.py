@@ -7,7 +7,8 @@ network, no Python 3.11/3.12); a set-up that was not run, or failed otherwise, f
 The live run has its own time cap, generous for a loaded 2-core machine, and is killed with
 its whole process group (nodes, colcon, cmake) when it runs over.
 
-The nested run happens once, for the first test of this module; each test here is one test
+The nested run happens once: started by a session on several workers beside them, or for the
+first test of this module (:mod:`tests.ros.nested`); each test here is one test
 function of tests/ros/live (its parametrized cases together) and passes, fails or skips as it
 did there, so a failure names the live test and shows its own report.
 """
@@ -15,24 +16,18 @@ did there, so a failure names the live test and shows its own report.
 from __future__ import annotations
 
 import ast
-import os
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
 
-from tests.conftest import ROOT, run_capped
+from tests.conftest import ROOT
+from tests.ros import nested as live_run
+from tests.ros.nested import FAILED, PYTHON
 
 pytestmark = pytest.mark.live
 
-PYTHON = ROOT / ".venv-ros" / "bin" / "python"
-FAILED = ROOT / "build" / "ros" / "setup-failed"
 CANNOT_INSTALL = ("pip install of the pinned ros-jazzy wheels", "no python3", "cannot create", "needs ")
-# The live run took 11-15 minutes on a loaded 2-core machine while test_colcon compiled every
-# interface's C++ type supports too; the cap stays as generous as it was for then.
-CAP_SECONDS = 2400
-
-
 LIVE = ROOT / "tests" / "ros" / "live"
 
 
@@ -60,36 +55,9 @@ def nested(tmp_path_factory: pytest.TempPathFactory) -> dict[str, list[tuple[str
         pytest.fail(line)
     if not PYTHON.is_file():
         pytest.fail(".venv-ros is missing: run 'bash scripts/setup.sh --test' (the test command does)")
-    env = {
-        key: value
-        for key, value in os.environ.items()
-        if not key.startswith(("PYTEST_", "_ROS_WHEELS")) and key not in ("VIRTUAL_ENV", "PYTHONPATH")
-    }
-    env.update(
-        CADKG_ROS_LIVE="1",
-        ROS_DOMAIN_ID=str(1 + os.getpid() % 100),
-        ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-    )
-    report = tmp_path_factory.mktemp("ros-live") / "live.xml"
-    live = run_capped(
-        [
-            str(PYTHON),
-            "-m",
-            "pytest",
-            "-q",
-            "-p",
-            "no:cacheprovider",
-            "-n",
-            "0",
-            f"--junitxml={report}",
-            "tests/ros/live",
-        ],
-        cwd=ROOT,
-        env=env,
-        cap=CAP_SECONDS,
-    )
+    report, output, code = live_run.outcome(tmp_path_factory.mktemp("ros-live"))
     if not report.is_file():
-        pytest.fail(f"the live ROS run wrote no report (exit {live.returncode}):\n{live.stdout[-6000:]}")
+        pytest.fail(f"the live ROS run wrote no report (exit {code}):\n{output[-6000:]}")
     return _outcomes(report)
 
 
