@@ -57,11 +57,6 @@ PY="$VENV/bin/python"
 source "$ROOT/scripts/venv.sh"
 venv_install "$VENV" -r ros2/requirements.txt >>"$LOG" 2>&1 \
   || fail "pip install of the pinned ros-jazzy wheels (ros2/requirements.txt)" "$LOG"
-# scripts/setup.sh installs this checkout into .venv at the same time: one editable install at
-# a time, since both write src/cadkg.egg-info.
-{ flock 9 && venv_install "$VENV" -e . pytest pytest-xdist; } 9>"$ROOT/build/editable-install.lock" >>"$LOG" 2>&1 \
-  || fail "pip install -e . into $VENV" "$LOG"
-compile_sources "$VENV" >>"$LOG" 2>&1 || fail "compiling cadkg's modules for $VENV" "$LOG"
 
 # The wheels' exported CMake files name the wheel builder's include directories; point them
 # at this venv's Python headers and numpy.
@@ -129,6 +124,12 @@ background build_tf2_msgs
 tf2=$!
 background build_cadkg_interfaces
 interfaces=$!
+# cadkg itself, while they build (it only adds packages to the wheels', none the builds run).
+# scripts/setup.sh installs this checkout into .venv at the same time: one editable install at
+# a time, since both write src/cadkg.egg-info.
+{ flock 9 && venv_install "$VENV" -e . pytest pytest-xdist; } 9>"$ROOT/build/editable-install.lock" >>"$LOG" 2>&1 \
+  || fail "pip install -e . into $VENV" "$LOG"
+compile_sources "$VENV" >>"$LOG" 2>&1 || fail "compiling cadkg's modules for $VENV" "$LOG"
 # Each job's fail() has said why it failed; both are waited for, so neither is left running.
 ok=0
 wait "$interfaces" || ok=1
