@@ -116,6 +116,15 @@ build_cadkg_interfaces() {
     >>"$LOG" 2>&1 || fail "colcon build of cadkg_interfaces" "$LOG"
 }
 
+# cadkg itself goes in while they build (it only adds packages to the wheels', none the builds
+# run). scripts/setup.sh installs this checkout into .venv at the same time: one editable
+# install at a time, since both write src/cadkg.egg-info.
+install_cadkg() {
+  { flock 9 && venv_install "$VENV" -e . pytest pytest-xdist; } 9>"$ROOT/build/editable-install.lock" >>"$LOG" 2>&1 \
+    || fail "pip install -e . into $VENV" "$LOG"
+  compile_sources "$VENV" >>"$LOG" 2>&1 || fail "compiling cadkg's modules for $VENV" "$LOG"
+}
+
 # tf2_msgs, which cadkg_interfaces does not depend on, builds beside it (its own log): its
 # configure is a slow single process, and the colcon build leaves a core part idle.
 # shellcheck source=scripts/jobs.sh
@@ -124,16 +133,13 @@ background build_tf2_msgs
 tf2=$!
 background build_cadkg_interfaces
 interfaces=$!
-# cadkg itself, while they build (it only adds packages to the wheels', none the builds run).
-# scripts/setup.sh installs this checkout into .venv at the same time: one editable install at
-# a time, since both write src/cadkg.egg-info.
-{ flock 9 && venv_install "$VENV" -e . pytest pytest-xdist; } 9>"$ROOT/build/editable-install.lock" >>"$LOG" 2>&1 \
-  || fail "pip install -e . into $VENV" "$LOG"
-compile_sources "$VENV" >>"$LOG" 2>&1 || fail "compiling cadkg's modules for $VENV" "$LOG"
-# Each job's fail() has said why it failed; both are waited for, so neither is left running.
+background install_cadkg
+cadkg=$!
+# Each job's fail() has said why it failed; all are waited for, so none is left running.
 ok=0
 wait "$interfaces" || ok=1
 wait "$tf2" || ok=1
+wait "$cadkg" || ok=1
 [ "$ok" = 0 ] || exit 1
 
 # Make the built packages importable and their libraries loadable by .venv-ros/bin/python alone:

@@ -129,8 +129,18 @@ def _waited(folder: Path) -> tuple[Path, str, int]:
             with contextlib.suppress(ProcessLookupError):
                 os.killpg(int(group), signal.SIGKILL)
             pytest.fail(f"the live ROS run ran over {CAP_SECONDS} s:\n{_output(folder)[-6000:]}")
+        if not _running(int(group)) and not rc.is_file():
+            pytest.fail(f"the live ROS run was killed before it ended:\n{_output(folder)[-6000:]}")
         time.sleep(0.5)
     return folder / "live.xml", _output(folder), int(rc.read_text(encoding="utf-8"))
+
+
+def _running(group: int) -> bool:
+    try:
+        os.killpg(group, 0)
+    except ProcessLookupError:
+        return False
+    return True
 
 
 def _output(folder: Path) -> str:
