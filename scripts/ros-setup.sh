@@ -21,7 +21,7 @@ fail() {
   exit 1
 }
 
-key=$(cat scripts/ros-setup.sh scripts/venv.sh ros2/requirements.txt pyproject.toml \
+key=$(cat scripts/ros-setup.sh scripts/venv.sh scripts/jobs.sh ros2/requirements.txt pyproject.toml \
   ros2/cadkg_interfaces/package.xml ros2/cadkg_interfaces/CMakeLists.txt \
   ros2/cadkg_interfaces/msg/*.msg ros2/cadkg_interfaces/srv/*.srv \
   ros2/tf2_msgs/package.xml ros2/tf2_msgs/CMakeLists.txt ros2/tf2_msgs/msg/*.msg | sha256sum | cut -d' ' -f1)

@@ -10,9 +10,9 @@ from typing import Any
 import pytest
 
 import cadkg
+from tests.paths import ROOT
 from tests.ros import nested
 
-ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 IEMA = EXAMPLES / "iema-switchgear" / "manifest.toml"
 IEMA_FIG3 = EXAMPLES / "iema-switchgear" / "manifest-fig3.toml"

@@ -41,5 +41,6 @@ def test_the_help_shows_the_settings_as_options() -> None:
 def test_a_setting_the_benchmark_has_no_option_for_is_refused() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--wires", type=int)
+    add_quick(parser, wires=300, runs=1)
     with pytest.raises(ValueError, match="'runs'"):
-        add_quick(parser, wires=300, runs=1)
+        parse(parser, ["--quick"])

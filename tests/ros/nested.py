@@ -21,7 +21,8 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
+from tests.paths import ROOT
+
 PYTHON = ROOT / ".venv-ros" / "bin" / "python"
 FAILED = ROOT / "build" / "ros" / "setup-failed"
 MODULE = ROOT / "tests" / "ros" / "test_live.py"

@@ -3,6 +3,7 @@ reports it whole: its paths hold test_live.py, and no marker or keyword expressi
 
 from __future__ import annotations
 
+import os
 import subprocess
 import time
 from pathlib import Path
@@ -83,3 +84,15 @@ def test_a_run_killed_before_its_status_fails_at_once(
     with pytest.raises(pytest.fail.Exception, match=r"killed before it ended(.|\n)*last words"):
         _waited(folder)
     assert time.monotonic() - started < 30
+
+
+def test_a_session_on_workers_holding_the_module_runs_it_beside_them(request: pytest.FixtureRequest) -> None:
+    # What the speed-up rests on: a full run on workers must have started the run at its start
+    # (else every test still passes, each run only slower).
+    config = request.config
+    if not hasattr(config, "workerinput") or not _covers(config):
+        pytest.skip("not a session on workers that runs tests/ros/test_live.py whole")
+    if nested.FAILED.is_file() or not nested.PYTHON.is_file():
+        pytest.skip("no ROS set-up: tests/ros/test_live.py says why")
+    folder = Path(os.environ[nested.RUN])
+    assert (folder / "started").is_file()
