@@ -74,6 +74,9 @@ done
 # no tests of the interfaces' own.
 cmake_args=(-DPython3_EXECUTABLE="$PY" -DPython3_FIND_STRATEGY=LOCATION -DBUILD_TESTING=OFF)
 
+# As many compile jobs as cores, for cmake's builds and colcon's alike.
+JOBS_MAKE=$(nproc)
+
 build_package() {
   local name=$1 src="$ROOT/ros2/$1" dir="$BUILD/$1"
   shift
@@ -84,7 +87,7 @@ build_package() {
     cmake -S "$src" -B "$dir" -DCMAKE_INSTALL_PREFIX="$PREFIX" -DCMAKE_PREFIX_PATH="$PREFIX;$VENV" \
     "${cmake_args[@]}" "$@" \
     >>"$LOG" 2>&1 || fail "cmake configure of $name" "$LOG"
-  AMENT_PREFIX_PATH="$PREFIX:$VENV" cmake --build "$dir" -j "$(nproc)" >>"$LOG" 2>&1 \
+  AMENT_PREFIX_PATH="$PREFIX:$VENV" cmake --build "$dir" -j "$JOBS_MAKE" >>"$LOG" 2>&1 \
     || fail "build of $name" "$LOG"
   cmake --install "$dir" >>"$LOG" 2>&1 || fail "install of $name" "$LOG"
 }
@@ -108,7 +111,7 @@ build_cadkg_interfaces() {
   # MAKEFLAGS: as many jobs as cores, whatever the load. colcon's default adds -l (no new job
   # while the load average is above the core count), which the set-ups running beside this one
   # push it over; even on a quiet 2-core machine the build took 160 s with it, 144 s without.
-  (cd "$ws" && MAKEFLAGS="-j$(nproc)" AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" colcon \
+  (cd "$ws" && MAKEFLAGS="-j$JOBS_MAKE" AMENT_PREFIX_PATH="$PREFIX:$VENV" CMAKE_PREFIX_PATH="$PREFIX:$VENV" colcon \
     --log-base "$BUILD/colcon-log" build --merge-install --install-base "$PREFIX" \
     --build-base "$BUILD/colcon-build" --packages-select cadkg_interfaces \
     --event-handlers console_direct- --cmake-args "${cmake_args[@]}" -DCADKG_INTERFACES_PYTHON_ONLY=ON \

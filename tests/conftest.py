@@ -79,11 +79,12 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     for item in items:
         if LIVE_FIXTURES.intersection(getattr(item, "fixturenames", ())):
             item.add_marker(pytest.mark.live)
-    rank = {name: place for place, name in enumerate(LONGEST)}
-    if nested.RUN in os.environ:
-        rank = {name: place for name, place in rank.items() if name != NESTED} | {NESTED: len(rank) + 1}
+    beside = nested.RUN in os.environ
+    first = [name for name in LONGEST if not (beside and name == NESTED)]
+    rank = {name: place for place, name in enumerate(first)}
+    last = {NESTED: len(first) + 1} if beside else {}
     # A stable sort keeps each module's tests together and in their order.
-    items.sort(key=lambda item: rank.get(item.nodeid.partition("::")[0], len(rank)))
+    items.sort(key=lambda item: (rank | last).get(item.nodeid.partition("::")[0], len(first)))
 
 
 @pytest.fixture(scope="session")
